@@ -1,0 +1,96 @@
+#pragma once
+// harness::point_index<T, D> — the runtime interface every benchmarked point structure
+// (ours and the peers') is put behind, so one timing loop and one validator serve all.
+//
+// One virtual call per query costs a few nanoseconds, the same for every structure, and is
+// small next to the microseconds a query takes; the structures themselves are not virtual.
+//
+// Identity: points are identified by their position `id` in the array passed to build()
+// (and, for dynamic workloads, by the id passed to insert()). Answers are compared by
+// DISTANCE, never by id, because distance ties make ids ambiguous.
+
+#include <cstddef>
+#include <cstdint>
+#include <span>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+#include "spatial/core/point.hpp"
+
+namespace harness {
+
+enum class capability : unsigned {
+    knn = 1u << 0,          // exact k nearest neighbours
+    approximate_knn = 1u << 1,  // (1+eps)-approximate kNN, eps multiplies DISTANCE
+    radius = 1u << 2,       // all points within a ball (closed)
+    dynamic = 1u << 3,      // insert(id, p) and erase(id) after build
+    hinted_insert = 1u << 4,    // insert_near(prev_id, id, p)
+    bulk_insert = 1u << 5,  // insert_bulk(first_id, pts)
+    bulk_erase = 1u << 6,   // erase_bulk(ids)
+};
+
+constexpr unsigned operator|(capability a, capability b) {
+    return static_cast<unsigned>(a) | static_cast<unsigned>(b);
+}
+constexpr unsigned operator|(unsigned a, capability b) { return a | static_cast<unsigned>(b); }
+
+template <class T>
+struct neighbor {
+    T distance_squared;
+    std::uint32_t id;
+};
+
+template <class T, std::size_t D>
+class point_index {
+public:
+    using point_type = spatial::point<T, D>;
+    virtual ~point_index() = default;
+
+    // Name written to the CSV `structure` column (kd_tree, nanoflann, cgal_kd_tree, ...).
+    virtual std::string name() const = 0;
+    // Bit set of `capability` values.
+    virtual unsigned capabilities() const = 0;
+    bool can(capability c) const { return (capabilities() & static_cast<unsigned>(c)) != 0; }
+
+    // Replace the contents with pts; point i gets id i. The structure may keep a reference
+    // to pts (nanoflann does): the caller keeps pts alive and unchanged until the next build.
+    virtual void build(std::span<const point_type> pts) = 0;
+    // Bytes the structure holds, INCLUDING any point storage it references but does not own
+    // (so an index over an external array is charged for that array).
+    virtual std::size_t memory_bytes() const = 0;
+
+    // k nearest neighbours of q, sorted by increasing distance, written to out (cleared first).
+    // eps >= 0: each reported i-th distance is within (1 + eps) of the true i-th distance.
+    virtual void knn(const point_type& q, std::size_t k, T eps, std::vector<neighbor<T>>& out) = 0;
+    // All points p with |p - q| <= r, any order, written to out (cleared first).
+    virtual void radius(const point_type& q, T r, std::vector<neighbor<T>>& out) = 0;
+
+    // Dynamic workloads (only if capability::dynamic). ids are chosen by the caller and are
+    // unique among live points.
+    virtual void insert(std::uint32_t id, const point_type& p) { unsupported("insert"); (void)id; (void)p; }
+    virtual void erase(std::uint32_t id) { unsupported("erase"); (void)id; }
+    // Insert p next to the previously inserted point prev_id (the structure may use it as a hint).
+    virtual void insert_near(std::uint32_t prev_id, std::uint32_t id, const point_type& p) {
+        (void)prev_id;
+        insert(id, p);
+    }
+    // Insert pts with ids first_id, first_id+1, ...
+    virtual void insert_bulk(std::uint32_t first_id, std::span<const point_type> pts) {
+        for (std::size_t i = 0; i < pts.size(); ++i) insert(first_id + static_cast<std::uint32_t>(i), pts[i]);
+    }
+    virtual void erase_bulk(std::span<const std::uint32_t> ids) {
+        for (auto id : ids) erase(id);
+    }
+    virtual std::size_t size() const = 0;
+
+    // Nodes visited by the last query, or -1 when the structure cannot report it.
+    virtual long long last_nodes_visited() const { return -1; }
+
+protected:
+    [[noreturn]] void unsupported(const char* what) const {
+        throw std::logic_error(name() + " does not support " + what);
+    }
+};
+
+}  // namespace harness

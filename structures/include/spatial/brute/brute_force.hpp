@@ -1,0 +1,159 @@
+#pragma once
+// spatial::brute_force<P> — the oracle: a plain array of objects, every query a linear scan.
+//
+// It is deliberately simple so that it is obviously right; every other structure is tested
+// against it. Complexity: insert/erase(iterator) O(1); find/count/erase(value), kNN
+// O(n log k), ball/box O(n), ray cast O(n). Iterators: see slot_storage.hpp (stable under
+// other insertions and erasures; clear() invalidates all).
+
+#include <algorithm>
+#include <cstddef>
+#include <iterator>
+#include <limits>
+#include <vector>
+
+#include "spatial/core/container_concept.hpp"
+#include "spatial/core/distance.hpp"
+#include "spatial/core/input_checks.hpp"
+#include "spatial/core/intersect_info.hpp"
+#include "spatial/core/knn_result_set.hpp"
+#include "spatial/core/object_concepts.hpp"
+#include "spatial/core/slot_storage.hpp"
+
+namespace spatial {
+
+template <point_object P>
+class brute_force {
+public:
+    using value_type = P;
+    using point_type = P;
+    using scalar_type = typename P::scalar_type;
+    using size_type = std::size_t;
+    using iterator = slot_iterator<P>;
+    using const_iterator = iterator;
+    using info_type = intersect_info<P>;
+    static constexpr std::size_t dimension = P::dimension;
+
+    brute_force() = default;
+    template <class InputIt>
+    brute_force(InputIt first, InputIt last) { insert(first, last); }
+
+    // ---- insertion -------------------------------------------------------------------
+    iterator insert(const P& x) {
+        detail::require_finite(x, "brute_force::insert", "point");
+        return make(slots_.allocate(x, 1));
+    }
+    // The hint cannot help an unordered array; accepted for interface uniformity.
+    iterator insert(const_iterator, const P& x) { return insert(x); }
+    template <class InputIt>
+    void insert(InputIt first, InputIt last) {
+        std::vector<P> batch(first, last);  // validate all before storing any
+        for (const P& x : batch) detail::require_finite(x, "brute_force::insert(first, last)", "point");
+        slots_.reserve(slots_.capacity() + batch.size());
+        for (const P& x : batch) slots_.allocate(x, 1);
+    }
+
+    // ---- erasure ---------------------------------------------------------------------
+    iterator erase(const_iterator pos) {
+        const slot_index s = pos.slot();
+        slots_.release(s);
+        return make(slots_.next_occupied(s + 1));
+    }
+    size_type erase(const P& x) {
+        size_type n = 0;
+        for (slot_index s = slots_.next_occupied(0); s < slots_.capacity(); s = slots_.next_occupied(s + 1))
+            if (slots_.value(s) == x) {
+                slots_.release(s);
+                ++n;
+            }
+        return n;
+    }
+    void erase(const_iterator first, const_iterator last) {
+        while (first != last) first = erase(first);
+    }
+    void clear() { slots_.clear(); }
+
+    // ---- lookup ----------------------------------------------------------------------
+    iterator find(const P& x) {
+        for (slot_index s = slots_.next_occupied(0); s < slots_.capacity(); s = slots_.next_occupied(s + 1))
+            if (slots_.value(s) == x) return make(s);
+        return end();
+    }
+    size_type count(const P& x) const {
+        size_type n = 0;
+        for (slot_index s = slots_.next_occupied(0); s < slots_.capacity(); s = slots_.next_occupied(s + 1))
+            n += slots_.value(s) == x;
+        return n;
+    }
+
+    // ---- ray cast ----------------------------------------------------------------------
+    bool intersect(const P& origin, const P& direction, info_type& info) const {
+        return intersect_object(origin, direction, ray_thickness_, info) != end();
+    }
+    bool intersect(const P& origin, const P& direction, scalar_type thickness, info_type& info) const {
+        return intersect_object(origin, direction, thickness, info) != end();
+    }
+    // The nearest object hit before info.hit_time, or end().
+    iterator intersect_object(const P& origin, const P& direction, scalar_type thickness,
+                              info_type& info) const {
+        detail::require_finite(origin, "brute_force::intersect", "ray origin");
+        detail::require_nonzero_direction(direction, "brute_force::intersect");
+        detail::require_nonnegative(thickness, "brute_force::intersect", "ray thickness");
+        slot_index hit = no_slot;
+        for (slot_index s = slots_.next_occupied(0); s < slots_.capacity(); s = slots_.next_occupied(s + 1))
+            if (slots_.value(s).intersect(origin, direction, thickness, info)) hit = s;
+        return hit == no_slot ? end() : make(hit);
+    }
+    scalar_type ray_thickness() const { return ray_thickness_; }
+    void set_ray_thickness(scalar_type t) {
+        detail::require_nonnegative(t, "brute_force::set_ray_thickness", "thickness");
+        ray_thickness_ = t;
+    }
+
+    // ---- nearest neighbours and ranges ---------------------------------------------------
+    std::vector<iterator> find_nearest(const P& x, size_type k) const { return find_nearest(x, k, 0); }
+    // eps is accepted for interface uniformity; the oracle is always exact.
+    std::vector<iterator> find_nearest(const P& x, size_type k, scalar_type eps) const {
+        detail::require_finite(x, "brute_force::find_nearest", "query point");
+        detail::require_nonnegative(eps, "brute_force::find_nearest", "eps");
+        std::vector<iterator> out;
+        if (k == 0 || empty()) return out;
+        knn_result_set<scalar_type> best(std::min(k, size()));
+        for (slot_index s = slots_.next_occupied(0); s < slots_.capacity(); s = slots_.next_occupied(s + 1))
+            best.add(squared_distance(slots_.value(s), x), s);
+        for (const auto& c : best.finish()) out.push_back(make(c.slot));
+        return out;
+    }
+    std::vector<iterator> find_in_ball(const P& center, scalar_type radius) const {
+        detail::require_finite(center, "brute_force::find_in_ball", "center");
+        detail::require_nonnegative(radius, "brute_force::find_in_ball", "radius");
+        std::vector<iterator> out;
+        const scalar_type r2 = radius * radius;
+        for (slot_index s = slots_.next_occupied(0); s < slots_.capacity(); s = slots_.next_occupied(s + 1))
+            if (squared_distance(slots_.value(s), center) <= r2) out.push_back(make(s));
+        return out;
+    }
+    std::vector<iterator> find_in_box(const P& lo, const P& hi) const {
+        detail::require_finite(lo, "brute_force::find_in_box", "box corner lo");
+        detail::require_finite(hi, "brute_force::find_in_box", "box corner hi");
+        std::vector<iterator> out;
+        for (slot_index s = slots_.next_occupied(0); s < slots_.capacity(); s = slots_.next_occupied(s + 1))
+            if (in_closed_box(slots_.value(s), lo, hi)) out.push_back(make(s));
+        return out;
+    }
+
+    // ---- STL basics --------------------------------------------------------------------
+    size_type size() const { return slots_.size(); }
+    bool empty() const { return slots_.size() == 0; }
+    iterator begin() const { return make(slots_.next_occupied(0)); }
+    iterator end() const { return make(static_cast<slot_index>(slots_.capacity())); }
+    std::size_t memory_bytes() const { return sizeof(*this) + slots_.memory_bytes(); }
+
+private:
+    iterator make(slot_index s) const { return iterator(&slots_, s); }
+
+    slot_storage<P> slots_;
+    scalar_type ray_thickness_ = 0;
+};
+
+}  // namespace spatial

@@ -1,0 +1,144 @@
+#pragma once
+// slot_storage: the element store behind every container, giving STABLE handles.
+//
+// Elements live in a vector of slots addressed by a 32-bit index; an erased slot goes on a
+// free list and is reused by a later insert. An iterator is (storage*, slot index), so it
+// stays valid when OTHER elements are inserted or erased, even when the vector grows
+// (indices survive reallocation where pointers would not). Each slot carries one word of
+// container metadata (`meta`), e.g. the kd-tree's leaf bucket; `vacant` marks a free slot.
+//
+// Costs: insert/erase O(1) amortised; iteration visits every slot, O(capacity) — capacity is
+// the peak size since the last clear(). Memory: sizeof(Value) + 4 bytes per slot.
+
+#include <cassert>
+#include <cstddef>
+#include <cstdint>
+#include <iterator>
+#include <limits>
+#include <stdexcept>
+#include <vector>
+
+namespace spatial {
+
+using slot_index = std::uint32_t;
+inline constexpr slot_index no_slot = std::numeric_limits<slot_index>::max();
+
+template <class Value>
+class slot_storage {
+public:
+    using value_type = Value;
+    using meta_type = std::uint32_t;
+    static constexpr meta_type vacant = std::numeric_limits<meta_type>::max();
+
+    slot_index allocate(const Value& v, meta_type meta) {
+        assert(meta != vacant);
+        if (!free_.empty()) {
+            const slot_index s = free_.back();
+            free_.pop_back();
+            values_[s] = v;
+            meta_[s] = meta;
+            ++live_;
+            return s;
+        }
+        if (values_.size() >= static_cast<std::size_t>(no_slot))
+            throw std::length_error("spatial: more than 2^32-1 elements");
+        values_.push_back(v);
+        meta_.push_back(meta);
+        ++live_;
+        return static_cast<slot_index>(values_.size() - 1);
+    }
+
+    void release(slot_index s) {
+        assert(occupied(s));
+        meta_[s] = vacant;
+        free_.push_back(s);
+        --live_;
+    }
+
+    // Replace all contents by `values` (slot i = values[i]); every old handle dies.
+    void assign(std::vector<Value> values, meta_type meta) {
+        values_ = std::move(values);
+        meta_.assign(values_.size(), meta);
+        free_.clear();
+        live_ = values_.size();
+    }
+
+    void clear() {
+        values_.clear();
+        meta_.clear();
+        free_.clear();
+        live_ = 0;
+    }
+    void reserve(std::size_t n) {
+        values_.reserve(n);
+        meta_.reserve(n);
+    }
+
+    bool occupied(slot_index s) const { return s < meta_.size() && meta_[s] != vacant; }
+    const Value& value(slot_index s) const { return values_[s]; }
+    meta_type meta(slot_index s) const { return meta_[s]; }
+    void set_meta(slot_index s, meta_type m) { meta_[s] = m; }
+
+    std::size_t size() const { return live_; }
+    std::size_t capacity() const { return values_.size(); }
+
+    // First occupied slot at or after s, or capacity().
+    slot_index next_occupied(slot_index s) const {
+        const std::size_t n = meta_.size();
+        while (s < n && meta_[s] == vacant) ++s;
+        return static_cast<slot_index>(s);
+    }
+
+    std::size_t memory_bytes() const {
+        return values_.capacity() * sizeof(Value) + meta_.capacity() * sizeof(meta_type) +
+               free_.capacity() * sizeof(slot_index);
+    }
+
+    const Value* data() const { return values_.data(); }
+
+private:
+    std::vector<Value> values_;
+    std::vector<meta_type> meta_;
+    std::vector<slot_index> free_;
+    std::size_t live_ = 0;
+};
+
+// Forward iterator over the occupied slots of a slot_storage. Elements are read-only through
+// it (as in std::set): changing a stored object's coordinates in place would break the
+// structure's invariants; erase and re-insert instead. iterator == const_iterator.
+template <class Value>
+class slot_iterator {
+public:
+    using iterator_category = std::forward_iterator_tag;
+    using value_type = Value;
+    using difference_type = std::ptrdiff_t;
+    using pointer = const Value*;
+    using reference = const Value&;
+
+    slot_iterator() = default;
+    slot_iterator(const slot_storage<Value>* s, slot_index i) : storage_(s), slot_(i) {}
+
+    reference operator*() const { return storage_->value(slot_); }
+    pointer operator->() const { return &storage_->value(slot_); }
+    slot_iterator& operator++() {
+        slot_ = storage_->next_occupied(slot_ + 1);
+        return *this;
+    }
+    slot_iterator operator++(int) {
+        auto t = *this;
+        ++*this;
+        return t;
+    }
+    friend bool operator==(const slot_iterator& a, const slot_iterator& b) {
+        return a.slot_ == b.slot_ && a.storage_ == b.storage_;
+    }
+
+    // The stable handle of the element (for containers and for users who need an id).
+    slot_index slot() const { return slot_; }
+
+private:
+    const slot_storage<Value>* storage_ = nullptr;
+    slot_index slot_ = 0;
+};
+
+}  // namespace spatial

@@ -1,0 +1,909 @@
+#pragma once
+// spatial::kd_tree<P, Config> — a dynamic bucket kd-tree over point objects.
+//
+// Layout (see docs/design.md for the full rationale and complexity table):
+//  * Objects live in a slot_storage (stable 32-bit handles = iterators). A bulk build into an
+//    empty tree stores them in leaf order, so a leaf's points are contiguous in memory.
+//  * Nodes live in one vector; the two children of an inner node are allocated as a pair
+//    (first, first + 1), so an inner node needs one child index. A leaf points to a bucket
+//    holding up to Config::leaf_capacity slot indices plus the leaf's CELL (the box its
+//    ancestors' split planes bound), which makes hinted insertion O(1) when the hint's leaf
+//    contains the new point.
+//  * Every node keeps `restore`: its parent's cell bound on the parent's split dimension
+//    on this node's side, so climbing from a leaf recomputes ancestor cells in O(1) a step.
+//  * Balance under churn: (1) scapegoat rule (Galperin & Rivest 1993): an insertion that
+//    makes a leaf deeper than log_{1/alpha}(n / leaf_capacity) + 2 rebuilds the lowest
+//    ancestor whose heavier child holds more than alpha of its points; (2) when the size
+//    drops below alpha times the size at the last full rebuild, or when leaves become on
+//    average less than a quarter full, the whole tree is rebuilt. Both are amortised
+//    O(log n) per update; depth is O(log n) at all times, so recursive traversal depth is
+//    bounded (no fixed-size stack).
+//  * Queries: kNN with incremental distance to the cell (Arya & Mount 1993), optional
+//    (1+eps)-approximation (Arya et al. 1998); ball and box range; thick-ray casting by
+//    front-to-back traversal of ray-parameter intervals.
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <cstddef>
+#include <cstdint>
+#include <limits>
+#include <numeric>
+#include <vector>
+
+#include "spatial/core/container_concept.hpp"
+#include "spatial/core/distance.hpp"
+#include "spatial/core/input_checks.hpp"
+#include "spatial/core/intersect_info.hpp"
+#include "spatial/core/knn_result_set.hpp"
+#include "spatial/core/object_concepts.hpp"
+#include "spatial/core/slot_storage.hpp"
+#include "spatial/kdtree/splitters.hpp"
+
+namespace spatial {
+
+// Compile-time configuration with commented defaults.
+template <std::size_t LeafCapacity = 16, class Splitter = median_of_widest_spread,
+          bool CollectStats = false>
+struct kd_tree_config {
+    // Points per leaf bucket. 16 keeps a leaf's slot list in one cache line and makes a
+    // leaf scan cheaper than descending further.
+    static constexpr std::size_t leaf_capacity = LeafCapacity;
+    // How a node's points are divided (see splitters.hpp).
+    using splitter = Splitter;
+    // When true, queries count visited nodes and tested points (see kd_tree::stats()).
+    static constexpr bool collect_stats = CollectStats;
+    // Weight-balance parameter alpha of the scapegoat rule, in (0.5, 1).
+    static constexpr double balance_alpha = 0.75;
+};
+
+struct kd_tree_stats {
+    std::size_t nodes_visited = 0;
+    std::size_t points_tested = 0;
+    std::size_t subtree_rebuilds = 0;  // scapegoat and leaf-split rebuilds (not reset by queries)
+    std::size_t full_rebuilds = 0;
+};
+
+template <point_object P, class Config = kd_tree_config<>>
+class kd_tree {
+public:
+    using value_type = P;
+    using point_type = P;
+    using scalar_type = typename P::scalar_type;
+    using size_type = std::size_t;
+    using iterator = slot_iterator<P>;
+    using const_iterator = iterator;
+    using info_type = intersect_info<P>;
+    using config = Config;
+    static constexpr std::size_t dimension = P::dimension;
+    static constexpr std::size_t leaf_capacity = Config::leaf_capacity;
+    static_assert(leaf_capacity >= 2, "kd_tree: leaf_capacity must be at least 2");
+    static_assert(Config::balance_alpha > 0.5 && Config::balance_alpha < 1.0, "kd_tree: alpha in (0.5, 1)");
+
+private:
+    using T = scalar_type;
+    static constexpr std::size_t D = P::dimension;
+    using coords = std::array<T, D>;
+    using node_index = std::uint32_t;
+    static constexpr node_index no_node = std::numeric_limits<node_index>::max();
+    static constexpr node_index root = 0;
+
+    struct node {
+        T split = 0;       // inner: left points have c[dim] <= split, right points >= split
+        T restore = 0;     // parent's cell bound on the parent's split dim, on this side
+        node_index first = 0;  // inner: first child (second is first + 1); leaf: bucket
+        node_index parent = no_node;
+        std::uint32_t count = 0;  // leaf: number of points in the bucket
+        std::uint16_t depth = 0;
+        std::uint8_t dim = 0;
+        std::uint8_t is_leaf = 1;
+    };
+    struct bucket {
+        coords cell_lo, cell_hi;  // the leaf's cell (may be infinite)
+        node_index owner = no_node;
+        std::array<slot_index, leaf_capacity> items;
+    };
+    // A point copied out for (re)building: partitioning moves these, not the slots.
+    struct entry {
+        coords c;
+        slot_index slot;      // the point's slot (in a fresh build: its index in the batch)
+        node_index bucket = 0;  // fresh build only: the leaf bucket it landed in
+    };
+
+public:
+    kd_tree() { reset_to_empty(); }
+    template <class InputIt>
+    kd_tree(InputIt first, InputIt last) : kd_tree() { insert(first, last); }
+
+    // ---- insertion -------------------------------------------------------------------
+    // O(log n) amortised.
+    iterator insert(const P& x) {
+        detail::require_finite(x, "kd_tree::insert", "point");
+        const coords c = coords_of(x);
+        return make(insert_at(descend(root, c), x, c));
+    }
+
+    // Hinted insertion: starts at the hint's leaf and climbs only as far as needed (each
+    // step O(1) via the stored restore bounds), then descends. O(1) expected when x lies in
+    // the hint's leaf cell or a nearby one; never worse than O(log n) amortised.
+    iterator insert(const_iterator hint, const P& x) {
+        detail::require_finite(x, "kd_tree::insert(hint, x)", "point");
+        const coords c = coords_of(x);
+        if (hint == end() || !slots_.occupied(hint.slot())) return make(insert_at(descend(root, c), x, c));
+        const bucket& b = buckets_[slots_.meta(hint.slot())];
+        node_index n = b.owner;
+        coords lo = b.cell_lo, hi = b.cell_hi;
+        while (n != root && !in_cell(c, lo, hi)) {
+            const node_index p = nodes_[n].parent;
+            const unsigned d = nodes_[p].dim;
+            if (n == nodes_[p].first) hi[d] = nodes_[n].restore;
+            else lo[d] = nodes_[n].restore;
+            n = p;
+        }
+        return make(insert_at(descend(n, c), x, c));
+    }
+
+    // Bulk insertion, better than a loop: into an empty tree a median build that also lays
+    // the points out in leaf order (O(m log m)); for a batch at least half the current size
+    // a full rebuild (O((n+m) log(n+m))); otherwise the batch is partitioned down the tree
+    // once and each touched leaf is rebuilt with its new points (O(m log n), one pass over
+    // the touched nodes instead of m root-to-leaf descents). Validates everything first.
+    template <class InputIt>
+    void insert(InputIt first, InputIt last) {
+        std::vector<P> batch(first, last);
+        for (const P& x : batch) detail::require_finite(x, "kd_tree::insert(first, last)", "point");
+        if (batch.empty()) return;
+        if (slots_.size() == 0) {
+            build_fresh(std::move(batch));
+            return;
+        }
+        std::vector<entry> fresh;
+        fresh.reserve(batch.size());
+        for (const P& x : batch) {
+            const coords c = coords_of(x);
+            grow_bounds(c);
+            fresh.push_back({c, slots_.allocate(x, 0)});
+        }
+        ops_since_rebuild_ += batch.size();
+        if (batch.size() * 2 >= slots_.size()) {
+            rebuild_all();
+            return;
+        }
+        std::uint16_t max_depth = 0;
+        distribute(root, fresh.data(), fresh.size(), max_depth);
+        if (max_depth > depth_limit() || needs_full_rebuild()) rebuild_all();
+    }
+
+    // ---- erasure ---------------------------------------------------------------------
+    // O(leaf_capacity) plus amortised rebuilds. Returns the next element in iteration order.
+    iterator erase(const_iterator pos) {
+        const slot_index s = pos.slot();
+        remove_slot(s, true);
+        after_erase();
+        return make(slots_.next_occupied(s + 1));
+    }
+
+    // Erases ALL elements equal to x; returns how many. O(log n + matches).
+    size_type erase(const P& x) {
+        detail::require_finite(x, "kd_tree::erase", "point");
+        std::vector<slot_index> hits;
+        collect_equal(root, coords_of(x), x, hits, false);
+        for (slot_index s : hits) remove_slot(s, true);
+        if (!hits.empty()) after_erase();
+        return hits.size();
+    }
+
+    // Bulk erase of an iterator range, better than a loop: removing at least a quarter of
+    // the tree rebuilds the survivors once (O(n log n)); smaller ranges unlink each point
+    // from its bucket in O(leaf_capacity) without per-element balance checks, then check once.
+    void erase(const_iterator first, const_iterator last) {
+        std::vector<slot_index> doomed;
+        for (; first != last; ++first) doomed.push_back(first.slot());
+        if (doomed.empty()) return;
+        if (doomed.size() * 4 >= slots_.size()) {
+            for (slot_index s : doomed) slots_.release(s);
+            ops_since_rebuild_ += doomed.size();
+            rebuild_all();
+            return;
+        }
+        for (slot_index s : doomed) remove_slot(s, false);
+        after_erase();
+    }
+
+    void clear() {
+        slots_.clear();
+        reset_to_empty();
+    }
+
+    // ---- lookup ----------------------------------------------------------------------
+    // O(log n) expected (both sides are searched where x lies on a split plane).
+    iterator find(const P& x) {
+        detail::require_finite(x, "kd_tree::find", "point");
+        std::vector<slot_index> hits;
+        collect_equal(root, coords_of(x), x, hits, true);
+        return hits.empty() ? end() : make(hits.front());
+    }
+    size_type count(const P& x) const {
+        detail::require_finite(x, "kd_tree::count", "point");
+        std::vector<slot_index> hits;
+        collect_equal(root, coords_of(x), x, hits, false);
+        return hits.size();
+    }
+
+    // ---- ray cast --------------------------------------------------------------------
+    bool intersect(const P& origin, const P& direction, info_type& info) const {
+        return intersect_object(origin, direction, ray_thickness_, info) != end();
+    }
+    bool intersect(const P& origin, const P& direction, scalar_type thickness, info_type& info) const {
+        return intersect_object(origin, direction, thickness, info) != end();
+    }
+    // Nearest point hit before info.hit_time by the ray thickened to `thickness` (see
+    // point::intersect), or end(). Front-to-back traversal: a node is entered only for the
+    // ray-parameter interval in which the thick ray can reach its half-space, and skipped once
+    // a hit closer than that interval is known. Expected O(log n + hits tested) for thin rays.
+    iterator intersect_object(const P& origin, const P& direction, scalar_type thickness,
+                              info_type& info) const {
+        detail::require_finite(origin, "kd_tree::intersect", "ray origin");
+        detail::require_nonzero_direction(direction, "kd_tree::intersect");
+        detail::require_nonnegative(thickness, "kd_tree::intersect", "ray thickness");
+        if (slots_.size() == 0) return end();
+        ray_query q{coords_of(origin), coords_of(direction), thickness, origin, direction, info};
+        T t0 = 0, t1 = info.hit_time;
+        for (unsigned d = 0; d < D && t0 <= t1; ++d) {
+            clip_below(q, d, bounds_hi_[d] + pad(q, d, bounds_hi_[d]), t0, t1);
+            clip_above(q, d, bounds_lo_[d] - pad(q, d, bounds_lo_[d]), t0, t1);
+        }
+        if (t0 <= t1) cast(root, t0, t1, q);
+        return q.hit == no_slot ? end() : make(q.hit);
+    }
+    scalar_type ray_thickness() const { return ray_thickness_; }
+    void set_ray_thickness(scalar_type t) {
+        detail::require_nonnegative(t, "kd_tree::set_ray_thickness", "thickness");
+        ray_thickness_ = t;
+    }
+
+    // ---- nearest neighbours and ranges ---------------------------------------------------
+    // The k nearest (all if k >= size), sorted by increasing distance; k = 0 gives {}.
+    // Expected O(log n + k log k) on well-distributed data (Friedman, Bentley & Finkel 1977).
+    std::vector<iterator> find_nearest(const P& x, size_type k) const { return find_nearest(x, k, 0); }
+    // (1+eps)-approximate: the i-th reported distance is at most (1+eps) times the true i-th.
+    std::vector<iterator> find_nearest(const P& x, size_type k, scalar_type eps) const {
+        detail::require_finite(x, "kd_tree::find_nearest", "query point");
+        detail::require_nonnegative(eps, "kd_tree::find_nearest", "eps");
+        std::vector<iterator> out;
+        if (k == 0 || slots_.size() == 0) return out;
+        knn_result_set<T> best(std::min<std::size_t>(k, slots_.size()));
+        knn_query q{coords_of(x), (1 + eps) * (1 + eps), best};
+        coords offset{};
+        knn(root, T(0), offset, q);
+        for (const auto& c : best.finish()) out.push_back(make(c.slot));
+        return out;
+    }
+    // Visitor form used by benchmarks: fills `result` with (squared distance, slot) sorted,
+    // without building iterators. Same semantics as find_nearest.
+    void find_nearest_candidates(const P& x, size_type k, scalar_type eps,
+                                 std::vector<neighbor_candidate<T>>& result) const {
+        detail::require_finite(x, "kd_tree::find_nearest", "query point");
+        detail::require_nonnegative(eps, "kd_tree::find_nearest", "eps");
+        result.clear();
+        if (k == 0 || slots_.size() == 0) return;
+        knn_result_set<T> best(std::min<std::size_t>(k, slots_.size()));
+        knn_query q{coords_of(x), (1 + eps) * (1 + eps), best};
+        coords offset{};
+        knn(root, T(0), offset, q);
+        result = std::move(best.finish());
+    }
+
+    // All points p with |p - center| <= radius (closed ball), in no particular order.
+    std::vector<iterator> find_in_ball(const P& center, scalar_type radius) const {
+        detail::require_finite(center, "kd_tree::find_in_ball", "center");
+        detail::require_nonnegative(radius, "kd_tree::find_in_ball", "radius");
+        std::vector<iterator> out;
+        if (slots_.size() == 0) return out;
+        coords offset{};
+        ball(root, T(0), offset, coords_of(center), radius * radius, out);
+        return out;
+    }
+    // All points p with lo <= p <= hi componentwise (closed box). O(n^(1-1/D) + hits) worst
+    // case for a balanced tree (Lee & Wong 1977).
+    std::vector<iterator> find_in_box(const P& lo, const P& hi) const {
+        detail::require_finite(lo, "kd_tree::find_in_box", "box corner lo");
+        detail::require_finite(hi, "kd_tree::find_in_box", "box corner hi");
+        std::vector<iterator> out;
+        if (slots_.size() == 0) return out;
+        box(root, lo, hi, out);
+        return out;
+    }
+
+    // ---- STL basics and introspection ----------------------------------------------------
+    size_type size() const { return slots_.size(); }
+    bool empty() const { return slots_.size() == 0; }
+    iterator begin() const { return make(slots_.next_occupied(0)); }
+    iterator end() const { return make(static_cast<slot_index>(slots_.capacity())); }
+
+    std::size_t memory_bytes() const {
+        return sizeof(*this) + slots_.memory_bytes() + nodes_.capacity() * sizeof(node) +
+               buckets_.capacity() * sizeof(bucket) +
+               (free_pairs_.capacity() + free_buckets_.capacity()) * sizeof(node_index);
+    }
+    // Tree height in nodes below the root (0 for a single leaf).
+    std::size_t height() const { return height_of(root); }
+    std::size_t leaf_count() const { return leaves_; }
+    const kd_tree_stats& stats() const { return stats_; }
+    void reset_stats() const { stats_ = {}; }
+
+    // Checks every structural invariant (split bounds, cells, bucket back-links, counts,
+    // depths); returns an empty string when sound, else what is wrong. For tests: O(n).
+    std::string check_invariants() const {
+        std::string err;
+        coords lo, hi;
+        lo.fill(-std::numeric_limits<T>::infinity());
+        hi.fill(std::numeric_limits<T>::infinity());
+        std::size_t seen = 0;
+        check_node(root, lo, hi, 0, seen, err);
+        if (err.empty() && seen != slots_.size())
+            err = "tree holds " + std::to_string(seen) + " points but size() is " + std::to_string(slots_.size());
+        return err;
+    }
+
+private:
+    // ================= helpers: coordinates, cells ========================================
+    static coords coords_of(const P& p) {
+        coords c;
+        for (std::size_t i = 0; i < D; ++i) c[i] = p[i];
+        return c;
+    }
+    static bool in_cell(const coords& c, const coords& lo, const coords& hi) {
+        for (std::size_t i = 0; i < D; ++i)
+            if (c[i] < lo[i] || c[i] > hi[i]) return false;
+        return true;
+    }
+    iterator make(slot_index s) const { return iterator(&slots_, s); }
+
+    void grow_bounds(const coords& c) {
+        for (std::size_t i = 0; i < D; ++i) {
+            bounds_lo_[i] = std::min(bounds_lo_[i], c[i]);
+            bounds_hi_[i] = std::max(bounds_hi_[i], c[i]);
+        }
+    }
+
+    void reset_to_empty() {
+        nodes_.assign(1, node{});
+        buckets_.clear();
+        free_pairs_.clear();
+        free_buckets_.clear();
+        coords lo, hi;
+        lo.fill(-std::numeric_limits<T>::infinity());
+        hi.fill(std::numeric_limits<T>::infinity());
+        nodes_[root].first = new_bucket(root, lo, hi);
+        leaves_ = 1;
+        bounds_lo_.fill(std::numeric_limits<T>::infinity());
+        bounds_hi_.fill(-std::numeric_limits<T>::infinity());
+        size_at_rebuild_ = 0;
+        ops_since_rebuild_ = 0;
+    }
+
+    node_index new_bucket(node_index owner, const coords& lo, const coords& hi) {
+        node_index b;
+        if (!free_buckets_.empty()) {
+            b = free_buckets_.back();
+            free_buckets_.pop_back();
+        } else {
+            b = static_cast<node_index>(buckets_.size());
+            buckets_.emplace_back();
+        }
+        buckets_[b].cell_lo = lo;
+        buckets_[b].cell_hi = hi;
+        buckets_[b].owner = owner;
+        return b;
+    }
+    node_index new_pair() {
+        if (!free_pairs_.empty()) {
+            const node_index p = free_pairs_.back();
+            free_pairs_.pop_back();
+            return p;
+        }
+        const node_index p = static_cast<node_index>(nodes_.size());
+        nodes_.resize(nodes_.size() + 2);
+        return p;
+    }
+
+    // ================= insertion ===========================================================
+    node_index descend(node_index n, const coords& c) const {
+        while (!nodes_[n].is_leaf) {
+            const node& nd = nodes_[n];
+            n = c[nd.dim] <= nd.split ? nd.first : nd.first + 1;
+        }
+        return n;
+    }
+
+    slot_index insert_at(node_index leaf, const P& x, const coords& c) {
+        // Allocate the slot first: if it throws (capacity), nothing else has changed.
+        const slot_index s = slots_.allocate(x, nodes_[leaf].first);
+        grow_bounds(c);
+        ++ops_since_rebuild_;
+        node& L = nodes_[leaf];
+        if (L.count < leaf_capacity) {
+            buckets_[L.first].items[L.count++] = s;
+            return s;
+        }
+        // Full leaf: rebuild it as a small subtree over its points plus the new one.
+        std::vector<entry> es;
+        es.reserve(leaf_capacity + 1);
+        gather(leaf, es);
+        es.push_back({c, s});
+        const std::uint16_t deepest = rebuild_subtree(leaf, es);
+        if (deepest > depth_limit()) rebalance_from(leaf);
+        return s;
+    }
+
+    // Batch distribution for bulk insert: partition [e, e+n) by each split on the way down.
+    void distribute(node_index n, entry* e, std::size_t count, std::uint16_t& max_depth) {
+        if (count == 0) return;
+        if (nodes_[n].is_leaf) {
+            node& L = nodes_[n];
+            if (L.count + count <= leaf_capacity) {
+                bucket& b = buckets_[L.first];
+                for (std::size_t i = 0; i < count; ++i) {
+                    b.items[L.count++] = e[i].slot;
+                    slots_.set_meta(e[i].slot, L.first);
+                }
+                max_depth = std::max(max_depth, L.depth);
+                return;
+            }
+            std::vector<entry> es;
+            es.reserve(L.count + count);
+            gather(n, es);
+            es.insert(es.end(), e, e + count);
+            max_depth = std::max(max_depth, rebuild_subtree(n, es));
+            return;
+        }
+        const unsigned d = nodes_[n].dim;
+        const T s = nodes_[n].split;
+        entry* mid = std::partition(e, e + count, [d, s](const entry& a) { return a.c[d] <= s; });
+        const node_index first = nodes_[n].first;
+        const std::size_t left = static_cast<std::size_t>(mid - e);
+        distribute(first, e, left, max_depth);
+        distribute(first + 1, mid, count - left, max_depth);
+    }
+
+    // ================= erasure =============================================================
+    void remove_slot(slot_index s, bool allow_merge) {
+        const node_index b = slots_.meta(s);
+        const node_index leaf = buckets_[b].owner;
+        node& L = nodes_[leaf];
+        auto& items = buckets_[b].items;
+        for (std::uint32_t i = 0; i < L.count; ++i)
+            if (items[i] == s) {
+                items[i] = items[--L.count];
+                break;
+            }
+        slots_.release(s);
+        ++ops_since_rebuild_;
+        if (allow_merge && L.count == 0 && leaf != root) merge_empty_leaf(leaf);
+    }
+
+    // An empty leaf whose sibling is a leaf: the parent becomes a leaf holding the sibling's
+    // bucket, whose cell widens to the parent's cell (the union of the two children's cells).
+    void merge_empty_leaf(node_index leaf) {
+        const node_index p = nodes_[leaf].parent;
+        const node_index first = nodes_[p].first;
+        const node_index sib = leaf == first ? first + 1 : first;
+        if (!nodes_[sib].is_leaf) return;
+        const unsigned d = nodes_[p].dim;
+        const node_index eb = nodes_[leaf].first, sb = nodes_[sib].first;
+        bucket& keep = buckets_[sb];
+        keep.cell_lo[d] = std::min(keep.cell_lo[d], buckets_[eb].cell_lo[d]);
+        keep.cell_hi[d] = std::max(keep.cell_hi[d], buckets_[eb].cell_hi[d]);
+        keep.owner = p;
+        node& P_ = nodes_[p];
+        P_.is_leaf = 1;
+        P_.first = sb;
+        P_.count = nodes_[sib].count;
+        free_buckets_.push_back(eb);
+        free_pairs_.push_back(first);
+        --leaves_;
+    }
+
+    void after_erase() {
+        if (needs_full_rebuild()) rebuild_all();
+    }
+
+    // Galperin & Rivest's deletion rule, plus a leaf-occupancy rule that bounds the garbage
+    // left by splits and erasures under long churn.
+    bool needs_full_rebuild() const {
+        const std::size_t n = slots_.size();
+        if (n == 0) return leaves_ > 1;
+        if (static_cast<double>(n) < Config::balance_alpha * static_cast<double>(size_at_rebuild_) &&
+            size_at_rebuild_ > 4 * leaf_capacity)
+            return true;
+        return leaves_ > 16 && leaves_ * leaf_capacity > 4 * n + 4 * leaf_capacity;
+    }
+
+    // ================= (re)building ========================================================
+    std::uint16_t depth_limit() const {
+        const double n = std::max<double>(static_cast<double>(slots_.size()), leaf_capacity);
+        return static_cast<std::uint16_t>(
+            std::ceil(std::log(n / leaf_capacity) / std::log(1.0 / Config::balance_alpha)) + 2);
+    }
+
+    // Collect the points below n as build entries and free every node and bucket below n
+    // (n itself is kept).
+    void gather(node_index n, std::vector<entry>& es) {
+        node& nd = nodes_[n];
+        if (nd.is_leaf) {
+            const bucket& b = buckets_[nd.first];
+            for (std::uint32_t i = 0; i < nd.count; ++i)
+                es.push_back({coords_of(slots_.value(b.items[i])), b.items[i]});
+            free_buckets_.push_back(nd.first);
+            --leaves_;
+            return;
+        }
+        const node_index first = nd.first;
+        gather(first, es);
+        gather(first + 1, es);
+        free_pairs_.push_back(first);
+    }
+
+    // Rebuild the subtree rooted at n over `es`; returns the deepest leaf depth.
+    std::uint16_t rebuild_subtree(node_index n, std::vector<entry>& es) {
+        coords lo, hi;
+        // n's cell: it is intact in n's ancestors (restores) but its own bucket may be
+        // freed already, so recompute from the parent chain.
+        cell_from_ancestors(n, lo, hi);
+        ++stats_.subtree_rebuilds;
+        return build_node(n, es.data(), es.size(), lo, hi, nodes_[n].depth, false, 0);
+    }
+
+    // The cell of n from the root down (O(depth)), valid even when n's subtree is gone.
+    void cell_from_ancestors(node_index n, coords& lo, coords& hi) const {
+        lo.fill(-std::numeric_limits<T>::infinity());
+        hi.fill(std::numeric_limits<T>::infinity());
+        std::vector<node_index> path;
+        for (node_index c = n; c != root; c = nodes_[c].parent) path.push_back(c);
+        for (auto it = path.rbegin(); it != path.rend(); ++it) {
+            const node_index p = nodes_[*it].parent;
+            const unsigned d = nodes_[p].dim;
+            if (*it == nodes_[p].first) hi[d] = nodes_[p].split;
+            else lo[d] = nodes_[p].split;
+        }
+    }
+
+    // Build over entries e[0, n) into node index `at` (already allocated) with cell [lo, hi].
+    // fresh: slot ids are positions (base + index into e), used by build_fresh to lay points
+    // out in leaf order. Returns the deepest leaf depth.
+    std::uint16_t build_node(node_index at, entry* e, std::size_t n, const coords& lo, const coords& hi,
+                             std::uint16_t depth, bool fresh, std::size_t base) {
+        nodes_[at].depth = depth;
+        if (n <= leaf_capacity) {
+            const node_index b = new_bucket(at, lo, hi);
+            node& L = nodes_[at];
+            L.is_leaf = 1;
+            L.first = b;
+            L.count = static_cast<std::uint32_t>(n);
+            for (std::size_t i = 0; i < n; ++i) {
+                const slot_index s = fresh ? static_cast<slot_index>(base + i) : e[i].slot;
+                buckets_[b].items[i] = s;
+                if (fresh) e[i].bucket = b;  // build_fresh sets the slot metadata afterwards
+                else slots_.set_meta(s, b);
+            }
+            ++leaves_;
+            return depth;
+        }
+        coords blo, bhi;
+        blo.fill(std::numeric_limits<T>::infinity());
+        bhi.fill(-std::numeric_limits<T>::infinity());
+        for (std::size_t i = 0; i < n; ++i)
+            for (std::size_t d = 0; d < D; ++d) {
+                blo[d] = std::min(blo[d], e[i].c[d]);
+                bhi[d] = std::max(bhi[d], e[i].c[d]);
+            }
+        const split_choice<T> sc = typename Config::splitter{}(e, n, blo, bhi, leaf_capacity);
+        const node_index first = new_pair();
+        {
+            node& nd = nodes_[at];
+            nd.is_leaf = 0;
+            nd.dim = static_cast<std::uint8_t>(sc.dim);
+            nd.split = sc.value;
+            nd.first = first;
+            nd.count = 0;
+        }
+        nodes_[first] = node{};
+        nodes_[first + 1] = node{};
+        nodes_[first].parent = nodes_[first + 1].parent = at;
+        nodes_[first].restore = hi[sc.dim];
+        nodes_[first + 1].restore = lo[sc.dim];
+        coords lhi = hi, rlo = lo;
+        lhi[sc.dim] = sc.value;
+        rlo[sc.dim] = sc.value;
+        const auto d1 = build_node(first, e, sc.left, lo, lhi, static_cast<std::uint16_t>(depth + 1), fresh, base);
+        const auto d2 = build_node(first + 1, e + sc.left, n - sc.left, rlo, hi,
+                                   static_cast<std::uint16_t>(depth + 1), fresh, base + sc.left);
+        return std::max(d1, d2);
+    }
+
+    // Bulk build into an empty tree. Slots are assigned in leaf order, so each leaf's points
+    // are contiguous in memory (sequential access when a query scans a leaf).
+    void build_fresh(std::vector<P> batch) {
+        reset_to_empty();
+        free_buckets_.push_back(nodes_[root].first);
+        leaves_ = 0;
+        std::vector<entry> es(batch.size());
+        for (std::size_t i = 0; i < batch.size(); ++i) {
+            es[i].c = coords_of(batch[i]);
+            es[i].slot = static_cast<slot_index>(i);
+            grow_bounds(es[i].c);
+        }
+        coords lo, hi;
+        lo.fill(-std::numeric_limits<T>::infinity());
+        hi.fill(std::numeric_limits<T>::infinity());
+        build_node(root, es.data(), es.size(), lo, hi, 0, true, 0);
+        // After partitioning, position i of `es` is the i-th point in leaf order.
+        std::vector<P> ordered;
+        ordered.reserve(batch.size());
+        for (const entry& e : es) ordered.push_back(std::move(batch[e.slot]));
+        slots_.assign(std::move(ordered), 0);
+        for (std::size_t i = 0; i < es.size(); ++i) slots_.set_meta(static_cast<slot_index>(i), es[i].bucket);
+        size_at_rebuild_ = slots_.size();
+        ops_since_rebuild_ = 0;
+        ++stats_.full_rebuilds;
+        nodes_.shrink_to_fit();
+        buckets_.shrink_to_fit();
+    }
+
+    // Rebuild everything from the live slots (slots keep their ids).
+    void rebuild_all() {
+        std::vector<entry> es;
+        es.reserve(slots_.size());
+        bounds_lo_.fill(std::numeric_limits<T>::infinity());
+        bounds_hi_.fill(-std::numeric_limits<T>::infinity());
+        for (slot_index s = slots_.next_occupied(0); s < slots_.capacity(); s = slots_.next_occupied(s + 1)) {
+            es.push_back({coords_of(slots_.value(s)), s});
+            grow_bounds(es.back().c);
+        }
+        nodes_.assign(1, node{});
+        buckets_.clear();
+        free_pairs_.clear();
+        free_buckets_.clear();
+        leaves_ = 0;
+        coords lo, hi;
+        lo.fill(-std::numeric_limits<T>::infinity());
+        hi.fill(std::numeric_limits<T>::infinity());
+        build_node(root, es.data(), es.size(), lo, hi, 0, false, 0);
+        size_at_rebuild_ = slots_.size();
+        ops_since_rebuild_ = 0;
+        ++stats_.full_rebuilds;
+    }
+
+    // Scapegoat search from a too-deep leaf: climb while the subtree is weight-balanced.
+    void rebalance_from(node_index n) {
+        // n was just rebuilt; find its deepest leaf's ancestor chain from n upward.
+        std::size_t size_child = subtree_size(n);
+        node_index child = n;
+        while (child != root) {
+            const node_index p = nodes_[child].parent;
+            const node_index first = nodes_[p].first;
+            const node_index sib = child == first ? first + 1 : first;
+            const std::size_t size_p = size_child + subtree_size(sib);
+            const std::size_t heavy = std::max(size_child, size_p - size_child);
+            if (static_cast<double>(heavy) > Config::balance_alpha * static_cast<double>(size_p) &&
+                size_p > 2 * leaf_capacity) {
+                std::vector<entry> es;
+                es.reserve(size_p);
+                gather(p, es);
+                rebuild_subtree(p, es);
+                return;
+            }
+            size_child = size_p;
+            child = p;
+        }
+        rebuild_all();
+    }
+
+    std::size_t subtree_size(node_index n) const {
+        if (nodes_[n].is_leaf) return nodes_[n].count;
+        return subtree_size(nodes_[n].first) + subtree_size(nodes_[n].first + 1);
+    }
+    std::size_t height_of(node_index n) const {
+        if (nodes_[n].is_leaf) return 0;
+        return 1 + std::max(height_of(nodes_[n].first), height_of(nodes_[n].first + 1));
+    }
+
+    // ================= queries =============================================================
+    struct knn_query {
+        coords x;
+        T eps_factor;  // (1 + eps)^2: prune when cell distance^2 * factor >= worst^2
+        knn_result_set<T>& best;
+    };
+
+    // Arya & Mount's incremental distance: `rd` is the squared distance from x to the cell,
+    // `offset[d]` the per-dimension component of it; entering the far child changes one.
+    void knn(node_index n, T rd, coords& offset, knn_query& q) const {
+        const node& nd = nodes_[n];
+        if constexpr (Config::collect_stats) ++stats_.nodes_visited;
+        if (nd.is_leaf) {
+            const bucket& b = buckets_[nd.first];
+            for (std::uint32_t i = 0; i < nd.count; ++i) {
+                const slot_index s = b.items[i];
+                if constexpr (Config::collect_stats) ++stats_.points_tested;
+                const T d2 = squared_distance(slots_.value(s), q.x);
+                if (d2 < q.best.worst()) q.best.add(d2, s);
+            }
+            return;
+        }
+        const unsigned d = nd.dim;
+        const T diff = q.x[d] - nd.split;
+        const node_index near = diff <= 0 ? nd.first : nd.first + 1;
+        knn(near, rd, offset, q);
+        const T old = offset[d];
+        const T far_rd = rd - old * old + diff * diff;
+        if (far_rd * q.eps_factor < q.best.worst()) {
+            offset[d] = diff;
+            knn(near == nd.first ? nd.first + 1 : nd.first, far_rd, offset, q);
+            offset[d] = old;
+        }
+    }
+
+    void ball(node_index n, T rd, coords& offset, const coords& x, T r2, std::vector<iterator>& out) const {
+        const node& nd = nodes_[n];
+        if constexpr (Config::collect_stats) ++stats_.nodes_visited;
+        if (nd.is_leaf) {
+            const bucket& b = buckets_[nd.first];
+            for (std::uint32_t i = 0; i < nd.count; ++i)
+                if (squared_distance(slots_.value(b.items[i]), x) <= r2) out.push_back(make(b.items[i]));
+            return;
+        }
+        const unsigned d = nd.dim;
+        const T diff = x[d] - nd.split;
+        const node_index near = diff <= 0 ? nd.first : nd.first + 1;
+        ball(near, rd, offset, x, r2, out);
+        const T old = offset[d];
+        const T far_rd = rd - old * old + diff * diff;
+        if (far_rd <= r2) {
+            offset[d] = diff;
+            ball(near == nd.first ? nd.first + 1 : nd.first, far_rd, offset, x, r2, out);
+            offset[d] = old;
+        }
+    }
+
+    void box(node_index n, const P& lo, const P& hi, std::vector<iterator>& out) const {
+        const node& nd = nodes_[n];
+        if constexpr (Config::collect_stats) ++stats_.nodes_visited;
+        if (nd.is_leaf) {
+            const bucket& b = buckets_[nd.first];
+            for (std::uint32_t i = 0; i < nd.count; ++i)
+                if (in_closed_box(slots_.value(b.items[i]), lo, hi)) out.push_back(make(b.items[i]));
+            return;
+        }
+        if (lo[nd.dim] <= nd.split) box(nd.first, lo, hi, out);
+        if (hi[nd.dim] >= nd.split) box(nd.first + 1, lo, hi, out);
+    }
+
+    // Equal objects have equal coordinates, so only cells containing x are searched; on a
+    // split plane both sides may hold copies.
+    void collect_equal(node_index n, const coords& c, const P& x, std::vector<slot_index>& out,
+                       bool first_only) const {
+        const node& nd = nodes_[n];
+        if (nd.is_leaf) {
+            const bucket& b = buckets_[nd.first];
+            for (std::uint32_t i = 0; i < nd.count; ++i)
+                if (slots_.value(b.items[i]) == x) {
+                    out.push_back(b.items[i]);
+                    if (first_only) return;
+                }
+            return;
+        }
+        if (c[nd.dim] <= nd.split) collect_equal(nd.first, c, x, out, first_only);
+        if (first_only && !out.empty()) return;
+        if (c[nd.dim] >= nd.split) collect_equal(nd.first + 1, c, x, out, first_only);
+    }
+
+    // ---- ray casting ----
+    struct ray_query {
+        coords o, v;
+        T r;
+        const P& origin;
+        const P& direction;
+        info_type& info;
+        slot_index hit = no_slot;
+    };
+    // Rounding slack: a point the exact test would accept must never be pruned. The slab
+    // bound is widened by a few ulps of the magnitudes involved, the parameters by a
+    // relative gamma (Pharr, Jakob & Humphreys, PBRT 3e, sec. 3.9).
+    static constexpr T gamma = 16 * std::numeric_limits<T>::epsilon();
+    static T pad(const ray_query& q, unsigned d, T bound) {
+        return q.r + gamma * (std::abs(bound) + std::abs(q.o[d]) + q.r);
+    }
+    // Restrict [t0, t1] to the parameters where o_d + t v_d <= b.
+    static void clip_below(const ray_query& q, unsigned d, T b, T& t0, T& t1) {
+        const T v = q.v[d];
+        if (v == 0) {
+            if (!(q.o[d] <= b)) t1 = -1, t0 = 1;
+            return;
+        }
+        const T t = (b - q.o[d]) / v;
+        if (v > 0) t1 = std::min(t1, t + gamma * std::abs(t));
+        else t0 = std::max(t0, t - gamma * std::abs(t));
+    }
+    // Restrict [t0, t1] to the parameters where o_d + t v_d >= a.
+    static void clip_above(const ray_query& q, unsigned d, T a, T& t0, T& t1) {
+        const T v = q.v[d];
+        if (v == 0) {
+            if (!(q.o[d] >= a)) t1 = -1, t0 = 1;
+            return;
+        }
+        const T t = (a - q.o[d]) / v;
+        if (v > 0) t0 = std::max(t0, t - gamma * std::abs(t));
+        else t1 = std::min(t1, t + gamma * std::abs(t));
+    }
+
+    void cast(node_index n, T t0, T t1, ray_query& q) const {
+        if (!(t0 < q.info.hit_time) || t0 > t1) return;
+        const node& nd = nodes_[n];
+        if constexpr (Config::collect_stats) ++stats_.nodes_visited;
+        if (nd.is_leaf) {
+            const bucket& b = buckets_[nd.first];
+            for (std::uint32_t i = 0; i < nd.count; ++i) {
+                if constexpr (Config::collect_stats) ++stats_.points_tested;
+                if (slots_.value(b.items[i]).intersect(q.origin, q.direction, q.r, q.info)) q.hit = b.items[i];
+            }
+            return;
+        }
+        const unsigned d = nd.dim;
+        T l0 = t0, l1 = t1, r0 = t0, r1 = t1;
+        clip_below(q, d, nd.split + pad(q, d, nd.split), l0, l1);
+        clip_above(q, d, nd.split - pad(q, d, nd.split), r0, r1);
+        // Front to back: the child the ray enters first.
+        const bool left_first = q.v[d] > 0 || (q.v[d] == 0 && q.o[d] <= nd.split);
+        if (left_first) {
+            cast(nd.first, l0, l1, q);
+            cast(nd.first + 1, r0, r1, q);
+        } else {
+            cast(nd.first + 1, r0, r1, q);
+            cast(nd.first, l0, l1, q);
+        }
+    }
+
+    // ---- invariant checking ----
+    void check_node(node_index n, const coords& lo, const coords& hi, std::uint16_t depth, std::size_t& seen,
+                    std::string& err) const {
+        if (!err.empty()) return;
+        const node& nd = nodes_[n];
+        if (nd.depth != depth) err = "node " + std::to_string(n) + " has a wrong depth";
+        if (nd.is_leaf) {
+            const bucket& b = buckets_[nd.first];
+            if (b.owner != n) err = "bucket owner mismatch at node " + std::to_string(n);
+            if (b.cell_lo != lo || b.cell_hi != hi) err = "stale cell at leaf " + std::to_string(n);
+            for (std::uint32_t i = 0; i < nd.count; ++i) {
+                const slot_index s = b.items[i];
+                if (!slots_.occupied(s) || slots_.meta(s) != nd.first) err = "slot back-link broken";
+                else if (!in_cell(coords_of(slots_.value(s)), lo, hi)) err = "point outside its leaf cell";
+            }
+            seen += nd.count;
+            return;
+        }
+        if (nodes_[nd.first].parent != n || nodes_[nd.first + 1].parent != n) err = "parent link broken";
+        if (nodes_[nd.first].restore != hi[nd.dim] || nodes_[nd.first + 1].restore != lo[nd.dim])
+            err = "restore bound broken below node " + std::to_string(n);
+        coords lhi = hi, rlo = lo;
+        lhi[nd.dim] = nd.split;
+        rlo[nd.dim] = nd.split;
+        check_node(nd.first, lo, lhi, static_cast<std::uint16_t>(depth + 1), seen, err);
+        check_node(nd.first + 1, rlo, hi, static_cast<std::uint16_t>(depth + 1), seen, err);
+    }
+
+    // ================= data ================================================================
+    slot_storage<P> slots_;
+    std::vector<node> nodes_;
+    std::vector<bucket> buckets_;
+    std::vector<node_index> free_pairs_;
+    std::vector<node_index> free_buckets_;
+    std::size_t leaves_ = 0;
+    coords bounds_lo_{}, bounds_hi_{};  // bounding box of everything inserted since rebuild
+    std::size_t size_at_rebuild_ = 0;
+    std::size_t ops_since_rebuild_ = 0;
+    scalar_type ray_thickness_ = 0;
+    mutable kd_tree_stats stats_;
+};
+
+}  // namespace spatial

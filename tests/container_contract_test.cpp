@@ -1,0 +1,331 @@
+// The container contract: ONE typed suite that every structure runs (the course's
+// Project 2/3 interface). Adding a structure = adding it to `container_types` below.
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <limits>
+#include <set>
+#include <stdexcept>
+#include <vector>
+
+#include "spatial/brute/brute_force.hpp"
+#include "spatial/core/container_concept.hpp"
+#include "spatial/core/point.hpp"
+#include "spatial/kdtree/kd_tree.hpp"
+#include "test_support.hpp"
+
+using namespace spatial;
+using spatial_test::make_point;
+
+using kd_small_leaves = kd_tree_config<4, median_of_widest_spread>;
+using kd_midpoint = kd_tree_config<4, sliding_midpoint>;
+
+using container_types = ::testing::Types<
+    brute_force<point<double, 3>>, brute_force<point<float, 2>>, kd_tree<point<double, 3>>,
+    kd_tree<point<float, 2>>, kd_tree<point<double, 2>, kd_small_leaves>, kd_tree<point<float, 3>, kd_midpoint>,
+    kd_tree<spatial_test::tagged_point, kd_small_leaves>, brute_force<spatial_test::tagged_point>>;
+
+// Every container models the concept (compile-time check).
+static_assert(spatial_container<brute_force<point<double, 3>>>);
+static_assert(spatial_container<kd_tree<point<double, 3>>>);
+static_assert(spatial_container<kd_tree<point<float, 2>>>);
+static_assert(spatial_container<kd_tree<spatial_test::tagged_point>>);
+static_assert(point_object<spatial_test::tagged_point>);
+
+template <class C>
+class container_contract : public ::testing::Test {
+protected:
+    using P = typename C::value_type;
+    using T = typename C::scalar_type;
+    static constexpr std::size_t D = C::dimension;
+
+    static P pt(double x, double y, double z = 0, int tag = 0) {
+        if constexpr (D == 2) return make_point<P>({x, y}, tag);
+        else return make_point<P>({x, y, z}, tag);
+    }
+    static P nan_point() {
+        P p = pt(0, 0, 0);
+        spatial_test::set_coord(p, 1, std::numeric_limits<double>::quiet_NaN());
+        return p;
+    }
+    // A grid of (side x side [x 2]) points.
+    static std::vector<P> grid(int side) {
+        std::vector<P> v;
+        for (int i = 0; i < side; ++i)
+            for (int j = 0; j < side; ++j)
+                for (int k = 0; k < (D == 3 ? 2 : 1); ++k) v.push_back(pt(i, j, k));
+        return v;
+    }
+};
+TYPED_TEST_SUITE(container_contract, container_types);
+
+TYPED_TEST(container_contract, empty_container_answers_every_query_with_nothing) {
+    TypeParam c;
+    using P = typename TypeParam::value_type;
+    EXPECT_TRUE(c.empty());
+    EXPECT_EQ(c.size(), 0u);
+    EXPECT_TRUE(c.begin() == c.end());
+    const P q = this->pt(1, 2, 3);
+    EXPECT_TRUE(c.find(q) == c.end());
+    EXPECT_EQ(c.count(q), 0u);
+    EXPECT_TRUE(c.find_nearest(q, 5).empty());
+    EXPECT_TRUE(c.find_in_ball(q, 100).empty());
+    EXPECT_TRUE(c.find_in_box(this->pt(-9, -9, -9), this->pt(9, 9, 9)).empty());
+    intersect_info<P> info;
+    EXPECT_FALSE(c.intersect(this->pt(0, 0, 0), this->pt(1, 0, 0), 1, info));
+    EXPECT_EQ(c.erase(q), 0u);
+}
+
+TYPED_TEST(container_contract, insert_returns_iterator_to_the_new_element_and_iteration_sees_all) {
+    TypeParam c;
+    const auto pts = this->grid(7);
+    for (const auto& p : pts) {
+        auto it = c.insert(p);
+        EXPECT_TRUE(*it == p);
+    }
+    EXPECT_EQ(c.size(), pts.size());
+    EXPECT_FALSE(c.empty());
+    std::size_t n = 0;
+    for (auto it = c.begin(); it != c.end(); ++it) ++n;
+    EXPECT_EQ(n, pts.size());
+    TypeParam ref;
+    ref.insert(pts.begin(), pts.end());
+    EXPECT_EQ(spatial_test::contents(c), spatial_test::contents(ref));
+}
+
+TYPED_TEST(container_contract, hinted_insert_stores_the_value_with_any_hint) {
+    TypeParam c;
+    auto prev = c.insert(this->pt(0, 0, 0));
+    for (int i = 1; i < 200; ++i) prev = c.insert(prev, this->pt(i * 0.01, std::sin(i * 0.1), 0.5));
+    c.insert(c.end(), this->pt(5, 5, 5));         // end() as hint
+    c.insert(c.begin(), this->pt(-50, 70, -3));  // a hint far from the value
+    EXPECT_EQ(c.size(), 202u);
+    EXPECT_EQ(c.count(this->pt(-50, 70, -3)), 1u);
+    EXPECT_EQ(c.count(this->pt(5, 5, 5)), 1u);
+    for (int i = 1; i < 200; ++i) EXPECT_EQ(c.count(this->pt(i * 0.01, std::sin(i * 0.1), 0.5)), 1u);
+}
+
+TYPED_TEST(container_contract, bulk_insert_into_empty_and_nonempty_containers) {
+    TypeParam c;
+    auto a = this->grid(10), b = this->grid(4);
+    c.insert(a.begin(), a.end());
+    EXPECT_EQ(c.size(), a.size());
+    c.insert(b.begin(), b.end());  // small batch into a big tree
+    c.insert(a.begin(), a.end());  // large batch into a tree
+    EXPECT_EQ(c.size(), 2 * a.size() + b.size());
+    EXPECT_EQ(c.count(this->pt(1, 1, 0)), 3u);
+    EXPECT_EQ(c.count(this->pt(9, 9, 0)), 2u);
+    std::vector<typename TypeParam::value_type> none;
+    c.insert(none.begin(), none.end());
+    EXPECT_EQ(c.size(), 2 * a.size() + b.size());
+}
+
+TYPED_TEST(container_contract, erase_by_iterator_returns_next_and_keeps_other_iterators_valid) {
+    TypeParam c;
+    const auto pts = this->grid(9);
+    std::vector<typename TypeParam::iterator> its;
+    for (const auto& p : pts) its.push_back(c.insert(p));
+    // Erase every other element; the rest must still dereference to their values.
+    for (std::size_t i = 0; i < its.size(); i += 2) c.erase(its[i]);
+    EXPECT_EQ(c.size(), pts.size() / 2);
+    for (std::size_t i = 1; i < its.size(); i += 2) EXPECT_TRUE(*its[i] == pts[i]);
+    // Inserting many more (forcing splits and rebuilds) keeps them valid too.
+    for (int i = 0; i < 500; ++i) c.insert(this->pt(100 + i, 3, 1));
+    for (std::size_t i = 1; i < its.size(); i += 2) EXPECT_TRUE(*its[i] == pts[i]);
+    // erase returns the iterator following the erased one in iteration order.
+    auto first = c.begin();
+    auto second = std::next(first);
+    EXPECT_TRUE(c.erase(first) == second);
+}
+
+TYPED_TEST(container_contract, erase_by_value_removes_all_duplicates_and_returns_the_count) {
+    TypeParam c;
+    const auto d = this->pt(0.25, 0.5, 0.75);
+    for (int i = 0; i < 40; ++i) c.insert(this->pt(i, i, i));
+    for (int i = 0; i < 37; ++i) c.insert(d);
+    EXPECT_EQ(c.count(d), 37u);
+    EXPECT_EQ(c.erase(d), 37u);
+    EXPECT_EQ(c.count(d), 0u);
+    EXPECT_EQ(c.size(), 40u);
+    EXPECT_EQ(c.erase(d), 0u);
+    EXPECT_EQ(c.erase(this->pt(3, 3, 3)), 1u);
+    EXPECT_EQ(c.size(), 39u);
+}
+
+TYPED_TEST(container_contract, bulk_erase_of_ranges_small_and_large) {
+    TypeParam c;
+    const auto pts = this->grid(12);
+    c.insert(pts.begin(), pts.end());
+    const auto before = c.size();
+    auto first = c.begin();
+    auto last = first;
+    std::advance(last, 5);
+    std::vector<typename TypeParam::value_type> removed(first, last);
+    c.erase(first, last);  // small range
+    EXPECT_EQ(c.size(), before - 5);
+    for (const auto& p : removed) EXPECT_EQ(c.count(p), 0u);
+    c.erase(c.begin(), c.begin());  // empty range
+    EXPECT_EQ(c.size(), before - 5);
+    c.erase(c.begin(), c.end());  // everything
+    EXPECT_TRUE(c.empty());
+    c.insert(this->pt(1, 2, 3));  // still usable
+    EXPECT_EQ(c.size(), 1u);
+}
+
+TYPED_TEST(container_contract, find_and_count) {
+    TypeParam c;
+    const auto pts = this->grid(6);
+    c.insert(pts.begin(), pts.end());
+    for (const auto& p : pts) {
+        auto it = c.find(p);
+        ASSERT_TRUE(it != c.end());
+        EXPECT_TRUE(*it == p);
+        EXPECT_EQ(c.count(p), 1u);
+    }
+    EXPECT_TRUE(c.find(this->pt(0.5, 0.5, 0.5)) == c.end());
+    EXPECT_EQ(c.count(this->pt(99, 0, 0)), 0u);
+}
+
+TYPED_TEST(container_contract, find_nearest_sorted_with_k_zero_and_k_beyond_size) {
+    TypeParam c;
+    const auto pts = this->grid(8);
+    c.insert(pts.begin(), pts.end());
+    const auto q = this->pt(3.2, 4.1, 0.2);
+    EXPECT_TRUE(c.find_nearest(q, 0).empty());
+    auto nn = c.find_nearest(q, 5);
+    ASSERT_EQ(nn.size(), 5u);
+    EXPECT_TRUE(*nn[0] == this->pt(3, 4, 0));
+    for (std::size_t i = 1; i < nn.size(); ++i)
+        EXPECT_LE(squared_distance(*nn[i - 1], q), squared_distance(*nn[i], q));
+    auto all = c.find_nearest(q, pts.size() + 10);
+    ASSERT_EQ(all.size(), pts.size());
+    for (std::size_t i = 1; i < all.size(); ++i)
+        EXPECT_LE(squared_distance(*all[i - 1], q), squared_distance(*all[i], q));
+}
+
+TYPED_TEST(container_contract, approximate_nearest_respects_the_eps_guarantee) {
+    TypeParam c;
+    spatial_test::point_source<typename TypeParam::value_type> src(spatial_test::distribution::clusters, 7);
+    for (int i = 0; i < 3000; ++i) c.insert(src.next());
+    for (int r = 0; r < 50; ++r) {
+        const auto q = src.next();
+        const auto exact = spatial_test::distances_from(q, c.find_nearest(q, 10));
+        for (double eps : {0.1, 0.5, 2.0}) {
+            const auto approx = c.find_nearest(q, 10, static_cast<typename TypeParam::scalar_type>(eps));
+            ASSERT_EQ(approx.size(), 10u);
+            for (std::size_t i = 1; i < approx.size(); ++i)
+                EXPECT_LE(squared_distance(*approx[i - 1], q), squared_distance(*approx[i], q));
+            const auto ad = spatial_test::distances_from(q, approx);
+            for (std::size_t i = 0; i < 10; ++i)
+                EXPECT_LE(std::sqrt(ad[i]), (1 + eps) * std::sqrt(exact[i]) * (1 + 1e-5) + 1e-12);
+        }
+    }
+    EXPECT_THROW(c.find_nearest(src.next(), 3, -0.5f), std::invalid_argument);
+}
+
+TYPED_TEST(container_contract, ball_and_box_ranges_are_closed) {
+    TypeParam c;
+    const auto pts = this->grid(7);
+    c.insert(pts.begin(), pts.end());
+    const auto center = this->pt(3, 3, 0);
+    // Radius exactly 1: the 4 axis neighbours (and the one above in 3D) are ON the sphere.
+    const auto ball = c.find_in_ball(center, 1);
+    EXPECT_EQ(ball.size(), this->D == 3 ? 6u : 5u);
+    const auto box = c.find_in_box(this->pt(2, 2, 0), this->pt(4, 3, 0));
+    EXPECT_EQ(box.size(), 6u);  // x in {2,3,4}, y in {2,3}, z = 0
+    for (const auto& it : box) EXPECT_EQ(static_cast<double>((*it)[this->D - 1]) == 0.0 || this->D == 2, true);
+    EXPECT_TRUE(c.find_in_box(this->pt(4, 4, 0), this->pt(2, 2, 0)).empty());  // inverted box
+    EXPECT_EQ(c.find_in_ball(center, 0).size(), 1u);
+    EXPECT_THROW(c.find_in_ball(center, -1), std::invalid_argument);
+}
+
+TYPED_TEST(container_contract, ray_cast_honours_thickness_hit_time_and_reports_the_object) {
+    using P = typename TypeParam::value_type;
+    TypeParam c;
+    c.insert(this->pt(5, 0.05, 0));
+    c.insert(this->pt(2, 0.3, 0));
+    c.insert(this->pt(8, 0, 0));
+    const P o = this->pt(0, 0, 0), dir = this->pt(1, 0, 0);
+    intersect_info<P> info;
+    EXPECT_TRUE(c.intersect(o, dir, 0.1, info));  // (2, 0.3) is too far from the ray
+    EXPECT_NEAR(static_cast<double>(info.hit_time), 5.0, 1e-6);
+    EXPECT_NEAR(static_cast<double>(info.hit_location[0]), 5.0, 1e-6);
+    intersect_info<P> thick;
+    auto hit = c.intersect_object(o, dir, 0.5, thick);  // now (2, 0.3) is hit first
+    ASSERT_TRUE(hit != c.end());
+    EXPECT_TRUE(*hit == this->pt(2, 0.3, 0));
+    intersect_info<P> limited;
+    limited.hit_time = 1.5;  // only hits before t = 1.5 count
+    EXPECT_FALSE(c.intersect(o, dir, 0.5, limited));
+    EXPECT_EQ(limited.hit_time, typename TypeParam::scalar_type(1.5));
+    intersect_info<P> backwards;
+    EXPECT_FALSE(c.intersect(this->pt(-1, 0, 0), this->pt(-1, 0, 0), 0.1, backwards));
+    // Default thickness is 0: an exact pass through a point hits it.
+    intersect_info<P> exact;
+    EXPECT_TRUE(c.intersect(this->pt(8, -4, 0), this->pt(0, 1, 0), exact));
+    EXPECT_NEAR(static_cast<double>(exact.hit_time), 4.0, 1e-6);
+}
+
+TYPED_TEST(container_contract, bad_input_is_rejected_by_name_and_nothing_stored_changes) {
+    using P = typename TypeParam::value_type;
+    TypeParam c;
+    const auto pts = this->grid(5);
+    c.insert(pts.begin(), pts.end());
+    const auto before = spatial_test::contents(c);
+    try {
+        c.insert(this->nan_point());
+        FAIL() << "NaN insert accepted";
+    } catch (const std::invalid_argument& e) {
+        EXPECT_NE(std::string(e.what()).find("nan"), std::string::npos) << e.what();
+        EXPECT_NE(std::string(e.what()).find("coordinate 1"), std::string::npos) << e.what();
+    }
+    std::vector<P> batch = this->grid(3);
+    batch.push_back(this->nan_point());
+    EXPECT_THROW(c.insert(batch.begin(), batch.end()), std::invalid_argument);
+    EXPECT_THROW(c.insert(c.begin(), this->nan_point()), std::invalid_argument);
+    P inf_point = this->pt(0, 0, 0);
+    spatial_test::set_coord(inf_point, 0, std::numeric_limits<double>::infinity());
+    EXPECT_THROW(c.insert(inf_point), std::invalid_argument);
+    EXPECT_EQ(spatial_test::contents(c), before);
+    EXPECT_THROW(c.find_nearest(this->nan_point(), 3), std::invalid_argument);
+    intersect_info<P> info;
+    try {
+        c.intersect(this->pt(0, 0, 0), this->pt(0, 0, 0), info);
+        FAIL() << "zero direction accepted";
+    } catch (const std::invalid_argument& e) {
+        EXPECT_NE(std::string(e.what()).find("zero vector"), std::string::npos) << e.what();
+    }
+    EXPECT_THROW(c.intersect(this->nan_point(), this->pt(1, 0, 0), info), std::invalid_argument);
+    EXPECT_THROW(c.intersect(this->pt(0, 0, 0), this->pt(1, 0, 0), -1, info), std::invalid_argument);
+    EXPECT_EQ(spatial_test::contents(c), before);
+}
+
+TYPED_TEST(container_contract, clear_empties_and_the_container_is_reusable) {
+    TypeParam c;
+    const auto pts = this->grid(10);
+    c.insert(pts.begin(), pts.end());
+    c.clear();
+    EXPECT_TRUE(c.empty());
+    EXPECT_TRUE(c.begin() == c.end());
+    EXPECT_TRUE(c.find_nearest(this->pt(1, 1, 1), 3).empty());
+    c.insert(this->pt(1, 1, 1));
+    EXPECT_EQ(c.find_nearest(this->pt(0, 0, 0), 3).size(), 1u);
+}
+
+TYPED_TEST(container_contract, user_defined_equality_distinguishes_payloads) {
+    // For tagged_point, equal coordinates with different tags are different values.
+    TypeParam c;
+    using P = typename TypeParam::value_type;
+    if constexpr (std::is_same_v<P, spatial_test::tagged_point>) {
+        c.insert(this->pt(1, 1, 1, 1));
+        c.insert(this->pt(1, 1, 1, 2));
+        c.insert(this->pt(1, 1, 1, 2));
+        EXPECT_EQ(c.count(this->pt(1, 1, 1, 2)), 2u);
+        EXPECT_EQ(c.erase(this->pt(1, 1, 1, 2)), 2u);
+        EXPECT_EQ(c.count(this->pt(1, 1, 1, 1)), 1u);
+    } else {
+        c.insert(this->pt(1, 1, 1));
+        EXPECT_EQ(c.count(this->pt(1, 1, 1)), 1u);
+    }
+}
