@@ -19,7 +19,7 @@ using namespace spatial;
 using spatial_test::make_point;
 
 using kd_small_leaves = kd_tree_config<4, median_of_widest_spread>;
-using kd_midpoint = kd_tree_config<4, sliding_midpoint>;
+using kd_midpoint = kd_tree_config<4, midpoint_of_max_spread>;
 
 using container_types = ::testing::Types<
     brute_force<point<double, 3>>, brute_force<point<float, 2>>, kd_tree<point<double, 3>>,
@@ -62,17 +62,17 @@ TYPED_TEST_SUITE(container_contract, container_types);
 
 TYPED_TEST(container_contract, empty_container_answers_every_query_with_nothing) {
     TypeParam c;
-    using P = typename TypeParam::value_type;
+    using V = typename TypeParam::value_type;
     EXPECT_TRUE(c.empty());
     EXPECT_EQ(c.size(), 0u);
     EXPECT_TRUE(c.begin() == c.end());
-    const P q = this->pt(1, 2, 3);
+    const V q = this->pt(1, 2, 3);
     EXPECT_TRUE(c.find(q) == c.end());
     EXPECT_EQ(c.count(q), 0u);
     EXPECT_TRUE(c.find_nearest(q, 5).empty());
     EXPECT_TRUE(c.find_in_ball(q, 100).empty());
     EXPECT_TRUE(c.find_in_box(this->pt(-9, -9, -9), this->pt(9, 9, 9)).empty());
-    intersect_info<P> info;
+    intersect_info<V> info;
     EXPECT_FALSE(c.intersect(this->pt(0, 0, 0), this->pt(1, 0, 0), 1, info));
     EXPECT_EQ(c.erase(q), 0u);
 }
@@ -241,34 +241,34 @@ TYPED_TEST(container_contract, ball_and_box_ranges_are_closed) {
 }
 
 TYPED_TEST(container_contract, ray_cast_honours_thickness_hit_time_and_reports_the_object) {
-    using P = typename TypeParam::value_type;
+    using V = typename TypeParam::value_type;
     TypeParam c;
     c.insert(this->pt(5, 0.05, 0));
     c.insert(this->pt(2, 0.3, 0));
     c.insert(this->pt(8, 0, 0));
-    const P o = this->pt(0, 0, 0), dir = this->pt(1, 0, 0);
-    intersect_info<P> info;
-    EXPECT_TRUE(c.intersect(o, dir, 0.1, info));  // (2, 0.3) is too far from the ray
+    const V o = this->pt(0, 0, 0), dir = this->pt(1, 0, 0);
+    intersect_info<V> info;
+    EXPECT_TRUE(c.intersect(o, dir, typename TypeParam::scalar_type(0.1), info));  // (2, 0.3) is too far from the ray
     EXPECT_NEAR(static_cast<double>(info.hit_time), 5.0, 1e-6);
     EXPECT_NEAR(static_cast<double>(info.hit_location[0]), 5.0, 1e-6);
-    intersect_info<P> thick;
+    intersect_info<V> thick;
     auto hit = c.intersect_object(o, dir, 0.5, thick);  // now (2, 0.3) is hit first
     ASSERT_TRUE(hit != c.end());
     EXPECT_TRUE(*hit == this->pt(2, 0.3, 0));
-    intersect_info<P> limited;
+    intersect_info<V> limited;
     limited.hit_time = 1.5;  // only hits before t = 1.5 count
     EXPECT_FALSE(c.intersect(o, dir, 0.5, limited));
     EXPECT_EQ(limited.hit_time, typename TypeParam::scalar_type(1.5));
-    intersect_info<P> backwards;
-    EXPECT_FALSE(c.intersect(this->pt(-1, 0, 0), this->pt(-1, 0, 0), 0.1, backwards));
+    intersect_info<V> backwards;
+    EXPECT_FALSE(c.intersect(this->pt(-1, 0, 0), this->pt(-1, 0, 0), typename TypeParam::scalar_type(0.1), backwards));
     // Default thickness is 0: an exact pass through a point hits it.
-    intersect_info<P> exact;
+    intersect_info<V> exact;
     EXPECT_TRUE(c.intersect(this->pt(8, -4, 0), this->pt(0, 1, 0), exact));
     EXPECT_NEAR(static_cast<double>(exact.hit_time), 4.0, 1e-6);
 }
 
 TYPED_TEST(container_contract, bad_input_is_rejected_by_name_and_nothing_stored_changes) {
-    using P = typename TypeParam::value_type;
+    using V = typename TypeParam::value_type;
     TypeParam c;
     const auto pts = this->grid(5);
     c.insert(pts.begin(), pts.end());
@@ -280,16 +280,16 @@ TYPED_TEST(container_contract, bad_input_is_rejected_by_name_and_nothing_stored_
         EXPECT_NE(std::string(e.what()).find("nan"), std::string::npos) << e.what();
         EXPECT_NE(std::string(e.what()).find("coordinate 1"), std::string::npos) << e.what();
     }
-    std::vector<P> batch = this->grid(3);
+    std::vector<V> batch = this->grid(3);
     batch.push_back(this->nan_point());
     EXPECT_THROW(c.insert(batch.begin(), batch.end()), std::invalid_argument);
     EXPECT_THROW(c.insert(c.begin(), this->nan_point()), std::invalid_argument);
-    P inf_point = this->pt(0, 0, 0);
+    V inf_point = this->pt(0, 0, 0);
     spatial_test::set_coord(inf_point, 0, std::numeric_limits<double>::infinity());
     EXPECT_THROW(c.insert(inf_point), std::invalid_argument);
     EXPECT_EQ(spatial_test::contents(c), before);
     EXPECT_THROW(c.find_nearest(this->nan_point(), 3), std::invalid_argument);
-    intersect_info<P> info;
+    intersect_info<V> info;
     try {
         c.intersect(this->pt(0, 0, 0), this->pt(0, 0, 0), info);
         FAIL() << "zero direction accepted";
@@ -316,8 +316,8 @@ TYPED_TEST(container_contract, clear_empties_and_the_container_is_reusable) {
 TYPED_TEST(container_contract, user_defined_equality_distinguishes_payloads) {
     // For tagged_point, equal coordinates with different tags are different values.
     TypeParam c;
-    using P = typename TypeParam::value_type;
-    if constexpr (std::is_same_v<P, spatial_test::tagged_point>) {
+    using V = typename TypeParam::value_type;
+    if constexpr (std::is_same_v<V, spatial_test::tagged_point>) {
         c.insert(this->pt(1, 1, 1, 1));
         c.insert(this->pt(1, 1, 1, 2));
         c.insert(this->pt(1, 1, 1, 2));
@@ -328,4 +328,27 @@ TYPED_TEST(container_contract, user_defined_equality_distinguishes_payloads) {
         c.insert(this->pt(1, 1, 1));
         EXPECT_EQ(c.count(this->pt(1, 1, 1)), 1u);
     }
+}
+
+TYPED_TEST(container_contract, copies_are_independent_and_moved_from_containers_are_empty_and_usable) {
+    TypeParam a;
+    const auto pts = this->grid(8);
+    a.insert(pts.begin(), pts.end());
+    TypeParam copy = a;
+    copy.erase(copy.begin());
+    EXPECT_EQ(a.size(), pts.size());
+    EXPECT_EQ(copy.size(), pts.size() - 1);
+    TypeParam moved = std::move(a);
+    EXPECT_EQ(moved.size(), pts.size());
+    EXPECT_EQ(spatial_test::contents(moved).size(), pts.size());
+    EXPECT_TRUE(a.empty());  // NOLINT(bugprone-use-after-move): the contract says so
+    a.insert(this->pt(1, 2, 3));
+    EXPECT_EQ(a.count(this->pt(1, 2, 3)), 1u);
+    EXPECT_EQ(a.find_nearest(this->pt(0, 0, 0), 4).size(), 1u);
+    TypeParam assigned;
+    assigned.insert(this->pt(9, 9, 9));
+    assigned = std::move(moved);
+    EXPECT_EQ(assigned.size(), pts.size());
+    EXPECT_EQ(assigned.count(this->pt(9, 9, 9)), 0u);
+    EXPECT_TRUE(moved.empty());  // NOLINT(bugprone-use-after-move)
 }

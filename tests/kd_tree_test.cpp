@@ -59,7 +59,7 @@ TEST(kd_tree, shrinking_below_alpha_triggers_a_full_rebuild) {
     EXPECT_EQ(t.check_invariants(), "");
 }
 
-TEST(kd_tree, hinted_insert_of_a_coherent_stream_visits_no_root_path) {
+TEST(kd_tree, hinted_insert_of_a_coherent_stream_keeps_the_tree_sound) {
     // A spatially coherent stream (a random walk) inserted with the previous point as hint
     // must land in the hint's leaf or a close relative most of the time: we count the
     // climb steps indirectly by comparing against the tree height through stats-free logic:

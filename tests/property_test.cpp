@@ -6,6 +6,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <iomanip>
 #include <map>
 #include <vector>
 
@@ -133,7 +134,7 @@ struct differential_case {
                 auto ta = tree.intersect_object(o, dir, thick, a);
                 auto tb = oracle.intersect_object(o, dir, thick, b);
                 ASSERT_EQ(ta != tree.end(), tb != oracle.end()) << "ray hit disagreement";
-                ASSERT_EQ(a.hit_time, b.hit_time);
+                ASSERT_EQ(a.hit_time, b.hit_time) << std::setprecision(17) << a.hit_time << " vs oracle " << b.hit_time << " thick " << thick;
                 if (ta != tree.end()) {  // the reported object really is hit at hit_time
                     intersect_info<P> again;
                     ASSERT_TRUE(ta->intersect(o, dir, thick, again));
@@ -158,7 +159,7 @@ class differential : public ::testing::Test {};
 
 using kd_tiny = kd_tree_config<2, median_of_widest_spread>;
 using kd_small = kd_tree_config<4, median_of_widest_spread>;
-using kd_mid = kd_tree_config<5, sliding_midpoint>;
+using kd_mid = kd_tree_config<5, midpoint_of_max_spread>;
 using structure_types =
     ::testing::Types<kd_tree<point<double, 3>>, kd_tree<point<float, 3>>, kd_tree<point<double, 2>>,
                      kd_tree<point<float, 2>>, kd_tree<point<double, 3>, kd_tiny>, kd_tree<point<float, 2>, kd_small>,

@@ -35,6 +35,9 @@ constexpr unsigned operator|(capability a, capability b) {
 }
 constexpr unsigned operator|(unsigned a, capability b) { return a | static_cast<unsigned>(b); }
 
+// One reported neighbour. `id` identifies the point WITHIN the structure that reported it
+// (for peers the build/insert id, for our containers the element's slot handle); the
+// harness never compares ids across structures, only distances.
 template <class T>
 struct neighbor {
     T distance_squared;
@@ -83,6 +86,9 @@ public:
         for (auto id : ids) erase(id);
     }
     virtual std::size_t size() const = 0;
+    // Called UNTIMED after build() and before timed dynamic operations, for bookkeeping a
+    // structure needs before erase(id) works (our adapters resolve ids of bulk-built points).
+    virtual void prepare_dynamic() {}
 
     // Nodes visited by the last query, or -1 when the structure cannot report it.
     virtual long long last_nodes_visited() const { return -1; }

@@ -60,6 +60,7 @@ public:
         return make(slots_.next_occupied(s + 1));
     }
     size_type erase(const P& x) {
+        detail::require_finite(x, "brute_force::erase", "point");
         size_type n = 0;
         for (slot_index s = slots_.next_occupied(0); s < slots_.capacity(); s = slots_.next_occupied(s + 1))
             if (slots_.value(s) == x) {
@@ -75,11 +76,13 @@ public:
 
     // ---- lookup ----------------------------------------------------------------------
     iterator find(const P& x) {
+        detail::require_finite(x, "brute_force::find", "point");
         for (slot_index s = slots_.next_occupied(0); s < slots_.capacity(); s = slots_.next_occupied(s + 1))
             if (slots_.value(s) == x) return make(s);
         return end();
     }
     size_type count(const P& x) const {
+        detail::require_finite(x, "brute_force::count", "point");
         size_type n = 0;
         for (slot_index s = slots_.next_occupied(0); s < slots_.capacity(); s = slots_.next_occupied(s + 1))
             n += slots_.value(s) == x;
@@ -157,3 +160,6 @@ private:
 };
 
 }  // namespace spatial
+
+#include "spatial/core/point.hpp"
+static_assert(spatial::spatial_container<spatial::brute_force<spatial::point<double, 3>>>);

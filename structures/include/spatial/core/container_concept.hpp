@@ -1,6 +1,7 @@
 #pragma once
 // spatial::spatial_container — the ONE interface every structure implements (the course's
-// Project 2/3 contract). Every container static_asserts it; the typed contract suite in
+// Project 2/3 contract). Each container's header static_asserts it for a sample point type;
+// the typed contract suite in
 // tests/ exercises it. Semantics, complexity and iterator rules are in docs/design.md.
 
 #include <concepts>

@@ -25,12 +25,21 @@ void require_finite(const P& p, const char* where, const char* what) {
     }
 }
 
+// The direction must be usable: its squared length, in the point's scalar type, must be a
+// positive finite number (a direction of 1e-30 in float squares to 0 and is rejected too).
 template <class P>
 void require_nonzero_direction(const P& d, const char* where) {
     require_finite(d, where, "ray direction");
-    for (std::size_t i = 0; i < P::dimension; ++i)
-        if (d[i] != 0) return;
-    throw std::invalid_argument(std::string(where) + ": ray direction is the zero vector");
+    typename P::scalar_type dd = 0;
+    bool any = false;
+    for (std::size_t i = 0; i < P::dimension; ++i) {
+        dd += d[i] * d[i];
+        any |= d[i] != 0;
+    }
+    if (!any) throw std::invalid_argument(std::string(where) + ": ray direction is the zero vector");
+    if (!(dd > 0) || !std::isfinite(dd))
+        throw std::invalid_argument(std::string(where) +
+                                    ": ray direction's squared length underflows or overflows; rescale it");
 }
 
 template <class T>

@@ -10,6 +10,7 @@
 #include <cmath>
 #include <cstddef>
 #include <ostream>
+#include <type_traits>
 
 #include "spatial/core/intersect_info.hpp"
 

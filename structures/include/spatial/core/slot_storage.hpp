@@ -30,6 +30,25 @@ public:
     using meta_type = std::uint32_t;
     static constexpr meta_type vacant = std::numeric_limits<meta_type>::max();
 
+    slot_storage() = default;
+    slot_storage(const slot_storage&) = default;
+    slot_storage& operator=(const slot_storage&) = default;
+    // A moved-from storage is empty (not just "valid but unspecified").
+    slot_storage(slot_storage&& o) noexcept
+        : values_(std::move(o.values_)), meta_(std::move(o.meta_)), free_(std::move(o.free_)), live_(o.live_) {
+        o.clear();
+    }
+    slot_storage& operator=(slot_storage&& o) noexcept {
+        if (this != &o) {
+            values_ = std::move(o.values_);
+            meta_ = std::move(o.meta_);
+            free_ = std::move(o.free_);
+            live_ = o.live_;
+            o.clear();
+        }
+        return *this;
+    }
+
     slot_index allocate(const Value& v, meta_type meta) {
         assert(meta != vacant);
         if (!free_.empty()) {

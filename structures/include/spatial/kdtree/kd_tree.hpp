@@ -15,9 +15,10 @@
 //    makes a leaf deeper than log_{1/alpha}(n / leaf_capacity) + 2 rebuilds the lowest
 //    ancestor whose heavier child holds more than alpha of its points; (2) when the size
 //    drops below alpha times the size at the last full rebuild, or when leaves become on
-//    average less than a quarter full, the whole tree is rebuilt. Both are amortised
-//    O(log n) per update; depth is O(log n) at all times, so recursive traversal depth is
-//    bounded (no fixed-size stack).
+//    average less than a quarter full, the whole tree is rebuilt. Rebuilding a subtree of
+//    m points costs O(m log m) (a kd-subtree is re-split, Overmars 1983), so updates cost
+//    O(log^2 n) amortised in the worst case, O(log n) expected on random data; depth stays
+//    O(log n), so recursive traversal depth is bounded (no fixed-size stack).
 //  * Queries: kNN with incremental distance to the cell (Arya & Mount 1993), optional
 //    (1+eps)-approximation (Arya et al. 1998); ball and box range; thick-ray casting by
 //    front-to-back traversal of ray-parameter intervals.
@@ -27,8 +28,11 @@
 #include <cmath>
 #include <cstddef>
 #include <cstdint>
+#include <iterator>
 #include <limits>
 #include <numeric>
+#include <stdexcept>
+#include <string>
 #include <vector>
 
 #include "spatial/core/container_concept.hpp"
@@ -98,10 +102,12 @@ private:
         std::uint8_t dim = 0;
         std::uint8_t is_leaf = 1;
     };
-    struct bucket {
-        coords cell_lo, cell_hi;  // the leaf's cell (may be infinite)
-        node_index owner = no_node;
+    // Aligned to a cache line with the slot list first: a query scanning a leaf touches one
+    // line for the list (for capacity <= 16), the cell is only read by hinted insertion.
+    struct alignas(64) bucket {
         std::array<slot_index, leaf_capacity> items;
+        node_index owner = no_node;
+        coords cell_lo, cell_hi;  // the leaf's cell (may be infinite)
     };
     // A point copied out for (re)building: partitioning moves these, not the slots.
     struct entry {
@@ -114,9 +120,22 @@ public:
     kd_tree() { reset_to_empty(); }
     template <class InputIt>
     kd_tree(InputIt first, InputIt last) : kd_tree() { insert(first, last); }
+    // Copies are independent trees (iterators into one never refer to the other).
+    kd_tree(const kd_tree&) = default;
+    kd_tree& operator=(const kd_tree&) = default;
+    // A moved-from tree is empty and usable. Iterators into the source are invalidated:
+    // they refer to the source's storage (see docs/design.md, iterator rules).
+    kd_tree(kd_tree&& other) noexcept(false) : kd_tree() { swap_contents(other); }
+    kd_tree& operator=(kd_tree&& other) noexcept(false) {
+        if (this != &other) {
+            clear();
+            swap_contents(other);
+        }
+        return *this;
+    }
 
     // ---- insertion -------------------------------------------------------------------
-    // O(log n) amortised.
+    // O(log n) expected, O(log^2 n) amortised worst case (scapegoat subtree rebuilds).
     iterator insert(const P& x) {
         detail::require_finite(x, "kd_tree::insert", "point");
         const coords c = coords_of(x);
@@ -125,7 +144,8 @@ public:
 
     // Hinted insertion: starts at the hint's leaf and climbs only as far as needed (each
     // step O(1) via the stored restore bounds), then descends. O(1) expected when x lies in
-    // the hint's leaf cell or a nearby one; never worse than O(log n) amortised.
+    // the hint's leaf cell or a nearby one; a far-away hint costs a climb to the root plus
+    // the plain descent (about twice a plain insert).
     iterator insert(const_iterator hint, const P& x) {
         detail::require_finite(x, "kd_tree::insert(hint, x)", "point");
         const coords c = coords_of(x);
@@ -147,31 +167,43 @@ public:
     // the points out in leaf order (O(m log m)); for a batch at least half the current size
     // a full rebuild (O((n+m) log(n+m))); otherwise the batch is partitioned down the tree
     // once and each touched leaf is rebuilt with its new points (O(m log n), one pass over
-    // the touched nodes instead of m root-to-leaf descents). Validates everything first.
+    // the touched nodes instead of m root-to-leaf descents). Validates everything first and
+    // reserves storage before storing anything (strong guarantee for bad input and for
+    // capacity errors; a std::bad_alloc during rebuilding leaves the tree unusable).
     template <class InputIt>
     void insert(InputIt first, InputIt last) {
-        std::vector<P> batch(first, last);
-        for (const P& x : batch) detail::require_finite(x, "kd_tree::insert(first, last)", "point");
-        if (batch.empty()) return;
-        if (slots_.size() == 0) {
-            build_fresh(std::move(batch));
-            return;
+        if constexpr (!std::random_access_iterator<InputIt>) {
+            // Single-pass or list-like input: copy once so it can be validated first.
+            const std::vector<P> batch(first, last);
+            insert(batch.begin(), batch.end());
+        } else {
+            for (auto it = first; it != last; ++it) detail::require_finite(*it, "kd_tree::insert(first, last)", "point");
+            const auto m = static_cast<std::size_t>(last - first);
+            if (m == 0) return;
+            if (slots_.size() == 0) {
+                build_fresh(first, m);
+                return;
+            }
+            const std::size_t old_size = slots_.size();
+            if (m > static_cast<std::size_t>(no_slot) - 1 - slots_.capacity())
+                throw std::length_error("kd_tree::insert(first, last): more than 2^32-1 elements");
+            slots_.reserve(slots_.capacity() + m);  // no reallocation failure half-way
+            std::vector<entry> fresh;
+            fresh.reserve(m);
+            for (auto it = first; it != last; ++it) {
+                const coords c = coords_of(*it);
+                grow_bounds(c);
+                fresh.push_back({c, slots_.allocate(*it, 0)});
+            }
+            ops_since_rebuild_ += m;
+            if (m * 2 >= old_size) {
+                rebuild_all();
+                return;
+            }
+            std::uint16_t max_depth = 0;
+            distribute(root, fresh.data(), fresh.size(), max_depth);
+            if (max_depth > depth_limit() || needs_full_rebuild()) rebuild_all();
         }
-        std::vector<entry> fresh;
-        fresh.reserve(batch.size());
-        for (const P& x : batch) {
-            const coords c = coords_of(x);
-            grow_bounds(c);
-            fresh.push_back({c, slots_.allocate(x, 0)});
-        }
-        ops_since_rebuild_ += batch.size();
-        if (batch.size() * 2 >= slots_.size()) {
-            rebuild_all();
-            return;
-        }
-        std::uint16_t max_depth = 0;
-        distribute(root, fresh.data(), fresh.size(), max_depth);
-        if (max_depth > depth_limit() || needs_full_rebuild()) rebuild_all();
     }
 
     // ---- erasure ---------------------------------------------------------------------
@@ -215,6 +247,23 @@ public:
         reset_to_empty();
     }
 
+private:
+    void swap_contents(kd_tree& o) {
+        std::swap(slots_, o.slots_);
+        std::swap(nodes_, o.nodes_);
+        std::swap(buckets_, o.buckets_);
+        std::swap(free_pairs_, o.free_pairs_);
+        std::swap(free_buckets_, o.free_buckets_);
+        std::swap(leaves_, o.leaves_);
+        std::swap(bounds_lo_, o.bounds_lo_);
+        std::swap(bounds_hi_, o.bounds_hi_);
+        std::swap(size_at_rebuild_, o.size_at_rebuild_);
+        std::swap(ops_since_rebuild_, o.ops_since_rebuild_);
+        std::swap(ray_thickness_, o.ray_thickness_);
+    }
+
+public:
+
     // ---- lookup ----------------------------------------------------------------------
     // O(log n) expected (both sides are searched where x lies on a split plane).
     iterator find(const P& x) {
@@ -240,7 +289,8 @@ public:
     // Nearest point hit before info.hit_time by the ray thickened to `thickness` (see
     // point::intersect), or end(). Front-to-back traversal: a node is entered only for the
     // ray-parameter interval in which the thick ray can reach its half-space, and skipped once
-    // a hit closer than that interval is known. Expected O(log n + hits tested) for thin rays.
+    // a hit closer than that interval is known. A thin ray visits the O(n^(1-1/D)) worst-case
+    // / about (n/leaf_capacity)^(1/D) typical cells it crosses until the first hit.
     iterator intersect_object(const P& origin, const P& direction, scalar_type thickness,
                               info_type& info) const {
         detail::require_finite(origin, "kd_tree::intersect", "ray origin");
@@ -304,8 +354,9 @@ public:
         ball(root, T(0), offset, coords_of(center), radius * radius, out);
         return out;
     }
-    // All points p with lo <= p <= hi componentwise (closed box). O(n^(1-1/D) + hits) worst
-    // case for a balanced tree (Lee & Wong 1977).
+    // All points p with lo <= p <= hi componentwise (closed box). O(n^(1-1/D) + hits) for
+    // trees whose splits cycle through the dimensions (Lee & Wong 1977); with widest-spread
+    // splits a thin box over a very elongated set can visit O(n) nodes.
     std::vector<iterator> find_in_box(const P& lo, const P& hi) const {
         detail::require_finite(lo, "kd_tree::find_in_box", "box corner lo");
         detail::require_finite(hi, "kd_tree::find_in_box", "box corner hi");
@@ -323,6 +374,7 @@ public:
 
     std::size_t memory_bytes() const {
         return sizeof(*this) + slots_.memory_bytes() + nodes_.capacity() * sizeof(node) +
+               entry_buffer_.capacity() * sizeof(entry) +
                buckets_.capacity() * sizeof(bucket) +
                (free_pairs_.capacity() + free_buckets_.capacity()) * sizeof(node_index);
     }
@@ -418,7 +470,8 @@ private:
     }
 
     slot_index insert_at(node_index leaf, const P& x, const coords& c) {
-        // Allocate the slot first: if it throws (capacity), nothing else has changed.
+        // Allocate the slot first: if it throws (capacity), nothing else has changed. (A
+        // std::bad_alloc in the split below would leave the slot unlinked.)
         const slot_index s = slots_.allocate(x, nodes_[leaf].first);
         grow_bounds(c);
         ++ops_since_rebuild_;
@@ -427,12 +480,15 @@ private:
             buckets_[L.first].items[L.count++] = s;
             return s;
         }
-        // Full leaf: rebuild it as a small subtree over its points plus the new one.
-        std::vector<entry> es;
-        es.reserve(leaf_capacity + 1);
-        gather(leaf, es);
-        es.push_back({c, s});
-        const std::uint16_t deepest = rebuild_subtree(leaf, es);
+        // Full leaf: rebuild it as a small subtree over its points plus the new one. Its
+        // cell is in its bucket (no walk from the root, which would cost a descent).
+        const coords lo = buckets_[L.first].cell_lo, hi = buckets_[L.first].cell_hi;
+        entry_buffer_.clear();
+        gather(leaf, entry_buffer_);
+        entry_buffer_.push_back({c, s});
+        ++stats_.subtree_rebuilds;
+        const std::uint16_t deepest =
+            build_node(leaf, entry_buffer_.data(), entry_buffer_.size(), lo, hi, nodes_[leaf].depth, false, 0);
         if (deepest > depth_limit()) rebalance_from(leaf);
         return s;
     }
@@ -451,11 +507,13 @@ private:
                 max_depth = std::max(max_depth, L.depth);
                 return;
             }
+            const coords lo = buckets_[L.first].cell_lo, hi = buckets_[L.first].cell_hi;
             std::vector<entry> es;
             es.reserve(L.count + count);
             gather(n, es);
             es.insert(es.end(), e, e + count);
-            max_depth = std::max(max_depth, rebuild_subtree(n, es));
+            ++stats_.subtree_rebuilds;
+            max_depth = std::max(max_depth, build_node(n, es.data(), es.size(), lo, hi, nodes_[n].depth, false, 0));
             return;
         }
         const unsigned d = nodes_[n].dim;
@@ -590,15 +648,7 @@ private:
             ++leaves_;
             return depth;
         }
-        coords blo, bhi;
-        blo.fill(std::numeric_limits<T>::infinity());
-        bhi.fill(-std::numeric_limits<T>::infinity());
-        for (std::size_t i = 0; i < n; ++i)
-            for (std::size_t d = 0; d < D; ++d) {
-                blo[d] = std::min(blo[d], e[i].c[d]);
-                bhi[d] = std::max(bhi[d], e[i].c[d]);
-            }
-        const split_choice<T> sc = typename Config::splitter{}(e, n, blo, bhi, leaf_capacity);
+        const split_choice<T> sc = typename Config::splitter{}(e, n, leaf_capacity);
         const node_index first = new_pair();
         {
             node& nd = nodes_[at];
@@ -624,12 +674,13 @@ private:
 
     // Bulk build into an empty tree. Slots are assigned in leaf order, so each leaf's points
     // are contiguous in memory (sequential access when a query scans a leaf).
-    void build_fresh(std::vector<P> batch) {
+    template <class RandomIt>
+    void build_fresh(RandomIt batch, std::size_t count) {
         reset_to_empty();
         free_buckets_.push_back(nodes_[root].first);
         leaves_ = 0;
-        std::vector<entry> es(batch.size());
-        for (std::size_t i = 0; i < batch.size(); ++i) {
+        std::vector<entry> es(count);
+        for (std::size_t i = 0; i < count; ++i) {
             es[i].c = coords_of(batch[i]);
             es[i].slot = static_cast<slot_index>(i);
             grow_bounds(es[i].c);
@@ -640,8 +691,8 @@ private:
         build_node(root, es.data(), es.size(), lo, hi, 0, true, 0);
         // After partitioning, position i of `es` is the i-th point in leaf order.
         std::vector<P> ordered;
-        ordered.reserve(batch.size());
-        for (const entry& e : es) ordered.push_back(std::move(batch[e.slot]));
+        ordered.reserve(count);
+        for (const entry& e : es) ordered.push_back(batch[e.slot]);
         slots_.assign(std::move(ordered), 0);
         for (std::size_t i = 0; i < es.size(); ++i) slots_.set_meta(static_cast<slot_index>(i), es[i].bucket);
         size_at_rebuild_ = slots_.size();
@@ -902,8 +953,13 @@ private:
     coords bounds_lo_{}, bounds_hi_{};  // bounding box of everything inserted since rebuild
     std::size_t size_at_rebuild_ = 0;
     std::size_t ops_since_rebuild_ = 0;
+    std::vector<entry> entry_buffer_;  // reused by leaf splits (no allocation per split)
     scalar_type ray_thickness_ = 0;
     mutable kd_tree_stats stats_;
 };
 
 }  // namespace spatial
+
+#include "spatial/core/point.hpp"
+static_assert(spatial::spatial_container<spatial::kd_tree<spatial::point<double, 3>>>);
+static_assert(spatial::spatial_container<spatial::kd_tree<spatial::point<float, 2>>>);

@@ -1,14 +1,18 @@
 #pragma once
 // Splitting rules for kd_tree construction, chosen by kd_tree_config::splitter.
 //
-// A splitter receives n > leaf_capacity build entries (each with coordinates `c`) and their
-// bounding box, partitions them in place and returns (dim, value, left): afterwards entries
-// [0, left) have c[dim] <= value and [left, n) have c[dim] >= value, with 0 < left < n.
-// Both rules below are O(n) per node (nth_element / partition), O(n log n) per build.
+// A splitter receives n > leaf_capacity build entries (each with coordinates `c`),
+// partitions them in place and returns (dim, value, left): afterwards entries [0, left) have
+// c[dim] <= value and [left, n) have c[dim] >= value, with 0 < left < n.
+// Both rules below are O(n) expected per node, O(n log n) per build.
 
 #include <algorithm>
 #include <array>
 #include <cstddef>
+#include <tuple>
+#include <type_traits>
+
+#include "spatial/kdtree/select.hpp"
 
 namespace spatial {
 
@@ -28,9 +32,24 @@ unsigned widest_dimension(const std::array<T, D>& lo, const std::array<T, D>& hi
     return best;
 }
 
+// Bounding box of the entries; for large nodes, of a strided sample of about 4096 of them
+// (the widest side is what matters, and a sample estimates it well at 1/stride the cost).
+template <class T, std::size_t D, class Entry>
+void bounding_box(const Entry* e, std::size_t n, std::array<T, D>& lo, std::array<T, D>& hi) {
+    const std::size_t stride = n > 65536 ? n / 4096 : 1;
+    lo = e[0].c;
+    hi = e[0].c;
+    for (std::size_t i = 0; i < n; i += stride)
+        for (std::size_t d = 0; d < D; ++d) {
+            lo[d] = e[i].c[d] < lo[d] ? e[i].c[d] : lo[d];
+            hi[d] = e[i].c[d] > hi[d] ? e[i].c[d] : hi[d];
+        }
+}
+
 template <class Entry>
 auto median_partition(Entry* e, std::size_t n, unsigned dim, std::size_t m) {
-    std::nth_element(e, e + m, e + n, [dim](const Entry& a, const Entry& b) { return a.c[dim] < b.c[dim]; });
+    floyd_rivest_select(e, 0, static_cast<std::ptrdiff_t>(n) - 1, static_cast<std::ptrdiff_t>(m),
+                        [dim](const Entry& a) { return a.c[dim]; });
     return e[m].c[dim];  // the right side's minimum; everything left of m is <= it
 }
 }  // namespace detail
@@ -39,33 +58,60 @@ auto median_partition(Entry* e, std::size_t n, unsigned dim, std::size_t m) {
 // with the left count rounded up to a multiple of the leaf capacity so that leaves come out
 // full (less memory, fewer nodes). Depth is log2(n / leaf_capacity) + O(1) on ANY input,
 // including duplicates and degenerate (collinear, coplanar) sets.
+//
+// Exact selection moves every entry two or three times per level, and in large nodes the
+// build is bound by that memory traffic. So nodes above 8192 entries ESTIMATE their median
+// from a strided sample of min(4095, n/16) keys and are partitioned in a single pass (rank
+// error a few percent, so depth is unaffected; it costs at most one partly filled leaf per
+// such subtree, under 1% of the leaves). If the estimate is off by more than 10% (heavy
+// duplicates, adversarial strides), the exact selection is used instead.
 struct median_of_widest_spread {
-    template <class Entry, class T, std::size_t D>
-    split_choice<T> operator()(Entry* e, std::size_t n, const std::array<T, D>& lo,
-                               const std::array<T, D>& hi, std::size_t leaf_capacity) const {
+    static constexpr std::size_t sampled_median_threshold = 8192;
+    template <class Entry>
+    auto operator()(Entry* e, std::size_t n, std::size_t leaf_capacity) const {
+        using T = std::remove_cvref_t<decltype(e[0].c[0])>;
+        constexpr std::size_t D = std::tuple_size_v<std::remove_cvref_t<decltype(e[0].c)>>;
+        std::array<T, D> lo, hi;
+        detail::bounding_box<T, D>(e, n, lo, hi);
         const unsigned dim = detail::widest_dimension(lo, hi);
+        if (n > sampled_median_threshold) {
+            std::array<T, 4095> buffer;
+            const std::size_t count = std::min<std::size_t>(buffer.size(), n / 16) | 1;
+            const std::size_t stride = n / count;
+            for (std::size_t i = 0; i < count; ++i) buffer[i] = e[i * stride].c[dim];
+            std::nth_element(buffer.begin(), buffer.begin() + count / 2, buffer.begin() + count);
+            const T pivot = buffer[count / 2];
+            Entry* cut = std::partition(e, e + n, [dim, pivot](const Entry& a) { return a.c[dim] < pivot; });
+            const auto left = static_cast<std::size_t>(cut - e);
+            if (left >= n * 2 / 5 && left <= n * 3 / 5) return split_choice<T>{dim, pivot, left};
+        }
         std::size_t m = n / 2;
         if (n > 2 * leaf_capacity) m = (m + leaf_capacity - 1) / leaf_capacity * leaf_capacity;
         m = std::clamp<std::size_t>(m, 1, n - 1);
-        return {dim, detail::median_partition(e, n, dim, m), m};
+        return split_choice<T>{dim, detail::median_partition(e, n, dim, m), m};
     }
 };
 
-// Sliding midpoint (Maneewongvatana & Mount 1999): cut the widest side of the points' box at
-// its middle; cells stay fat, which helps approximate search on clustered data. If the cut
-// leaves fewer than a quarter of the points on one side, fall back to the median so that
-// depth stays O(log n) — the kd_tree's balance rule relies on it.
-struct sliding_midpoint {
-    template <class Entry, class T, std::size_t D>
-    split_choice<T> operator()(Entry* e, std::size_t n, const std::array<T, D>& lo,
-                               const std::array<T, D>& hi, std::size_t) const {
+// Midpoint of max spread (CGAL's Midpoint_of_max_spread): cut the widest side of the
+// points' bounding box at its middle, so cells stay fat, which helps approximate search on
+// clustered data (the motivation of Maneewongvatana & Mount 1999's sliding midpoint, of
+// which this is the bounding-box variant). If the cut leaves fewer than a quarter of the
+// points on one side, fall back to the median so that depth stays O(log n) — the kd_tree's
+// balance rule relies on it.
+struct midpoint_of_max_spread {
+    template <class Entry>
+    auto operator()(Entry* e, std::size_t n, std::size_t) const {
+        using T = std::remove_cvref_t<decltype(e[0].c[0])>;
+        constexpr std::size_t D = std::tuple_size_v<std::remove_cvref_t<decltype(e[0].c)>>;
+        std::array<T, D> lo, hi;
+        detail::bounding_box<T, D>(e, n, lo, hi);
         const unsigned dim = detail::widest_dimension(lo, hi);
         const T mid = lo[dim] + (hi[dim] - lo[dim]) / 2;
         Entry* cut = std::partition(e, e + n, [dim, mid](const Entry& a) { return a.c[dim] < mid; });
         const std::size_t left = static_cast<std::size_t>(cut - e);
-        if (left >= n / 4 && n - left >= n / 4 && left > 0 && left < n) return {dim, mid, left};
+        if (left >= n / 4 && n - left >= n / 4 && left > 0 && left < n) return split_choice<T>{dim, mid, left};
         const std::size_t m = n / 2;
-        return {dim, detail::median_partition(e, n, dim, m), m};
+        return split_choice<T>{dim, detail::median_partition(e, n, dim, m), m};
     }
 };
 

@@ -1,0 +1,39 @@
+#pragma once
+// Loading real point sets (scans, mesh vertices) as 3D double points.
+//
+// Formats, chosen by the file extension (case-insensitive):
+//   .xyz .xyzn .pwn  text, one point per line: x y z, then any extra columns (normals,
+//                    colours) which are ignored; blank lines and lines starting with # skipped.
+//   .off             the vertices of an ASCII OFF mesh ([ST][C][N]OFF); faces ignored.
+//   .obj             the `v x y z` vertices of a Wavefront OBJ mesh; everything else ignored.
+//   .ply             ASCII or binary PLY, through CGAL's reader; only in builds configured with
+//                    -DSPATIAL_WITH_CGAL=ON (see can_load_ply()).
+// The text formats are parsed here (locale-independent std::from_chars), so their errors can
+// name the line. Every error, including a NaN or infinite coordinate and a file without
+// points, throws datasets::load_error whose message names the file.
+
+#include <filesystem>
+#include <span>
+#include <stdexcept>
+#include <string_view>
+#include <vector>
+
+#include "spatial/core/point.hpp"
+
+namespace datasets {
+
+class load_error : public std::runtime_error {
+public:
+    using std::runtime_error::runtime_error;
+};
+
+// The points of `file`; see the format list above. O(file size).
+std::vector<spatial::point<double, 3>> load_point_set(const std::filesystem::path& file);
+
+// Extensions load_point_set accepts in this build (lower case, with the dot).
+std::span<const std::string_view> supported_point_set_extensions() noexcept;
+
+// True when this build reads .ply files (it was configured with SPATIAL_WITH_CGAL=ON).
+bool can_load_ply() noexcept;
+
+}  // namespace datasets

@@ -1,0 +1,431 @@
+// Point-set loaders. The only translation unit of the project that includes CGAL (for PLY):
+// CGAL headers compile slowly and its target adds -frounding-math, so they stay here, behind
+// SPATIAL_DATASETS_HAVE_CGAL, and never reach a public header.
+
+#include "datasets/point_set_io.hpp"
+
+#include <algorithm>
+#include <array>
+#include <cctype>
+#include <charconv>
+#include <cmath>
+#include <cstdint>
+#include <fstream>
+#include <iterator>
+#include <limits>
+#include <optional>
+#include <sstream>
+#include <string>
+#include <system_error>
+
+#if defined(SPATIAL_DATASETS_HAVE_CGAL)
+#include <CGAL/IO/read_ply_points.h>
+#include <CGAL/Simple_cartesian.h>
+#endif
+
+namespace datasets {
+namespace {
+
+namespace fs = std::filesystem;
+using point3 = spatial::point<double, 3>;
+
+[[noreturn]] void fail(const fs::path& file, std::string_view what) {
+    throw load_error(file.string() + ": " + std::string(what));
+}
+
+[[noreturn]] void fail_at(const fs::path& file, std::size_t line, std::string_view what) {
+    throw load_error(file.string() + ": line " + std::to_string(line) + ": " + std::string(what));
+}
+
+// The whole file as bytes: one read is faster than line-by-line stream extraction, and the
+// parsers below work on string_views into it.
+std::string read_whole_file(const fs::path& file) {
+    std::error_code ec;
+    if (fs::is_directory(file, ec)) fail(file, "is a directory, not a point-set file");
+    std::ifstream in(file, std::ios::binary);
+    if (!in) fail(file, "cannot open the file (missing or unreadable)");
+    std::ostringstream buffer;
+    buffer << in.rdbuf();
+    if (in.bad()) fail(file, "read error");
+    return std::move(buffer).str();
+}
+
+// Yields the lines of a text one by one, numbered from 1, without their "\n" or "\r\n".
+class line_reader {
+public:
+    explicit line_reader(std::string_view text) : text_(text) {}
+
+    bool next(std::string_view& line) {
+        if (pos_ >= text_.size()) return false;
+        const std::size_t end = std::min(text_.find('\n', pos_), text_.size());
+        line = text_.substr(pos_, end - pos_);
+        if (!line.empty() && line.back() == '\r') line.remove_suffix(1);
+        pos_ = end + 1;
+        ++number_;
+        return true;
+    }
+    std::size_t number() const { return number_; }
+
+private:
+    std::string_view text_;
+    std::size_t pos_ = 0;
+    std::size_t number_ = 0;
+};
+
+bool is_separator(char c) {
+    // Commas are accepted too: some tools write "x, y, z".
+    return c == ' ' || c == '\t' || c == ',' || c == '\v' || c == '\f';
+}
+
+// Whitespace/comma separated tokens of one line.
+class token_reader {
+public:
+    explicit token_reader(std::string_view line) : rest_(line) {}
+
+    bool next(std::string_view& token) {
+        std::size_t i = 0;
+        while (i < rest_.size() && is_separator(rest_[i])) ++i;
+        if (i == rest_.size()) return false;
+        std::size_t j = i;
+        while (j < rest_.size() && !is_separator(rest_[j])) ++j;
+        token = rest_.substr(i, j - i);
+        rest_.remove_prefix(j);
+        return true;
+    }
+
+private:
+    std::string_view rest_;
+};
+
+std::string_view strip_comment(std::string_view line) {
+    const std::size_t hash = line.find('#');
+    return hash == std::string_view::npos ? line : line.substr(0, hash);
+}
+
+bool is_blank(std::string_view line) {
+    return std::all_of(line.begin(), line.end(),
+                       [](char c) { return std::isspace(static_cast<unsigned char>(c)) != 0; });
+}
+
+std::string quote_token(std::string_view token) {
+    constexpr std::size_t max_shown = 40;
+    std::string s = "\"" + std::string(token.substr(0, max_shown));
+    return s + (token.size() > max_shown ? "...\"" : "\"");
+}
+
+// Locale-independent: std::from_chars ignores the C locale's decimal separator.
+std::optional<double> parse_double(std::string_view token) {
+    if (!token.empty() && token.front() == '+') token.remove_prefix(1);
+    double value = 0.0;
+    const auto [ptr, ec] = std::from_chars(token.data(), token.data() + token.size(), value);
+    if (ec != std::errc{} || ptr != token.data() + token.size()) return std::nullopt;
+    return value;
+}
+
+std::optional<std::uint64_t> parse_count(std::string_view token) {
+    std::uint64_t value = 0;
+    const auto [ptr, ec] = std::from_chars(token.data(), token.data() + token.size(), value);
+    if (ec != std::errc{} || ptr != token.data() + token.size()) return std::nullopt;
+    return value;
+}
+
+// Reads x, y, z from the next three tokens of `tokens`; what follows on the line is ignored.
+point3 parse_xyz(token_reader& tokens, const fs::path& file, std::size_t line_number,
+                 std::string_view line_kind) {
+    static constexpr std::array<const char*, 3> axis_name{"x", "y", "z"};
+    point3 p;
+    for (std::size_t d = 0; d < 3; ++d) {
+        std::string_view token;
+        if (!tokens.next(token)) {
+            fail_at(file, line_number,
+                    "expected at least 3 numbers (x y z) on " + std::string(line_kind) +
+                        " but found " + std::to_string(d));
+        }
+        const std::optional<double> value = parse_double(token);
+        if (!value) {
+            fail_at(file, line_number,
+                    "expected a number for " + std::string(axis_name[d]) + " on " +
+                        std::string(line_kind) + " but found " + quote_token(token));
+        }
+        if (!std::isfinite(*value)) {
+            fail_at(file, line_number,
+                    std::string(axis_name[d]) + " = " + std::string(token) +
+                        " is not finite (NaN and infinite coordinates are rejected)");
+        }
+        p[d] = *value;
+    }
+    return p;
+}
+
+// .xyz/.xyzn/.pwn: "x y z [extra columns]" per line. A first data line holding a single
+// integer is taken as a point-count header (some tools write one) and skipped.
+std::vector<point3> parse_xyz_text(std::string_view text, const fs::path& file) {
+    std::vector<point3> points;
+    line_reader lines(text);
+    std::string_view line;
+    bool first_data_line = true;
+    while (lines.next(line)) {
+        if (is_blank(line)) continue;
+        const std::size_t start = line.find_first_not_of(" \t");
+        if (line[start] == '#') continue;
+        if (first_data_line) {
+            first_data_line = false;
+            token_reader probe(line);
+            std::string_view first, second;
+            if (probe.next(first) && !probe.next(second) && parse_count(first)) continue;
+        }
+        token_reader tokens(line);
+        points.push_back(parse_xyz(tokens, file, lines.number(), "a point line"));
+    }
+    return points;
+}
+
+// .off: our own reader rather than CGAL's, because we only want the vertices and (1) it
+// reports the line of a bad vertex, (2) it works in builds without CGAL, (3) it does not
+// reject meshes that are non-manifold or have broken faces, which CGAL's Surface_mesh
+// reader refuses although their vertices are a perfectly good point set.
+// Accepts the ASCII header keywords [ST][C][N]OFF (extra per-vertex columns ignored) and
+// headerless files that start with the counts; rejects 4OFF, nOFF and binary OFF by name.
+std::vector<point3> parse_off_text(std::string_view text, const fs::path& file) {
+    line_reader lines(text);
+    std::string_view raw;
+    // Next line with content, comments removed; false at end of file.
+    const auto next_content_line = [&](std::string_view& content) {
+        while (lines.next(raw)) {
+            content = strip_comment(raw);
+            if (!is_blank(content)) return true;
+        }
+        return false;
+    };
+
+    std::string_view header;
+    if (!next_content_line(header)) fail(file, "contains no points (empty OFF file)");
+    token_reader header_tokens(header);
+    std::string_view token;
+    header_tokens.next(token);
+    std::optional<std::uint64_t> vertex_count;
+    if (parse_count(token)) {
+        vertex_count = parse_count(token);  // headerless: the counts come first
+    } else {
+        const bool ends_with_off = token.size() >= 3 && token.substr(token.size() - 3) == "OFF";
+        const std::string_view prefix = ends_with_off ? token.substr(0, token.size() - 3) : token;
+        static constexpr std::array<std::string_view, 8> supported_prefixes{
+            "", "N", "C", "CN", "ST", "STN", "STC", "STCN"};
+        if (!ends_with_off) {
+            fail_at(file, lines.number(), "expected the OFF header keyword but found " + quote_token(token));
+        }
+        if (std::find(supported_prefixes.begin(), supported_prefixes.end(), prefix) ==
+            supported_prefixes.end()) {
+            fail_at(file, lines.number(),
+                    "unsupported OFF variant " + quote_token(token) +
+                        " (supported: [ST][C][N]OFF with 3D vertices)");
+        }
+        std::string_view counts_token;
+        if (header_tokens.next(counts_token)) {
+            if (counts_token == "BINARY") {
+                fail_at(file, lines.number(), "binary OFF is not supported; convert it to ASCII");
+            }
+            vertex_count = parse_count(counts_token);
+            if (!vertex_count) {
+                fail_at(file, lines.number(),
+                        "expected the vertex count after " + quote_token(token) + " but found " +
+                            quote_token(counts_token));
+            }
+        }
+    }
+    if (!vertex_count) {
+        std::string_view counts;
+        if (!next_content_line(counts)) {
+            fail(file, "ends after the OFF keyword; expected the line \"vertices faces edges\"");
+        }
+        token_reader count_tokens(counts);
+        count_tokens.next(token);
+        vertex_count = parse_count(token);
+        if (!vertex_count) {
+            fail_at(file, lines.number(),
+                    "expected the vertex count (\"vertices faces edges\") but found " + quote_token(token));
+        }
+    }
+    if (*vertex_count == 0) fail(file, "contains no points (the OFF header declares 0 vertices)");
+
+    std::vector<point3> points;
+    // A lying header must not allocate terabytes: a vertex line needs at least 6 bytes.
+    points.reserve(static_cast<std::size_t>(std::min<std::uint64_t>(*vertex_count, text.size() / 6)));
+    std::string_view vertex_line;
+    while (points.size() < *vertex_count) {
+        if (!next_content_line(vertex_line)) {
+            fail(file, "the OFF header declares " + std::to_string(*vertex_count) +
+                           " vertices but the file ends after " + std::to_string(points.size()) +
+                           " (at line " + std::to_string(lines.number()) + ")");
+        }
+        token_reader tokens(vertex_line);
+        points.push_back(parse_xyz(tokens, file, lines.number(), "a vertex line"));
+    }
+    return points;
+}
+
+// .obj: the geometric vertices "v x y z [w] [r g b]"; every other statement is ignored.
+std::vector<point3> parse_obj_text(std::string_view text, const fs::path& file) {
+    std::vector<point3> points;
+    line_reader lines(text);
+    std::string_view line;
+    while (lines.next(line)) {
+        token_reader tokens(strip_comment(line));
+        std::string_view keyword;
+        if (!tokens.next(keyword) || keyword != "v") continue;
+        points.push_back(parse_xyz(tokens, file, lines.number(), "a \"v\" line"));
+    }
+    return points;
+}
+
+#if defined(SPATIAL_DATASETS_HAVE_CGAL)
+// Checks the PLY header ourselves before handing the file to CGAL: CGAL's reader silently
+// yields (0, 0, 0) points when the vertex element lacks x, y or z, and its failures carry no
+// reason. Returns the declared vertex count. The header is ASCII even in binary PLY files.
+std::uint64_t check_ply_header(const fs::path& file) {
+    std::ifstream in(file, std::ios::binary);
+    if (!in) fail(file, "cannot open the file (missing or unreadable)");
+    std::string raw;
+    std::size_t line_number = 0;
+    const auto next_line = [&](std::string_view& line) {
+        if (!std::getline(in, raw)) return false;
+        ++line_number;
+        line = raw;
+        if (!line.empty() && line.back() == '\r') line.remove_suffix(1);
+        return true;
+    };
+    std::string_view line;
+    if (!next_line(line) || line != "ply") fail_at(file, 1, "expected the PLY magic line \"ply\"");
+    std::optional<std::uint64_t> vertex_count;
+    bool in_vertex_element = false;
+    std::array<bool, 3> has_axis{false, false, false};
+    // Real headers are a few dozen lines; past this, the file is not PLY (and may be binary).
+    constexpr std::size_t max_header_lines = 10000;
+    for (;;) {
+        if (line_number >= max_header_lines || !next_line(line)) {
+            fail(file, "the PLY header has no end_header line");
+        }
+        token_reader tokens(line);
+        std::string_view keyword;
+        if (!tokens.next(keyword)) continue;
+        if (keyword == "end_header") break;
+        if (keyword == "element") {
+            std::string_view name, count;
+            tokens.next(name);
+            tokens.next(count);
+            in_vertex_element = name == "vertex";
+            if (in_vertex_element) {
+                vertex_count = parse_count(count);
+                if (!vertex_count) {
+                    fail_at(file, line_number, "expected a vertex count but found " + quote_token(count));
+                }
+            }
+        } else if (keyword == "property" && in_vertex_element) {
+            // "property <type> <name>" or "property list <count type> <item type> <name>".
+            std::string_view token, name;
+            while (tokens.next(token)) name = token;
+            if (name == "x") has_axis[0] = true;
+            if (name == "y") has_axis[1] = true;
+            if (name == "z") has_axis[2] = true;
+        }
+    }
+    if (!vertex_count) fail(file, "the PLY header declares no vertex element");
+    for (std::size_t d = 0; d < 3; ++d) {
+        if (!has_axis[d]) {
+            fail(file, std::string("the PLY vertex element has no property ") + "xyz"[d] +
+                           " (x, y and z are required)");
+        }
+    }
+    return *vertex_count;
+}
+#endif
+
+std::vector<point3> load_ply(const fs::path& file) {
+#if defined(SPATIAL_DATASETS_HAVE_CGAL)
+    using kernel = CGAL::Simple_cartesian<double>;
+    std::error_code ec;
+    if (!fs::is_regular_file(file, ec)) fail(file, "cannot open the file (missing or not a file)");
+    const std::uint64_t declared = check_ply_header(file);
+    std::vector<kernel::Point_3> read;
+    bool ok = false;
+    try {
+        ok = CGAL::IO::read_PLY(file.string(), std::back_inserter(read));
+    } catch (const std::exception& e) {
+        fail(file, std::string("CGAL's PLY reader failed: ") + e.what());
+    }
+    if (!ok) {
+        fail(file, "CGAL's PLY reader could not read the vertices (truncated, or a value that is "
+                   "not a number, such as nan in ASCII PLY)");
+    }
+    if (read.size() != declared) {
+        fail(file, "the PLY header declares " + std::to_string(declared) + " vertices but " +
+                       std::to_string(read.size()) + " were read");
+    }
+    std::vector<point3> points;
+    points.reserve(read.size());
+    for (std::size_t i = 0; i < read.size(); ++i) {
+        const point3 p{{read[i].x(), read[i].y(), read[i].z()}};
+        for (std::size_t d = 0; d < 3; ++d) {
+            if (!std::isfinite(p[d])) {
+                fail(file, "vertex " + std::to_string(i) + " has a non-finite coordinate " +
+                               std::to_string(p[d]) + " (NaN and infinite coordinates are rejected)");
+            }
+        }
+        points.push_back(p);
+    }
+    return points;
+#else
+    fail(file, "reading PLY needs CGAL: configure with -DSPATIAL_WITH_CGAL=ON");
+#endif
+}
+
+std::string lower_case(std::string s) {
+    std::transform(s.begin(), s.end(), s.begin(),
+                   [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
+    return s;
+}
+
+#if defined(SPATIAL_DATASETS_HAVE_CGAL)
+constexpr std::array<std::string_view, 6> extensions{".xyz", ".xyzn", ".pwn", ".off", ".obj", ".ply"};
+#else
+constexpr std::array<std::string_view, 5> extensions{".xyz", ".xyzn", ".pwn", ".off", ".obj"};
+#endif
+
+}  // namespace
+
+std::span<const std::string_view> supported_point_set_extensions() noexcept { return extensions; }
+
+bool can_load_ply() noexcept {
+#if defined(SPATIAL_DATASETS_HAVE_CGAL)
+    return true;
+#else
+    return false;
+#endif
+}
+
+std::vector<spatial::point<double, 3>> load_point_set(const std::filesystem::path& file) {
+    const std::string ext = lower_case(file.extension().string());
+    std::vector<point3> points;
+    if (ext == ".xyz" || ext == ".xyzn" || ext == ".pwn") {
+        points = parse_xyz_text(read_whole_file(file), file);
+    } else if (ext == ".off") {
+        points = parse_off_text(read_whole_file(file), file);
+    } else if (ext == ".obj") {
+        points = parse_obj_text(read_whole_file(file), file);
+    } else if (ext == ".ply") {
+        points = load_ply(file);
+    } else {
+        std::string message = "unsupported extension " + quote_token(ext.empty() ? "(none)" : ext) +
+                              "; supported: ";
+        for (std::size_t i = 0; i < extensions.size(); ++i) {
+            message += (i ? ", " : "");
+            message += extensions[i];
+        }
+        if (!can_load_ply()) message += " (.ply needs a build with -DSPATIAL_WITH_CGAL=ON)";
+        fail(file, message);
+    }
+    if (points.empty()) fail(file, "contains no points");
+    return points;
+}
+
+}  // namespace datasets

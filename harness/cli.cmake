@@ -1,0 +1,19 @@
+# The spatialbench CLI and its support library.
+find_package(CLI11 REQUIRED)
+find_package(nlohmann_json REQUIRED)
+
+add_library(spatial_harness STATIC src/csv_writer.cpp src/run_info.cpp src/knn_suite.cpp)
+target_include_directories(spatial_harness PUBLIC ${CMAKE_CURRENT_SOURCE_DIR}/include)
+target_link_libraries(spatial_harness PUBLIC spatial_harness_interface spatial::datasets spatial_adapters
+                      PRIVATE nlohmann_json::nlohmann_json)
+target_compile_options(spatial_harness PRIVATE ${SPATIAL_WARNINGS})
+# Recorded in each run's JSON sidecar.
+string(TOUPPER "${CMAKE_BUILD_TYPE}" _bt)
+target_compile_definitions(spatial_harness PRIVATE
+  SPATIAL_CXX_FLAGS="${CMAKE_CXX_FLAGS} ${CMAKE_CXX_FLAGS_${_bt}}"
+  SPATIAL_BUILD_TYPE="${CMAKE_BUILD_TYPE}"
+  SPATIAL_SOURCE_DIR="${PROJECT_SOURCE_DIR}")
+
+add_executable(spatialbench src/main.cpp)
+target_link_libraries(spatialbench PRIVATE spatial_harness CLI11::CLI11)
+target_compile_options(spatialbench PRIVATE ${SPATIAL_WARNINGS})

@@ -1,0 +1,161 @@
+#pragma once
+// Our containers behind harness::point_index: kd_tree (any config) and brute_force.
+// The adapters add only the id bookkeeping the harness needs for dynamic workloads; it is
+// NOT counted in memory_bytes (a user of the container would hold their own iterators).
+
+#include <algorithm>
+#include <numeric>
+#include <string>
+#include <vector>
+
+#include "harness/point_index.hpp"
+#include "spatial/brute/brute_force.hpp"
+#include "spatial/kdtree/kd_tree.hpp"
+
+namespace harness {
+
+template <class Container, class T, std::size_t D>
+class container_index : public point_index<T, D> {
+public:
+    using point_type = spatial::point<T, D>;
+    using iterator = typename Container::iterator;
+
+    explicit container_index(std::string name) : name_(std::move(name)) {}
+    std::string name() const override { return name_; }
+    unsigned capabilities() const override {
+        return capability::knn | capability::approximate_knn | capability::radius | capability::dynamic |
+               capability::hinted_insert | capability::bulk_insert | capability::bulk_erase;
+    }
+    // Only the container's own build is timed; the id bookkeeping for dynamic workloads is
+    // set up lazily from the caller's array (kept alive by the caller, see point_index).
+    void build(std::span<const point_type> pts) override {
+        c_.clear();
+        c_.insert(pts.begin(), pts.end());
+        built_from_ = pts;
+        point_of_.clear();
+        by_id_.clear();
+        known_.clear();
+        unresolved_.clear();
+        ids_pending_ = true;
+        if constexpr (requires { c_.reset_stats(); }) c_.reset_stats();
+    }
+    std::size_t memory_bytes() const override { return c_.memory_bytes(); }
+    void knn(const point_type& q, std::size_t k, T eps, std::vector<neighbor<T>>& out) override {
+        out.clear();
+        if constexpr (requires { c_.find_nearest_candidates(q, k, eps, cand_); }) {
+            c_.find_nearest_candidates(q, k, eps, cand_);
+            for (const auto& c : cand_) out.push_back({c.distance_squared, c.slot});
+        } else {
+            for (auto it : c_.find_nearest(q, k, eps)) out.push_back({spatial::squared_distance(*it, q), it.slot()});
+        }
+    }
+    void radius(const point_type& q, T r, std::vector<neighbor<T>>& out) override {
+        out.clear();
+        for (auto it : c_.find_in_ball(q, r)) out.push_back({spatial::squared_distance(*it, q), it.slot()});
+    }
+    void insert(std::uint32_t id, const point_type& p) override {
+        if (ids_pending_) resolve_ids();
+        remember(id, p, c_.insert(p));
+    }
+    void insert_near(std::uint32_t prev_id, std::uint32_t id, const point_type& p) override {
+        resolve_ids();
+        const bool have_hint = prev_id < known_.size() && known_[prev_id];
+        remember(id, p, c_.insert(have_hint ? by_id_[prev_id] : c_.end(), p));
+    }
+    void insert_bulk(std::uint32_t first_id, std::span<const point_type> pts) override {
+        if (ids_pending_) resolve_ids();
+        c_.insert(pts.begin(), pts.end());
+        for (std::uint32_t i = 0; i < pts.size(); ++i) {
+            grow(first_id + i);
+            point_of_[first_id + i] = pts[i];
+            unresolved_.push_back(first_id + i);  // bulk insert returns no iterators
+        }
+    }
+    void erase(std::uint32_t id) override {
+        resolve_ids();
+        if (id >= known_.size() || !known_[id]) throw std::logic_error(name_ + ": erase of unknown id");
+        c_.erase(by_id_[id]);
+        known_[id] = 0;
+    }
+    void erase_bulk(std::span<const std::uint32_t> ids) override {
+        for (auto id : ids) erase(id);
+    }
+    // Resolve ids of bulk-inserted points by matching coordinates with elements no id owns
+    // (equal values are interchangeable, so any pairing of duplicates is correct).
+    // O(n log n); the harness calls it before timing dynamic operations.
+    void prepare_dynamic() override { resolve_ids(); }
+    void resolve_ids() {
+        if (ids_pending_) {  // ids 0..n-1 of the last build()
+            ids_pending_ = false;
+            const std::size_t n = built_from_.size();
+            grow(static_cast<std::uint32_t>(std::max<std::size_t>(n, 1) - 1));
+            std::copy(built_from_.begin(), built_from_.end(), point_of_.begin());
+            for (std::uint32_t i = 0; i < n; ++i) unresolved_.push_back(i);
+        }
+        if (unresolved_.empty()) return;
+        std::vector<char> owned(c_.end().slot(), 0);
+        for (std::size_t id = 0; id < known_.size(); ++id)
+            if (known_[id]) owned[by_id_[id].slot()] = 1;
+        std::vector<iterator> free_elems;
+        for (auto it = c_.begin(); it != c_.end(); ++it)
+            if (!owned[it.slot()]) free_elems.push_back(it);
+        auto less = [](const point_type& a, const point_type& b) { return a.coords < b.coords; };
+        std::sort(unresolved_.begin(), unresolved_.end(),
+                  [&](auto a, auto b) { return less(point_of_[a], point_of_[b]); });
+        std::sort(free_elems.begin(), free_elems.end(), [&](auto a, auto b) { return less(*a, *b); });
+        if (free_elems.size() != unresolved_.size()) throw std::logic_error(name_ + ": id bookkeeping lost track");
+        for (std::size_t i = 0; i < unresolved_.size(); ++i) {
+            if (!(*free_elems[i] == point_of_[unresolved_[i]])) throw std::logic_error(name_ + ": id mismatch");
+            by_id_[unresolved_[i]] = free_elems[i];
+            known_[unresolved_[i]] = 1;
+        }
+        unresolved_.clear();
+    }
+    std::size_t size() const override { return c_.size(); }
+    long long last_nodes_visited() const override {
+        if constexpr (requires { Container::config::collect_stats; }) {
+            if constexpr (Container::config::collect_stats) return static_cast<long long>(c_.stats().nodes_visited);
+        }
+        return -1;
+    }
+
+    Container& container() { return c_; }
+
+private:
+    void grow(std::uint32_t id) {
+        if (by_id_.size() <= id) {
+            by_id_.resize(id + 1);
+            known_.resize(id + 1, 0);
+            point_of_.resize(id + 1);
+        }
+    }
+    void remember(std::uint32_t id, const point_type& p, iterator it) {
+        grow(id);
+        by_id_[id] = it;
+        known_[id] = 1;
+        point_of_[id] = p;
+    }
+
+    std::string name_;
+    Container c_;
+    std::vector<point_type> point_of_;  // the point each id was given
+    std::vector<iterator> by_id_;
+    std::vector<char> known_;
+    std::vector<std::uint32_t> unresolved_;
+    std::span<const point_type> built_from_;
+    bool ids_pending_ = false;
+    std::vector<spatial::neighbor_candidate<T>> cand_;
+};
+
+template <class T, std::size_t D>
+using kd_tree_index = container_index<spatial::kd_tree<spatial::point<T, D>>, T, D>;
+template <class T, std::size_t D>
+using kd_tree_stats_index = container_index<
+    spatial::kd_tree<spatial::point<T, D>, spatial::kd_tree_config<16, spatial::median_of_widest_spread, true>>, T, D>;
+
+template <class T, std::size_t D>
+struct brute_force_index : container_index<spatial::brute_force<spatial::point<T, D>>, T, D> {
+    brute_force_index() : container_index<spatial::brute_force<spatial::point<T, D>>, T, D>("brute_force") {}
+};
+
+}  // namespace harness

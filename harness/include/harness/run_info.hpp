@@ -1,0 +1,26 @@
+#pragma once
+// The JSON sidecar of a run: what was measured, where and how, so a CSV row's run_id leads
+// to the commit, compiler, flags, CPU and seeds that produced it.
+
+#include <cstdint>
+#include <filesystem>
+#include <map>
+#include <string>
+
+namespace harness {
+
+struct run_info {
+    std::string run_id;
+    std::string suite, preset;
+    std::map<std::string, std::uint64_t> seeds;
+    std::map<std::string, std::string> extra;
+};
+
+// A fresh run id: <suite>-<preset>-<UTC timestamp>-<short commit>.
+std::string make_run_id(const std::string& suite, const std::string& preset);
+std::string git_commit();
+std::string cpu_model();
+// Writes results/runs/<run_id>.json atomically.
+void write_run_sidecar(const std::filesystem::path& results_dir, const run_info& info, double wall_seconds);
+
+}  // namespace harness

@@ -1,0 +1,53 @@
+#pragma once
+// Timing: a warm-up run, then `repetitions` timed runs; the MEDIAN is reported (robust to
+// the noise of a shared machine), with min and max kept for the CSV's spread columns.
+
+#include <algorithm>
+#include <chrono>
+#include <cstddef>
+#include <vector>
+
+namespace harness {
+
+struct timing_result {
+    double median_seconds = 0;
+    double min_seconds = 0;
+    double max_seconds = 0;
+    std::size_t repetitions = 0;
+};
+
+inline double seconds_since(std::chrono::steady_clock::time_point t0) {
+    return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+}
+
+inline timing_result summarize(std::vector<double> samples) {
+    timing_result r;
+    if (samples.empty()) return r;
+    std::sort(samples.begin(), samples.end());
+    const std::size_t n = samples.size();
+    r.median_seconds = n % 2 ? samples[n / 2] : (samples[n / 2 - 1] + samples[n / 2]) / 2;
+    r.min_seconds = samples.front();
+    r.max_seconds = samples.back();
+    r.repetitions = n;
+    return r;
+}
+
+// Runs body() warmup + repetitions times; `before()` runs untimed before each (e.g. to
+// reset state). body() returns a value that is checked by `check(value)` after every timed
+// run (the answer checksum must equal the validated one).
+template <class Before, class Body, class Check>
+timing_result time_repeated(std::size_t warmup, std::size_t repetitions, Before&& before, Body&& body,
+                            Check&& check) {
+    std::vector<double> samples;
+    for (std::size_t i = 0; i < warmup + repetitions; ++i) {
+        before();
+        const auto t0 = std::chrono::steady_clock::now();
+        auto value = body();
+        const double s = seconds_since(t0);
+        check(value);
+        if (i >= warmup) samples.push_back(s);
+    }
+    return summarize(std::move(samples));
+}
+
+}  // namespace harness

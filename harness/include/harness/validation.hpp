@@ -1,0 +1,88 @@
+#pragma once
+// Answer validation. A structure's answers are compared with the oracle's BY DISTANCE
+// (ties make identities ambiguous). Any mismatch throws validation_error, which aborts the
+// run before the timing of the wrong answer is recorded.
+
+#include <algorithm>
+#include <cmath>
+#include <cstddef>
+#include <limits>
+#include <sstream>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+#include "harness/point_index.hpp"
+
+namespace harness {
+
+struct validation_error : std::runtime_error {
+    using std::runtime_error::runtime_error;
+};
+
+// Relative tolerance for distances computed by different implementations in scalar T.
+template <class T>
+constexpr double distance_tolerance() {
+    return 64 * static_cast<double>(std::numeric_limits<T>::epsilon());
+}
+
+template <class T>
+bool same_distance(T a, T b) {
+    const double x = a, y = b;
+    return std::abs(x - y) <= distance_tolerance<T>() * std::max({1e-300, std::abs(x), std::abs(y)});
+}
+
+template <class T>
+std::vector<T> sorted_distances(const std::vector<neighbor<T>>& v) {
+    std::vector<T> d;
+    d.reserve(v.size());
+    for (const auto& x : v) d.push_back(x.distance_squared);
+    std::sort(d.begin(), d.end());
+    return d;
+}
+
+// Exact answers: same count, same sorted squared distances.
+template <class T>
+void require_same_answer(const std::vector<T>& got, const std::vector<T>& want, const std::string& what) {
+    if (got.size() != want.size()) {
+        std::ostringstream os;
+        os << what << ": " << got.size() << " results, expected " << want.size();
+        throw validation_error(os.str());
+    }
+    for (std::size_t i = 0; i < got.size(); ++i)
+        if (!same_distance(got[i], want[i])) {
+            std::ostringstream os;
+            os.precision(17);
+            os << what << ": result " << i << " has squared distance " << got[i] << ", expected " << want[i];
+            throw validation_error(os.str());
+        }
+}
+
+// (1+eps)-approximate kNN: same count, i-th distance <= (1+eps) * true i-th distance.
+template <class T>
+void require_approximation(const std::vector<T>& got, const std::vector<T>& exact, double eps,
+                           const std::string& what) {
+    if (got.size() != exact.size())
+        throw validation_error(what + ": wrong number of approximate neighbours");
+    const double f = (1 + eps) * (1 + eps) * (1 + distance_tolerance<T>());
+    for (std::size_t i = 0; i < got.size(); ++i)
+        if (static_cast<double>(got[i]) > f * static_cast<double>(exact[i]) + 1e-300) {
+            std::ostringstream os;
+            os.precision(17);
+            os << what << ": approximate neighbour " << i << " at squared distance " << got[i]
+               << " exceeds (1+eps)^2 times the true " << exact[i];
+            throw validation_error(os.str());
+        }
+}
+
+// Recall with ties: the fraction of reported neighbours no farther than the true k-th.
+template <class T>
+double recall(const std::vector<T>& got, const std::vector<T>& exact) {
+    if (exact.empty()) return 1.0;
+    const T kth = exact.back();
+    std::size_t good = 0;
+    for (T d : got) good += d <= kth || same_distance(d, kth);
+    return static_cast<double>(good) / static_cast<double>(exact.size());
+}
+
+}  // namespace harness

@@ -1,0 +1,61 @@
+#include "harness/csv_writer.hpp"
+
+#include <cstdio>
+#include <fstream>
+#include <sstream>
+#include <stdexcept>
+#include <unistd.h>
+
+namespace harness {
+
+namespace {
+// RFC 4180 quoting for fields that need it (params may contain ';' only, but be safe).
+std::string field(const std::string& s) {
+    if (s.find_first_of(",\"\n") == std::string::npos) return s;
+    std::string q = "\"";
+    for (char c : s) q += c == '"' ? std::string("\"\"") : std::string(1, c);
+    return q + "\"";
+}
+std::string number(double v) {
+    std::ostringstream os;
+    os.precision(9);
+    os << v;
+    return os.str();
+}
+}  // namespace
+
+std::string csv_header() {
+    return "suite,structure,bv,workload,n,dim,scalar,operation,params,metric,value,unit,validated,run_id,"
+           "repetitions,min,max";
+}
+
+std::string csv_line(const result_row& r) {
+    std::ostringstream os;
+    os << field(r.suite) << ',' << field(r.structure) << ',' << field(r.bv) << ',' << field(r.workload) << ','
+       << r.n << ',' << r.dim << ',' << field(r.scalar) << ',' << field(r.operation) << ',' << field(r.params)
+       << ',' << field(r.metric) << ',' << number(r.value) << ',' << field(r.unit) << ','
+       << (r.validated ? "true" : "false") << ',' << field(r.run_id) << ',' << r.repetitions << ','
+       << number(r.min_value) << ',' << number(r.max_value);
+    return os.str();
+}
+
+void write_text_atomically(const std::filesystem::path& file, const std::string& text) {
+    std::filesystem::create_directories(file.parent_path().empty() ? "." : file.parent_path());
+    const auto tmp = file.string() + ".tmp." + std::to_string(::getpid());
+    {
+        std::ofstream out(tmp, std::ios::binary | std::ios::trunc);
+        if (!out) throw std::runtime_error("cannot write " + tmp);
+        out << text;
+        out.flush();
+        if (!out) throw std::runtime_error("write failed for " + tmp);
+    }
+    std::filesystem::rename(tmp, file);
+}
+
+void write_csv_atomically(const std::filesystem::path& file, const std::vector<result_row>& rows) {
+    std::string text = csv_header() + "\n";
+    for (const auto& r : rows) text += csv_line(r) + "\n";
+    write_text_atomically(file, text);
+}
+
+}  // namespace harness

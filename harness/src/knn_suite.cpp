@@ -1,0 +1,712 @@
+// The knn suite (see knn_suite.hpp). Flow for one (workload, n, scalar, dim):
+//   1. generate points and queries from the seed;
+//   2. the brute-force oracle answers a sample of the queries (all of them when n * Q is
+//      small): exact k = 10 neighbours, and the radius (median 10th-neighbour distance);
+//   3. each structure is built (timed, repeated), then for each operation runs all queries
+//      once; the answers are validated — against the oracle on the sample, and against the
+//      validated kd_tree answers on every query — and only then timed; each timed
+//      repetition must reproduce the validated answers' checksum;
+//   4. rows are kept in memory and written atomically when the whole suite has passed.
+
+#include "harness/knn_suite.hpp"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <map>
+#include <memory>
+#include <numeric>
+#include <random>
+#include <sstream>
+
+#include "datasets/generators.hpp"
+#include "datasets/point_set_io.hpp"
+#include "harness/adapters.hpp"
+#include "harness/csv_writer.hpp"
+#include "harness/our_indexes.hpp"
+#include "harness/progress.hpp"
+#include "harness/run_info.hpp"
+#include "harness/timing.hpp"
+#include "harness/validation.hpp"
+
+namespace harness {
+namespace {
+
+struct preset_config {
+    std::vector<std::size_t> sizes;
+    std::size_t queries;          // timed queries per operation
+    std::size_t repetitions;      // timed repetitions (median reported)
+    std::size_t build_repetitions;
+    std::size_t oracle_sample;    // queries checked by brute force when n * queries is large
+    double oracle_full_work;      // n * queries up to which EVERY query is checked by brute force
+    std::vector<std::string> workloads;
+    bool variants;                // also run uniform in 2D double and 3D float
+    std::size_t dynamic_max_n;
+    std::size_t brute_max_n;      // brute_force as a timed structure up to this n
+    std::size_t churn_rounds;
+};
+
+preset_config preset(const std::string& name) {
+    const std::vector<std::string> all{"uniform", "clusters", "sphere", "plane", "line", "lattice", "duplicates"};
+    if (name == "smoke") return {{1000, 10000}, 100, 2, 1, 50, 1e7, {"uniform", "lattice", "duplicates"}, true, 10000, 10000, 1000};
+    if (name == "quick") return {{1000, 10000, 100000, 1000000}, 2000, 5, 3, 200, 2e8, all, true, 1000000, 100000, 20000};
+    if (name == "full")
+        return {{1000, 10000, 100000, 1000000, 10000000}, 5000, 7, 3, 300, 2e8, all, true, 10000000, 100000, 100000};
+    throw std::invalid_argument("unknown preset '" + name + "' (expected smoke, quick or full)");
+}
+
+template <class T>
+const char* scalar_name() {
+    return std::is_same_v<T, float> ? "float" : "double";
+}
+
+std::string fmt_n(std::size_t n) {
+    std::ostringstream os;
+    const double l = std::log10(static_cast<double>(n));
+    if (std::abs(l - std::round(l)) < 1e-9) os << "1e" << static_cast<int>(std::round(l));
+    else os << n;
+    return os.str();
+}
+
+// Shared state of one suite run.
+struct context {
+    suite_options opt;
+    preset_config cfg;
+    std::string run_id;
+    progress prog;
+    std::vector<result_row> rows;
+    std::map<std::string, std::uint64_t> seeds;
+
+    bool wants_structure(const std::string& s) const {
+        return opt.structures.empty() || std::find(opt.structures.begin(), opt.structures.end(), s) != opt.structures.end();
+    }
+};
+
+// Key of one measured figure, for ratio rows.
+struct figure_key {
+    std::string workload;
+    std::size_t n, dim;
+    std::string scalar, operation, params, metric;
+    auto operator<=>(const figure_key&) const = default;
+};
+
+template <class T, std::size_t D>
+struct workload_case {
+    using point_type = spatial::point<T, D>;
+    std::string label;  // CSV workload column
+    std::vector<point_type> points;
+    std::vector<point_type> queries;
+};
+
+// ---------------------------------------------------------------------------------------
+// Brute-force oracle over a plain array (the simplest possible code: a scan and a sort).
+template <class T, std::size_t D>
+std::vector<T> oracle_knn(const std::vector<spatial::point<T, D>>& pts, const spatial::point<T, D>& q, std::size_t k) {
+    std::vector<T> d(pts.size());
+    for (std::size_t i = 0; i < pts.size(); ++i) d[i] = spatial::squared_distance(pts[i], q);
+    k = std::min(k, d.size());
+    std::partial_sort(d.begin(), d.begin() + static_cast<long>(k), d.end());
+    d.resize(k);
+    return d;
+}
+template <class T, std::size_t D>
+std::vector<T> oracle_radius(const std::vector<spatial::point<T, D>>& pts, const spatial::point<T, D>& q, T r) {
+    std::vector<T> d;
+    const T r2 = r * r;
+    for (const auto& p : pts) {
+        const T x = spatial::squared_distance(p, q);
+        if (x <= r2) d.push_back(x);
+    }
+    std::sort(d.begin(), d.end());
+    return d;
+}
+
+// ---------------------------------------------------------------------------------------
+// Static operations: build, knn, radius, approximate knn.
+struct operation_spec {
+    std::string operation;  // knn | radius | approx_knn
+    std::size_t k;
+    double eps;
+    std::string params;
+};
+
+template <class T, std::size_t D>
+class static_measurement {
+public:
+    using point_type = spatial::point<T, D>;
+
+    static_measurement(context& ctx, workload_case<T, D>& wc) : ctx_(ctx), wc_(wc) {}
+
+    void run() {
+        const std::size_t n = wc_.points.size();
+        const std::size_t Q = wc_.queries.size();
+        // Which queries the oracle checks.
+        const double work = static_cast<double>(n) * static_cast<double>(Q);
+        const std::size_t sample = work <= ctx_.cfg.oracle_full_work ? Q : std::min(Q, ctx_.cfg.oracle_sample);
+        oracle_k10_.resize(sample);
+        std::vector<double> tenth;
+        for (std::size_t i = 0; i < sample; ++i) {
+            oracle_k10_[i] = oracle_knn(wc_.points, wc_.queries[i], 10);
+            if (!oracle_k10_[i].empty()) tenth.push_back(std::sqrt(static_cast<double>(oracle_k10_[i].back())));
+        }
+        std::nth_element(tenth.begin(), tenth.begin() + static_cast<long>(tenth.size() / 2), tenth.end());
+        // The median 10th-neighbour distance, nudged up by a relative 1e-4: on lattices that
+        // distance is shared by many points, and whether a point EXACTLY on the sphere is
+        // inside depends on each implementation's rounding (CGAL's cell-inclusion shortcut,
+        // say). Closedness on exact boundaries is a unit test of our containers instead.
+        radius_ = static_cast<T>(tenth.empty() ? 0.0 : tenth[tenth.size() / 2] * (1 + 1e-4));
+        oracle_radius_.resize(sample);
+        for (std::size_t i = 0; i < sample; ++i) oracle_radius_[i] = oracle_radius(wc_.points, wc_.queries[i], radius_);
+
+        std::ostringstream rp;
+        rp.precision(6);
+        rp << "r=" << radius_;
+        ops_ = {{"knn", 1, 0, "k=1"},
+                {"knn", 10, 0, "k=10"},
+                {"radius", 0, 0, rp.str()},
+                {"approx_knn", 10, 0.5, "k=10;eps=0.5"},
+                {"approx_knn", 10, 1, "k=10;eps=1"},
+                {"approx_knn", 10, 2, "k=10;eps=2"},
+                {"approx_knn", 10, 5, "k=10;eps=5"}};
+
+        std::vector<std::unique_ptr<point_index<T, D>>> structures;
+        if (ctx_.wants_structure("kd_tree")) structures.push_back(std::make_unique<kd_tree_index<T, D>>("kd_tree"));
+        for (auto& p : make_peer_indices<T, D>())
+            if (p->name() != "nanoflann_dynamic" && ctx_.wants_structure(p->name())) structures.push_back(std::move(p));
+        if (n <= ctx_.cfg.brute_max_n && ctx_.wants_structure("brute_force"))
+            structures.push_back(std::make_unique<brute_force_index<T, D>>());
+        for (auto& s : structures) measure(*s);
+        nodes_visited();
+        ratios();
+    }
+
+private:
+    std::string tag(const std::string& structure, const std::string& op) const {
+        return structure + " " + op + " on " + wc_.label + " n=" + fmt_n(wc_.points.size()) + " " +
+               std::to_string(D) + "d " + scalar_name<T>();
+    }
+
+    result_row row(const std::string& structure, const std::string& operation, const std::string& params,
+                   const std::string& metric, double value, const std::string& unit) const {
+        result_row r;
+        r.suite = "knn";
+        r.structure = structure;
+        r.workload = wc_.label;
+        r.n = wc_.points.size();
+        r.dim = D;
+        r.scalar = scalar_name<T>();
+        r.operation = operation;
+        r.params = params;
+        r.metric = metric;
+        r.value = value;
+        r.unit = unit;
+        r.validated = true;
+        r.run_id = ctx_.run_id;
+        return r;
+    }
+
+    void record(result_row r, const timing_result* t = nullptr, double scale = 1) {
+        if (t) {
+            r.repetitions = t->repetitions;
+            r.min_value = t->min_seconds * scale;
+            r.max_value = t->max_seconds * scale;
+        }
+        figures_[{r.workload, r.n, r.dim, r.scalar, r.operation, r.params, r.metric}][r.structure] = r.value;
+        ctx_.rows.push_back(std::move(r));
+    }
+
+    // Runs every query once; returns the sorted distances of each answer (for validation)
+    // and the checksum of the raw outputs in the structure's own order, which the timed
+    // repetitions recompute the same way (no allocation or sorting inside the timed loop).
+    std::vector<std::vector<double>> answer_all(point_index<T, D>& s, const operation_spec& op, std::size_t count,
+                                                double& checksum) {
+        std::vector<std::vector<double>> answers(count);
+        std::vector<neighbor<T>> out;
+        checksum = 0;
+        for (std::size_t i = 0; i < count; ++i) {
+            run_one(s, op, wc_.queries[i], out);
+            checksum += raw_checksum(out);
+            for (T d : sorted_distances(out)) answers[i].push_back(static_cast<double>(d));
+        }
+        return answers;
+    }
+    static double raw_checksum(const std::vector<neighbor<T>>& out) {
+        double sum = static_cast<double>(out.size());
+        for (const auto& x : out) sum += static_cast<double>(x.distance_squared);
+        return sum;
+    }
+    void run_one(point_index<T, D>& s, const operation_spec& op, const point_type& q, std::vector<neighbor<T>>& out) {
+        if (op.operation == "radius") s.radius(q, radius_, out);
+        else s.knn(q, op.k, static_cast<T>(op.eps), out);
+    }
+
+    static std::vector<T> as_t(const std::vector<double>& v) {
+        std::vector<T> t;
+        for (double d : v) t.push_back(static_cast<T>(d));
+        return t;
+    }
+
+    void validate(const std::string& structure, const operation_spec& op,
+                  const std::vector<std::vector<double>>& answers) {
+        for (std::size_t i = 0; i < answers.size() && i < oracle_k10_.size(); ++i) {
+            const std::string what = tag(structure, op.operation + "(" + op.params + ")") + ", query " + std::to_string(i) +
+                                     " vs brute-force oracle";
+            const auto got = as_t(answers[i]);
+            if (op.operation == "radius") {
+                require_same_answer(got, oracle_radius_[i], what);
+            } else {
+                std::vector<T> exact(oracle_k10_[i].begin(),
+                                     oracle_k10_[i].begin() + static_cast<long>(std::min(op.k, oracle_k10_[i].size())));
+                if (op.operation == "knn") require_same_answer(got, exact, what);
+                else require_approximation(got, exact, op.eps, what);
+            }
+        }
+        const std::string key = op.operation + "|" + op.params;
+        if (op.operation == "approx_knn") return;
+        auto ref = reference_.find(key);
+        if (ref == reference_.end()) {
+            reference_[key] = answers;  // the first structure's answers, validated above
+            reference_owner_ = structure;
+            return;
+        }
+        for (std::size_t i = 0; i < answers.size(); ++i)
+            require_same_answer(as_t(answers[i]), as_t(ref->second[i]),
+                                tag(structure, op.operation + "(" + op.params + ")") + ", query " + std::to_string(i) +
+                                    " vs validated " + reference_owner_);
+    }
+
+    void measure(point_index<T, D>& s) {
+        const std::size_t n = wc_.points.size();
+        const std::string name = s.name();
+        // ---- build ----
+        const std::span<const point_type> pts(wc_.points);
+        const timing_result bt = time_repeated(
+            0, ctx_.cfg.build_repetitions, [] {},
+            [&] {
+                s.build(pts);
+                return s.size();
+            },
+            [&](std::size_t size) {
+                if (size != n) throw validation_error(tag(name, "build") + ": size " + std::to_string(size));
+            });
+        const std::size_t bytes = s.memory_bytes();
+        // ---- queries ----
+        const bool is_brute = name == "brute_force";
+        const std::size_t Q = is_brute ? std::min<std::size_t>(wc_.queries.size(), 200) : wc_.queries.size();
+        std::vector<std::pair<const operation_spec*, timing_result>> timings;
+        for (const auto& op : ops_) {
+            if (is_brute && op.operation != "knn") continue;
+            if (op.operation == "approx_knn" && !s.can(capability::approximate_knn)) continue;
+            double expected = 0;
+            const auto answers = answer_all(s, op, Q, expected);
+            validate(name, op, answers);
+            std::vector<neighbor<T>> out;
+            const timing_result t = time_repeated(
+                1, ctx_.cfg.repetitions, [] {},
+                [&] {
+                    double sum = 0;
+                    for (std::size_t i = 0; i < Q; ++i) {
+                        run_one(s, op, wc_.queries[i], out);
+                        sum += raw_checksum(out);
+                    }
+                    return sum;
+                },
+                [&](double sum) {
+                    if (sum != expected)
+                        throw validation_error(tag(name, op.operation + "(" + op.params + ")") +
+                                               ": a timed repetition gave different answers than the validated run");
+                });
+            const double per_op_ns = 1e9 / static_cast<double>(Q);
+            record(row(name, op.operation, op.params, "time_per_op", t.median_seconds * per_op_ns, "ns"), &t, per_op_ns);
+            if (op.operation == "approx_knn") {
+                const auto& exact = reference_.at("knn|k=10");
+                double rec = 0;
+                for (std::size_t i = 0; i < Q; ++i) rec += recall(as_t(answers[i]), as_t(exact[i]));
+                record(row(name, op.operation, op.params, "recall", rec / static_cast<double>(Q), "ratio"));
+            }
+            timings.push_back({&op, t});
+        }
+        record(row(name, "build", "", "build_time", bt.median_seconds, "s"), &bt);
+        record(row(name, "build", "", "memory_bytes", static_cast<double>(bytes), "B"));
+        record(row(name, "build", "", "bytes_per_point", static_cast<double>(bytes) / static_cast<double>(n), "B"));
+        std::ostringstream msg;
+        msg.precision(3);
+        msg << tag(name, "") << ": build " << bt.median_seconds << " s, " << static_cast<double>(bytes) / static_cast<double>(n)
+            << " B/pt";
+        for (auto& [op, t] : timings)
+            if (op->operation == "knn") msg << ", " << op->params << " " << t.median_seconds * 1e6 / static_cast<double>(Q) << " us";
+        ctx_.prog.say(msg.str());
+    }
+
+    // Nodes visited per query, from a kd_tree built with statistics compiled in (a separate,
+    // untimed instance: counting costs time).
+    void nodes_visited() {
+        if (!ctx_.wants_structure("kd_tree")) return;
+        kd_tree_stats_index<T, D> s("kd_tree");
+        s.build(std::span<const point_type>(wc_.points));
+        std::vector<neighbor<T>> out;
+        for (const auto& op : ops_) {
+            s.container().reset_stats();
+            for (const auto& q : wc_.queries) run_one(s, op, q, out);
+            const double per = static_cast<double>(s.container().stats().nodes_visited) /
+                               static_cast<double>(wc_.queries.size());
+            record(row("kd_tree", op.operation, op.params, "nodes_visited", per, "count"));
+        }
+    }
+
+    // kd_tree time divided by each peer's, per figure (the performance targets).
+    void ratios() {
+        for (const auto& [key, by_structure] : figures_) {
+            if (key.metric != "time_per_op" && key.metric != "build_time" && key.metric != "bytes_per_point") continue;
+            auto ours = by_structure.find("kd_tree");
+            if (ours == by_structure.end()) continue;
+            for (const auto& [peer, value] : by_structure) {
+                if (peer == "kd_tree" || value <= 0) continue;
+                const std::string metric = key.metric == "bytes_per_point" ? "memory_ratio" : "time_ratio";
+                result_row r = row(peer, key.operation, key.params, metric, ours->second / value, "ratio");
+                ctx_.rows.push_back(std::move(r));
+            }
+        }
+    }
+
+    context& ctx_;
+    workload_case<T, D>& wc_;
+    T radius_ = 0;
+    std::vector<operation_spec> ops_;
+    std::vector<std::vector<T>> oracle_k10_, oracle_radius_;
+    std::map<std::string, std::vector<std::vector<double>>> reference_;
+    std::string reference_owner_;
+    std::map<figure_key, std::map<std::string, double>> figures_;
+};
+
+// ---------------------------------------------------------------------------------------
+// Dynamic operations (3D double): churn, hinted insertion, bulk vs loop.
+template <class T, std::size_t D>
+class dynamic_measurement {
+public:
+    using point_type = spatial::point<T, D>;
+    dynamic_measurement(context& ctx, workload_case<T, D>& wc) : ctx_(ctx), wc_(wc) {}
+
+    void run() {
+        churn();
+        hinted_insertion();
+        bulk_insertion();
+        bulk_erasure();
+    }
+
+private:
+    std::vector<std::unique_ptr<point_index<T, D>>> dynamic_structures(bool include_cgal) {
+        std::vector<std::unique_ptr<point_index<T, D>>> v;
+        if (ctx_.wants_structure("kd_tree")) v.push_back(std::make_unique<kd_tree_index<T, D>>("kd_tree"));
+        for (auto& p : make_peer_indices<T, D>())
+            if (p->can(capability::dynamic) && ctx_.wants_structure(p->name()) &&
+                (include_cgal || p->name().find("cgal") == std::string::npos))
+                v.push_back(std::move(p));
+        return v;
+    }
+
+    result_row row(const std::string& structure, const std::string& operation, const std::string& params,
+                   const std::string& metric, double value, const std::string& unit, const timing_result* t = nullptr,
+                   double scale = 1) {
+        result_row r;
+        r.suite = "knn";
+        r.structure = structure;
+        r.workload = wc_.label;
+        r.n = wc_.points.size();
+        r.dim = D;
+        r.scalar = scalar_name<T>();
+        r.operation = operation;
+        r.params = params;
+        r.metric = metric;
+        r.value = value;
+        r.unit = unit;
+        r.validated = true;
+        r.run_id = ctx_.run_id;
+        if (t) {
+            r.repetitions = t->repetitions;
+            r.min_value = t->min_seconds * scale;
+            r.max_value = t->max_seconds * scale;
+        }
+        return r;
+    }
+
+    // After a dynamic workload: the structure holds exactly `expected` (size, and kNN
+    // answers equal to brute force over `expected` on a sample of queries).
+    void validate_contents(point_index<T, D>& s, const std::vector<point_type>& expected, const std::string& what) {
+        if (s.size() != expected.size())
+            throw validation_error(what + ": size " + std::to_string(s.size()) + ", expected " + std::to_string(expected.size()));
+        std::vector<neighbor<T>> out;
+        const std::size_t sample = std::min<std::size_t>(wc_.queries.size(), 100);
+        for (std::size_t i = 0; i < sample; ++i) {
+            s.knn(wc_.queries[i], 10, 0, out);
+            require_same_answer(sorted_distances(out), oracle_knn(expected, wc_.queries[i], 10),
+                                what + ", query " + std::to_string(i) + " vs brute-force oracle");
+        }
+    }
+
+    std::string where(const std::string& s, const std::string& op) const {
+        return s + " " + op + " on " + wc_.label + " n=" + fmt_n(wc_.points.size());
+    }
+
+    // Churn: each round erases a random live point and inserts a new one.
+    void churn() {
+        const std::size_t n = wc_.points.size();
+        const std::size_t rounds = std::min(n, ctx_.cfg.churn_rounds);
+        const auto fresh = datasets::generate_points<T, D>(workload_name(), rounds, ctx_.opt.seed ^ 0xC0FFEEull);
+        std::vector<std::uint32_t> live(n), erase_ids(rounds);
+        std::iota(live.begin(), live.end(), 0u);
+        std::mt19937_64 rng(ctx_.opt.seed + n);
+        std::vector<point_type> final_points = wc_.points;
+        std::vector<char> alive(n + rounds, 1);
+        for (std::size_t r = 0; r < rounds; ++r) {
+            const std::size_t i = rng() % live.size();
+            erase_ids[r] = live[i];
+            alive[live[i]] = 0;
+            live[i] = static_cast<std::uint32_t>(n + r);
+        }
+        std::vector<point_type> expected;
+        for (std::size_t id = 0; id < n + rounds; ++id)
+            if (alive[id]) expected.push_back(id < n ? wc_.points[id] : fresh[id - n]);
+        for (auto& s : dynamic_structures(false)) {
+            const std::string name = s->name();
+            const timing_result t = time_repeated(
+                0, ctx_.cfg.repetitions,
+                [&] {
+                    s->build(wc_.points);
+                    s->prepare_dynamic();
+                },
+                [&] {
+                    for (std::size_t r = 0; r < rounds; ++r) {
+                        s->erase(erase_ids[r]);
+                        s->insert(static_cast<std::uint32_t>(n + r), fresh[r]);
+                    }
+                    return 0;
+                },
+                [&](int) { validate_contents(*s, expected, where(name, "churn")); });
+            const double scale = 1e9 / static_cast<double>(2 * rounds);
+            ctx_.rows.push_back(row(name, "churn", "rounds=" + std::to_string(rounds), "time_per_op",
+                                    t.median_seconds * scale, "ns", &t, scale));
+            ctx_.prog.say(where(name, "churn") + ": " + std::to_string(t.median_seconds * scale) + " ns/op");
+        }
+    }
+
+    // A spatially coherent stream (Morton order) inserted with and without the previous
+    // element as hint.
+    void hinted_insertion() {
+        const std::size_t n = wc_.points.size();
+        const std::size_t m = std::max<std::size_t>(1, std::min<std::size_t>(n / 2, 50000));
+        auto stream = datasets::spatially_sorted<T, D>(
+            datasets::generate_points<T, D>(workload_name(), m, ctx_.opt.seed ^ 0x5EED5ull));
+        std::vector<point_type> expected = wc_.points;
+        expected.insert(expected.end(), stream.begin(), stream.end());
+        std::map<std::string, double> per_op;
+        for (auto& s : dynamic_structures(false)) {
+            for (bool hinted : {false, true}) {
+                if (hinted && !s->can(capability::hinted_insert)) continue;
+                const std::string name = s->name();
+                const std::string op = hinted ? "insert_hinted" : "insert";
+                const timing_result t = time_repeated(
+                    0, ctx_.cfg.repetitions,
+                    [&] {
+                        s->build(wc_.points);
+                        s->prepare_dynamic();
+                    },
+                    [&] {
+                        for (std::size_t i = 0; i < m; ++i) {
+                            const auto id = static_cast<std::uint32_t>(n + i);
+                            if (hinted) s->insert_near(i == 0 ? 0u : id - 1, id, stream[i]);
+                            else s->insert(id, stream[i]);
+                        }
+                        return 0;
+                    },
+                    [&](int) { validate_contents(*s, expected, where(name, op)); });
+                const double scale = 1e9 / static_cast<double>(m);
+                ctx_.rows.push_back(row(name, op, "stream=morton;m=" + std::to_string(m), "time_per_op",
+                                        t.median_seconds * scale, "ns", &t, scale));
+                per_op[name + "|" + op] = t.median_seconds * scale;
+            }
+            const auto plain = per_op.find(s->name() + "|insert"), hint = per_op.find(s->name() + "|insert_hinted");
+            if (plain != per_op.end() && hint != per_op.end()) {
+                ctx_.rows.push_back(row(s->name(), "insert_hinted", "stream=morton;m=" + std::to_string(m), "speedup_ratio",
+                                        plain->second / hint->second, "ratio"));
+                ctx_.prog.say(where(s->name(), "hinted insert") + ": " + std::to_string(hint->second) + " ns vs plain " +
+                              std::to_string(plain->second) + " ns");
+            }
+        }
+    }
+
+    // Bulk against looped insertion: into an empty structure, and a batch of n/10 merged
+    // into a structure of n.
+    void bulk_insertion() {
+        const std::size_t n = wc_.points.size();
+        const std::size_t m = std::max<std::size_t>(1, n / 10);
+        const auto batch = datasets::generate_points<T, D>(workload_name(), m, ctx_.opt.seed ^ 0xBA7Cull);
+        std::vector<point_type> merged = wc_.points;
+        merged.insert(merged.end(), batch.begin(), batch.end());
+        for (auto& s : dynamic_structures(false)) {
+            const std::string name = s->name();
+            for (bool into_empty : {true, false}) {
+                const std::vector<point_type>& add = into_empty ? wc_.points : batch;
+                const std::vector<point_type>& expected = into_empty ? wc_.points : merged;
+                const std::string params = into_empty ? "into=empty;m=" + std::to_string(n)
+                                                      : "into=n;m=" + std::to_string(m);
+                std::map<bool, double> t_of;
+                for (bool bulk : {true, false}) {
+                    const std::string op = bulk ? "insert_bulk" : "insert_loop";
+                    const timing_result t = time_repeated(
+                        0, ctx_.cfg.repetitions,
+                        [&] {
+                            s->build(into_empty ? std::span<const point_type>() : std::span<const point_type>(wc_.points));
+                            s->prepare_dynamic();
+                        },
+                        [&] {
+                            const auto first = static_cast<std::uint32_t>(into_empty ? 0 : n);
+                            if (bulk) s->insert_bulk(first, add);
+                            else
+                                for (std::size_t i = 0; i < add.size(); ++i)
+                                    s->insert(first + static_cast<std::uint32_t>(i), add[i]);
+                            return 0;
+                        },
+                        [&](int) { validate_contents(*s, expected, where(name, op)); });
+                    const double scale = 1e9 / static_cast<double>(add.size());
+                    ctx_.rows.push_back(row(name, op, params, "time_per_op", t.median_seconds * scale, "ns", &t, scale));
+                    t_of[bulk] = t.median_seconds;
+                }
+                ctx_.rows.push_back(row(name, "insert_bulk", params, "speedup_ratio", t_of[false] / t_of[true], "ratio"));
+                ctx_.prog.say(where(name, "bulk insert (" + params + ")") + ": " +
+                              std::to_string(t_of[false] / t_of[true]) + "x faster than a loop");
+            }
+        }
+    }
+
+    // Bulk against looped erasure of an iterator range (kd_tree's range erase): 10% and 50%.
+    void bulk_erasure() {
+        if (!ctx_.wants_structure("kd_tree")) return;
+        using tree = spatial::kd_tree<point_type>;
+        const std::size_t n = wc_.points.size();
+        for (double fraction : {0.1, 0.5}) {
+            const std::size_t m = std::max<std::size_t>(1, static_cast<std::size_t>(fraction * static_cast<double>(n)));
+            const std::string params = "range=" + std::to_string(m);
+            std::map<bool, double> t_of;
+            for (bool bulk : {true, false}) {
+                const std::string op = bulk ? "erase_bulk" : "erase_loop";
+                tree t;
+                typename tree::iterator first, last;
+                std::vector<point_type> expected;
+                const std::size_t start = n / 3 < n - m ? n / 3 : 0;
+                const timing_result tr = time_repeated(
+                    0, ctx_.cfg.repetitions,
+                    [&] {  // untimed: rebuild, position the range, remember the survivors
+                        t.clear();
+                        t.insert(wc_.points.begin(), wc_.points.end());
+                        first = std::next(t.begin(), static_cast<long>(start));
+                        last = std::next(first, static_cast<long>(m));
+                        expected.clear();
+                        for (auto it = t.begin(); it != first; ++it) expected.push_back(*it);
+                        for (auto it = last; it != t.end(); ++it) expected.push_back(*it);
+                    },
+                    [&] {
+                        if (bulk) t.erase(first, last);
+                        else
+                            while (first != last) first = t.erase(first);
+                        return 0;
+                    },
+                    [&](int) {
+                        if (t.size() != expected.size()) throw validation_error(where("kd_tree", op) + ": wrong size");
+                        for (std::size_t i = 0; i < std::min<std::size_t>(wc_.queries.size(), 100); ++i) {
+                            std::vector<T> got;
+                            for (auto it : t.find_nearest(wc_.queries[i], 10))
+                                got.push_back(spatial::squared_distance(*it, wc_.queries[i]));
+                            require_same_answer(got, oracle_knn(expected, wc_.queries[i], 10),
+                                                where("kd_tree", op) + ", query " + std::to_string(i) +
+                                                    " vs brute-force oracle");
+                        }
+                    });
+                const double scale = 1e9 / static_cast<double>(m);
+                ctx_.rows.push_back(row("kd_tree", op, params, "time_per_op", tr.median_seconds * scale, "ns", &tr, scale));
+                t_of[bulk] = tr.median_seconds;
+            }
+            ctx_.rows.push_back(row("kd_tree", "erase_bulk", params, "speedup_ratio", t_of[false] / t_of[true], "ratio"));
+            ctx_.prog.say(where("kd_tree", "bulk erase (" + params + ")") + ": " + std::to_string(t_of[false] / t_of[true]) +
+                          "x faster than a loop");
+        }
+    }
+
+    std::string workload_name() const {
+        return wc_.label.rfind("real:", 0) == 0 ? std::string("uniform") : wc_.label;
+    }
+
+    context& ctx_;
+    workload_case<T, D>& wc_;
+};
+
+template <class T, std::size_t D>
+void run_generated(context& ctx, const std::string& workload, std::size_t n, bool dynamic) {
+    workload_case<T, D> wc;
+    wc.label = workload;
+    wc.points = datasets::generate_points<T, D>(workload, n, ctx.opt.seed);
+    wc.queries = datasets::generate_queries<T, D>(workload, ctx.cfg.queries, ctx.opt.seed, n);
+    ctx.prog.say("== " + workload + " n=" + fmt_n(n) + " " + std::to_string(D) + "d " + scalar_name<T>());
+    static_measurement<T, D>(ctx, wc).run();
+    if (dynamic) dynamic_measurement<T, D>(ctx, wc).run();
+}
+
+void run_real(context& ctx, const std::filesystem::path& file) {
+    workload_case<double, 3> wc;
+    wc.label = "real:" + file.filename().string();
+    wc.points = datasets::load_point_set(file);
+    // Queries: data points jittered by 0.1% of the bounding-box diagonal (seeded), so they
+    // follow the data's distribution without coinciding with it.
+    std::array<double, 3> lo{1e300, 1e300, 1e300}, hi{-1e300, -1e300, -1e300};
+    for (const auto& p : wc.points)
+        for (int d = 0; d < 3; ++d) lo[d] = std::min(lo[d], p[d]), hi[d] = std::max(hi[d], p[d]);
+    const double diag = std::sqrt((hi[0] - lo[0]) * (hi[0] - lo[0]) + (hi[1] - lo[1]) * (hi[1] - lo[1]) +
+                                  (hi[2] - lo[2]) * (hi[2] - lo[2]));
+    std::mt19937_64 rng(ctx.opt.seed ^ std::hash<std::string>{}(wc.label));
+    for (std::size_t i = 0; i < ctx.cfg.queries; ++i) {
+        auto q = wc.points[rng() % wc.points.size()];
+        for (int d = 0; d < 3; ++d) q[d] += (static_cast<double>(rng() >> 11) * 0x1.0p-53 - 0.5) * 2e-3 * diag;
+        wc.queries.push_back(q);
+    }
+    ctx.prog.say("== " + wc.label + " n=" + std::to_string(wc.points.size()));
+    static_measurement<double, 3>(ctx, wc).run();
+}
+
+}  // namespace
+
+void run_knn_suite(const suite_options& options) {
+    context ctx{options, preset(options.preset), make_run_id("knn", options.preset), progress(options.quiet), {}, {}};
+    if (!options.sizes.empty()) ctx.cfg.sizes = options.sizes;
+    if (!options.workloads.empty()) ctx.cfg.workloads = options.workloads;
+    for (const auto& w : ctx.cfg.workloads) (void)datasets::parse_point_workload(w);  // fail fast on a typo
+    ctx.seeds["data"] = options.seed;
+    const auto t0 = std::chrono::steady_clock::now();
+    for (const auto& w : ctx.cfg.workloads)
+        for (std::size_t n : ctx.cfg.sizes) {
+            const bool dynamic = options.dynamic && (w == "uniform" || w == "clusters") && n <= ctx.cfg.dynamic_max_n;
+            run_generated<double, 3>(ctx, w, n, dynamic);
+            if (ctx.cfg.variants && w == "uniform") {
+                run_generated<double, 2>(ctx, w, n, false);
+                run_generated<float, 3>(ctx, w, n, false);
+            }
+        }
+    std::vector<std::string> real_files;
+    if (!options.real_data_dir.empty() && std::filesystem::is_directory(options.real_data_dir))
+        for (const auto& e : std::filesystem::directory_iterator(options.real_data_dir)) {
+            const auto ext = e.path().extension().string();
+            if (ext == ".xyz" || ext == ".ply") real_files.push_back(e.path().string());
+        }
+    std::sort(real_files.begin(), real_files.end());
+    for (const auto& f : real_files) run_real(ctx, f);
+    if (!options.real_data_dir.empty() && real_files.empty())
+        ctx.prog.say("no real point sets in " + options.real_data_dir.string() + " (run datasets/fetch_real_data.sh)");
+
+    write_csv_atomically(options.results_dir / options.output_name, ctx.rows);
+    run_info info{ctx.run_id, "knn", options.preset, ctx.seeds, {}};
+    info.extra["real_data"] = std::to_string(real_files.size()) + " files";
+    write_run_sidecar(options.results_dir, info, seconds_since(t0));
+    ctx.prog.say("wrote " + (options.results_dir / options.output_name).string() + " (" + std::to_string(ctx.rows.size()) +
+                 " rows), run " + ctx.run_id);
+}
+
+}  // namespace harness

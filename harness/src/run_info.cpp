@@ -1,0 +1,88 @@
+#include "harness/run_info.hpp"
+
+#include <array>
+#include <chrono>
+#include <cstdio>
+#include <ctime>
+#include <fstream>
+#include <memory>
+#include <nlohmann/json.hpp>
+#include <thread>
+
+#include "harness/csv_writer.hpp"
+
+#ifndef SPATIAL_CXX_FLAGS
+#define SPATIAL_CXX_FLAGS "unknown"
+#endif
+#ifndef SPATIAL_BUILD_TYPE
+#define SPATIAL_BUILD_TYPE "unknown"
+#endif
+#ifndef SPATIAL_SOURCE_DIR
+#define SPATIAL_SOURCE_DIR "."
+#endif
+
+namespace harness {
+
+namespace {
+std::string run_command(const std::string& cmd) {
+    std::array<char, 256> buf{};
+    std::string out;
+    std::unique_ptr<FILE, int (*)(FILE*)> pipe(popen(cmd.c_str(), "r"), pclose);
+    if (!pipe) return "";
+    while (fgets(buf.data(), buf.size(), pipe.get())) out += buf.data();
+    while (!out.empty() && (out.back() == '\n' || out.back() == '\r')) out.pop_back();
+    return out;
+}
+std::string utc_stamp(const char* fmt) {
+    const std::time_t t = std::time(nullptr);
+    std::tm tm{};
+    gmtime_r(&t, &tm);
+    char buf[64];
+    std::strftime(buf, sizeof buf, fmt, &tm);
+    return buf;
+}
+}  // namespace
+
+std::string git_commit() {
+    std::string c = run_command("git -C '" SPATIAL_SOURCE_DIR "' rev-parse HEAD 2>/dev/null");
+    if (c.empty()) return "unknown";
+    if (!run_command("git -C '" SPATIAL_SOURCE_DIR "' status --porcelain --untracked-files=no 2>/dev/null").empty())
+        c += "-dirty";
+    return c;
+}
+
+std::string cpu_model() {
+    std::ifstream in("/proc/cpuinfo");
+    std::string line;
+    while (std::getline(in, line))
+        if (line.rfind("model name", 0) == 0) {
+            const auto p = line.find(':');
+            return p == std::string::npos ? line : line.substr(p + 2);
+        }
+    return "unknown";
+}
+
+std::string make_run_id(const std::string& suite, const std::string& preset) {
+    return suite + "-" + preset + "-" + utc_stamp("%Y%m%dT%H%M%SZ") + "-" + git_commit().substr(0, 7);
+}
+
+void write_run_sidecar(const std::filesystem::path& results_dir, const run_info& info, double wall_seconds) {
+    nlohmann::json j;
+    j["run_id"] = info.run_id;
+    j["suite"] = info.suite;
+    j["preset"] = info.preset;
+    j["date_utc"] = utc_stamp("%Y-%m-%dT%H:%M:%SZ");
+    j["commit"] = git_commit();
+    j["compiler"] = std::string("g++ ") + __VERSION__;
+    j["build_type"] = SPATIAL_BUILD_TYPE;
+    j["cxx_flags"] = SPATIAL_CXX_FLAGS;
+    j["cpu"] = cpu_model();
+    j["hardware_threads"] = std::thread::hardware_concurrency();
+    j["threads_used"] = 1;
+    j["seeds"] = info.seeds;
+    j["extra"] = info.extra;
+    j["wall_seconds"] = wall_seconds;
+    write_text_atomically(results_dir / "runs" / (info.run_id + ".json"), j.dump(2) + "\n");
+}
+
+}  // namespace harness

@@ -1,0 +1,743 @@
+#!/usr/bin/python3
+"""Plot spatialbench results: read results/*.csv, write PNGs.
+
+Run with Debian's interpreter (it sees python3-matplotlib and python3-numpy):
+
+    /usr/bin/python3 plots/plot_results.py [--results DIR] [--out DIR] [--include-unvalidated]
+
+Input: only the tidy CSV tables in --results (default <repo>/results), one figure per row with
+the columns
+    suite,structure,bv,workload,n,dim,scalar,operation,params,metric,value,unit,validated,run_id
+(extra columns after them are ignored).  Files that are missing, empty, lack these columns, or
+hold malformed rows are skipped with a message; so are suites not listed in SUITES below.
+
+Output, in --out (default <repo>/plots), each PNG written atomically (temp file + os.replace):
+
+1. Complexity curves, <suite>_<operation>[_<params>]_<dim>d_<scalar>.png (suffix _<metric>
+   when an operation has several time metrics): one subplot per workload, log-log time
+   (time_per_op or build_time) against n, one line per structure.  The legend gives the
+   least-squares slope of log(time) on log(n) ("kd_tree (n^0.12)"); a grey dashed line shows the
+   theoretical complexity from THEORY, anchored at the smallest-n point of the fastest structure
+   (fastest at the largest n all structures share; trees are preferred over linear scans, so a
+   trivially fast brute-force "build" does not turn the n log n line into an n line).
+2. Accuracy against time, <suite>_recall_vs_time_<workload>_<dim>d_<scalar>.png: for
+   operation approx_knn, recall against time_per_op at the largest n, one curve per structure
+   through its eps values (each point labelled with its eps).
+3. Ratios, <suite>_ratios.png, when time_ratio rows exist: bars of kd_tree's time divided by
+   each peer's time per (operation, params), one subplot per (workload, dim, scalar), each peer
+   at the largest n it was measured at, with a line at 1.0 (log y axis when the ratios span
+   more than a decade).
+
+Validation rule: a timing row (time_per_op, build_time, time_ratio) whose `validated` column is
+not true is SKIPPED, because the harness never times a wrong answer and a row that was not
+checked against the oracle cannot be compared with one that was.  The number of skipped rows is
+reported.  With --include-unvalidated such rows are drawn instead, with hollow markers and dashed
+lines, labelled "[unvalidated]", and kept out of every other structure's fit.  Accuracy figures
+(recall) are plotted whatever their `validated` flag, since recall is itself the comparison with
+the oracle; the time that goes with them follows the timing rule.
+
+Duplicate measurements of the same point (several run_ids) are reduced to their median.
+"""
+
+import argparse
+import collections
+import csv
+import math
+import os
+import re
+import sys
+import tempfile
+
+import matplotlib
+
+matplotlib.use("Agg")  # no display; must precede pyplot
+import matplotlib.pyplot as plt  # noqa: E402
+import numpy as np  # noqa: E402
+
+# --------------------------------------------------------------------------------------------
+# Configuration: extend these tables, not the code below.
+# --------------------------------------------------------------------------------------------
+
+# Suites this script knows how to plot; rows of any other suite are skipped with a message.
+SUITES = {
+    "knn": "k-nearest, radius and approximate kNN queries on point sets",
+    "radius": "ball and box range queries",
+    "container": "insert / erase / find, hinted against unhinted, bulk against loop",
+    "churn": "interleaved inserts and erases",
+    "ray": "ray casting (first hit)",
+    "collide": "all intersecting pairs, within one container and between two",
+    "bv": "bounding-volume fitting and tests",
+    "scene": "scene pipelines (TOML scenes)",
+}
+
+# Theoretical growth of the plotted time (per operation, or total for build_time) as a function
+# of n, per operation and structure.  "*" is the default structure (the trees: kd_tree, octree,
+# bvh, uniform_grid and the tree-based peers); an operation not listed uses THEORY["build"] for
+# build_time rows and THEORY["*"] for per-operation rows.  Names must be keys of
+# COMPLEXITY_FUNCTIONS.
+THEORY = {
+    # operation       trees (default)        linear scans (per query: look at all n objects)
+    "build":         {"*": "n log n",       "brute_force": "n"},
+    "knn":           {"*": "log n",         "brute_force": "n"},
+    "radius":        {"*": "log n",         "brute_force": "n"},
+    "approx_knn":    {"*": "log n",         "brute_force": "n"},
+    "ray":           {"*": "log n",         "brute_force": "n"},
+    "find":          {"*": "log n",         "brute_force": "n"},
+    "insert":        {"*": "log n",         "brute_force": "1"},
+    "insert_loop":   {"*": "log n",         "brute_force": "1"},
+    "insert_bulk":   {"*": "log n",         "brute_force": "1"},
+    "insert_hinted": {"*": "1",             "brute_force": "1"},  # starts at the hint's leaf
+    "erase":         {"*": "log n",         "brute_force": "n"},
+    "erase_loop":    {"*": "log n",         "brute_force": "n"},
+    "erase_bulk":    {"*": "log n",         "brute_force": "n"},
+    "churn":         {"*": "log n",         "brute_force": "n"},
+    "collide":       {"*": "n log n",       "brute_force": "n^2"},  # all pairs, per step
+    "fit":           {"*": "n"},
+    "*":             {"*": "log n",         "brute_force": "n"},  # any other per-op query
+}
+
+COMPLEXITY_FUNCTIONS = {
+    "1": lambda n: np.ones_like(n, dtype=float),
+    "log n": lambda n: np.log(n),  # the base cancels once the line is anchored
+    "n": lambda n: np.asarray(n, dtype=float),
+    "n log n": lambda n: n * np.log(n),
+    "n^2": lambda n: np.asarray(n, dtype=float) ** 2,
+}
+
+TIME_METRICS = {"time_per_op", "build_time"}
+RATIO_METRIC = "time_ratio"
+RATIO_BASELINE = "kd_tree"  # time_ratio = time(RATIO_BASELINE) / time(peer)
+APPROX_OPERATION = "approx_knn"
+RECALL_METRIC = "recall"
+
+# Workloads in this order first; others (real:<file>, ...) alphabetically after them.
+WORKLOAD_ORDER = ["uniform", "clusters", "sphere", "plane", "line", "lattice", "duplicates"]
+
+UNIT_SECONDS = {"ns": 1e-9, "us": 1e-6, "\u00b5s": 1e-6, "ms": 1e-3, "s": 1.0}
+
+METRIC_LABELS = {
+    "time_per_op": "time per operation",
+    "build_time": "build time",
+    "recall": "recall",
+    "time_ratio": "time ratio",
+}
+
+REQUIRED_COLUMNS = ("suite", "structure", "bv", "workload", "n", "dim", "scalar", "operation",
+                    "params", "metric", "value", "unit", "validated", "run_id")
+
+SUBPLOT_INCHES = (5.0, 4.0)
+DPI = 120
+MAX_COLUMNS = 3
+LEGEND_COLUMNS = 2
+
+Row = collections.namedtuple("Row", REQUIRED_COLUMNS)
+
+
+# --------------------------------------------------------------------------------------------
+# Messages
+# --------------------------------------------------------------------------------------------
+
+def note(message):
+    """A skipped input or plot: goes to stderr so stdout lists only the PNGs written."""
+    print("plot_results: " + message, file=sys.stderr)
+
+
+# --------------------------------------------------------------------------------------------
+# Reading
+# --------------------------------------------------------------------------------------------
+
+def _parse_bool(text):
+    return text.strip().lower() in ("true", "1", "yes")
+
+
+def read_csv_file(path):
+    """Rows of one results CSV; [] (with a message) if the file is unusable."""
+    try:
+        if os.path.getsize(path) == 0:
+            note(f"skip {path}: empty file")
+            return []
+        with open(path, newline="", encoding="utf-8-sig") as handle:
+            lines = list(csv.reader(handle))
+    except (OSError, UnicodeDecodeError, csv.Error) as error:
+        note(f"skip {path}: cannot read ({error})")
+        return []
+
+    lines = [line for line in lines if any(cell.strip() for cell in line)]
+    if not lines:
+        note(f"skip {path}: empty file")
+        return []
+    header = [cell.strip() for cell in lines[0]]
+    missing = [name for name in REQUIRED_COLUMNS if name not in header]
+    if missing:
+        note(f"skip {path}: header lacks column(s) {', '.join(missing)}")
+        return []
+    index = {name: header.index(name) for name in REQUIRED_COLUMNS}
+    last_index = max(index.values())
+
+    rows, bad = [], 0
+    for line in lines[1:]:
+        if len(line) <= last_index:
+            bad += 1
+            continue
+        cells = {name: line[i].strip() for name, i in index.items()}
+        if cells["suite"] == "suite":  # a repeated header from concatenated files
+            continue
+        try:
+            cells["n"] = int(float(cells["n"]))
+            cells["dim"] = int(float(cells["dim"]))
+            cells["value"] = float(cells["value"])
+        except ValueError:
+            bad += 1
+            continue
+        if not math.isfinite(cells["value"]):
+            bad += 1
+            continue
+        cells["validated"] = _parse_bool(cells["validated"])
+        rows.append(Row(**cells))
+    if bad:
+        note(f"{path}: skipped {bad} malformed row(s)")
+    if not rows:
+        note(f"skip {path}: no data rows")
+    return rows
+
+
+def read_results(results_dir):
+    """All usable rows of results_dir/*.csv whose suite is in SUITES."""
+    if not os.path.isdir(results_dir):
+        note(f"no results directory {results_dir}: nothing to plot")
+        return []
+    names = sorted(name for name in os.listdir(results_dir) if name.endswith(".csv"))
+    if not names:
+        note(f"no *.csv in {results_dir}: nothing to plot")
+    rows = []
+    for name in names:
+        rows.extend(read_csv_file(os.path.join(results_dir, name)))
+    unknown = collections.Counter(row.suite for row in rows if row.suite not in SUITES)
+    for suite, count in sorted(unknown.items()):
+        note(f"skip suite '{suite or '<empty>'}' ({count} rows): not in SUITES "
+             f"in plots/plot_results.py")
+    return [row for row in rows if row.suite in SUITES]
+
+
+# --------------------------------------------------------------------------------------------
+# Helpers
+# --------------------------------------------------------------------------------------------
+
+def fit_exponent(ns, times):
+    """Least-squares slope b of log(time) = a + b log(n): time grows like n^b.
+
+    Needs at least two distinct n and positive values; returns nan otherwise.
+    """
+    ns = np.asarray(ns, dtype=float)
+    times = np.asarray(times, dtype=float)
+    keep = (ns > 0) & (times > 0) & np.isfinite(ns) & np.isfinite(times)
+    ns, times = ns[keep], times[keep]
+    if len(np.unique(ns)) < 2:
+        return float("nan")
+    log_n, log_t = np.log(ns), np.log(times)
+    design = np.column_stack([np.ones_like(log_n), log_n])
+    (_, slope), *_ = np.linalg.lstsq(design, log_t, rcond=None)
+    return float(slope)
+
+
+def theory_for(operation, metric, structure):
+    """Name of the theoretical complexity (a COMPLEXITY_FUNCTIONS key) for one series."""
+    if operation in THEORY:
+        entry = THEORY[operation]
+    elif metric == "build_time":
+        entry = THEORY["build"]
+    else:
+        entry = THEORY["*"]
+    return entry.get(structure, entry["*"])
+
+
+def parse_params(params):
+    """'k=10;eps=0.5' -> [('k', '10'), ('eps', '0.5')] (order kept)."""
+    pairs = []
+    for item in params.split(";"):
+        item = item.strip()
+        if not item:
+            continue
+        key, _, value = item.partition("=")
+        pairs.append((key.strip(), value.strip()))
+    return pairs
+
+
+def format_params(pairs):
+    return ";".join(f"{key}={value}" if value else key for key, value in pairs)
+
+
+def slug(text):
+    """File-name-safe form: 'k=10;eps=0.5' -> 'k10_eps0.5', 'real:bunny.off' -> 'real-bunny.off'."""
+    text = text.replace(";", "_").replace("=", "").replace(":", "-")
+    text = re.sub(r"[^A-Za-z0-9._+-]+", "-", text)
+    return text.strip("-_") or "none"
+
+
+def format_n(n):
+    exponent = math.log10(n) if n > 0 else 0.0
+    if n >= 1000 and abs(exponent - round(exponent)) < 1e-12:
+        return f"1e{int(round(exponent))}"
+    return f"{n:,}"
+
+
+def label_of(row):
+    """Series label: the structure, with its bounding-volume type when there is one."""
+    return f"{row.structure}<{row.bv}>" if row.bv else row.structure
+
+
+def workload_sort_key(workload):
+    if workload in WORKLOAD_ORDER:
+        return (0, WORKLOAD_ORDER.index(workload), workload)
+    return (1, 0, workload)
+
+
+def common_unit(units):
+    """The unit a figure is drawn in: the only one used, else seconds (None if unconvertible)."""
+    units = set(units)
+    if len(units) == 1:
+        return units.pop()
+    if all(unit in UNIT_SECONDS for unit in units):
+        return "s"
+    return None
+
+
+def convert(value, unit, target):
+    if unit == target:
+        return value
+    return value * UNIT_SECONDS[unit] / UNIT_SECONDS[target]
+
+
+class StyleBook:
+    """One colour and marker per structure label, the same in every figure."""
+
+    MARKERS = "osD^v<>pPhX*"
+
+    def __init__(self, labels):
+        labels = sorted(set(labels))
+        cmap = plt.get_cmap("tab10" if len(labels) <= 10 else "tab20")
+        self.styles = {
+            label: (cmap(i % cmap.N), self.MARKERS[i % len(self.MARKERS)])
+            for i, label in enumerate(labels)
+        }
+
+    def __call__(self, label):
+        return self.styles.get(label, ("black", "o"))
+
+
+def grid_shape(count):
+    columns = min(MAX_COLUMNS, count)
+    rows = int(math.ceil(count / columns))
+    return rows, columns
+
+
+def new_figure(count, legend_entries=0):
+    """A grid of `count` subplots; legend_entries reserves room for a legend under each."""
+    rows, columns = grid_shape(count)
+    legend_rows = math.ceil(legend_entries / LEGEND_COLUMNS)
+    legend_inches = 0.2 * legend_rows + (0.3 if legend_entries else 0)
+    figure, axes = plt.subplots(
+        rows, columns, squeeze=False,
+        figsize=(SUBPLOT_INCHES[0] * columns, (SUBPLOT_INCHES[1] + legend_inches) * rows + 0.6))
+    axes = axes.ravel()
+    for extra in axes[count:]:
+        extra.set_visible(False)
+    return figure, axes[:count]
+
+
+_UMASK = os.umask(0)
+os.umask(_UMASK)
+
+
+def finish_figure(figure, title):
+    """Figure title above the subplots' own titles, then a tight layout under it."""
+    figure.suptitle(title)
+    top = 1.0 - 0.5 / figure.get_figheight()  # half an inch for the title
+    figure.tight_layout(rect=(0, 0, 1, top))
+
+
+def legend_below(axis):
+    """Legend under the axes, so it never hides a curve."""
+    axis.legend(loc="upper center", bbox_to_anchor=(0.5, -0.16), ncol=LEGEND_COLUMNS,
+                fontsize="small", frameon=False)
+
+
+def save_atomically(figure, path):
+    """Write the PNG to a temp file in the same directory, then rename it over `path`."""
+    directory = os.path.dirname(os.path.abspath(path))
+    handle, temp_path = tempfile.mkstemp(
+        prefix="." + os.path.basename(path) + ".", suffix=".tmp", dir=directory)
+    try:
+        with os.fdopen(handle, "wb") as stream:
+            figure.savefig(stream, format="png", dpi=DPI)
+        os.chmod(temp_path, 0o666 & ~_UMASK)  # mkstemp makes 0600; give a normal file's mode
+        os.replace(temp_path, path)
+    except BaseException:
+        try:
+            os.unlink(temp_path)
+        except OSError:
+            pass
+        raise
+    finally:
+        plt.close(figure)
+    print(f"wrote {path}")
+    return path
+
+
+def unique_name(name, used, suffix):
+    """name, or name with _suffix (then a counter) if another figure already took it."""
+    if name not in used:
+        return name
+    stem, extension = os.path.splitext(name)
+    candidate = f"{stem}_{slug(suffix)}{extension}"
+    counter = 2
+    while candidate in used:
+        candidate = f"{stem}_{slug(suffix)}_{counter}{extension}"
+        counter += 1
+    return candidate
+
+
+def median(values):
+    return float(np.median(np.asarray(values, dtype=float)))
+
+
+# --------------------------------------------------------------------------------------------
+# 1. Complexity curves
+# --------------------------------------------------------------------------------------------
+
+def split_validated(rows, include_unvalidated, what):
+    """Timing rows to draw, following the validation rule in the module docstring."""
+    unvalidated = [row for row in rows if not row.validated]
+    if unvalidated and not include_unvalidated:
+        groups = sorted({(row.suite, row.operation) for row in unvalidated})
+        shown = ", ".join(f"{s}/{o}" for s, o in groups[:6]) + (" ..." if len(groups) > 6 else "")
+        note(f"skipped {len(unvalidated)} unvalidated {what} row(s) ({shown}); "
+             f"--include-unvalidated draws them hollow")
+        return [row for row in rows if row.validated]
+    return rows
+
+
+def fastest_series(series):
+    """Label of the fastest series: lowest time at the largest n they all share."""
+    shared = set.intersection(*(set(points) for points in series.values()))
+    if shared:
+        n = max(shared)
+        return min(series, key=lambda key: series[key][n])
+    # No common n: compare the geometric means.
+    return min(series, key=lambda key: np.mean(np.log(list(series[key].values()))))
+
+
+def plot_complexity(rows, out_dir, styles, include_unvalidated):
+    timing = [row for row in rows if row.metric in TIME_METRICS]
+    non_positive = [row for row in timing if row.value <= 0]
+    if non_positive:
+        note(f"skipped {len(non_positive)} timing row(s) with value <= 0 (no place on log axes)")
+    timing = [row for row in timing if row.value > 0]
+    timing = split_validated(timing, include_unvalidated, "timing")
+
+    figures = collections.defaultdict(list)
+    for row in timing:
+        figures[(row.suite, row.operation, row.params, row.dim, row.scalar, row.metric)].append(row)
+
+    # File names; an operation with two time metrics gets the metric as a suffix.
+    base_names = {}
+    for key in figures:
+        suite, operation, params, dim, scalar, _metric = key
+        parts = [suite, operation] + ([slug(params)] if params else []) + [f"{dim}d", scalar]
+        base_names[key] = "_".join(slug(part) for part in parts) + ".png"
+    name_counts = collections.Counter(base_names.values())
+
+    written, used = [], set()
+    for key in sorted(figures, key=lambda k: tuple(map(str, k))):
+        suite, operation, params, dim, scalar, metric = key
+        figure_rows = figures[key]
+        unit = common_unit(row.unit for row in figure_rows)
+        if unit is None:
+            note(f"skip {base_names[key]}: mixed units "
+                 f"{sorted({row.unit for row in figure_rows})} cannot be converted")
+            continue
+
+        # workload -> (label, validated) -> n -> [values]
+        panels = collections.defaultdict(
+            lambda: collections.defaultdict(lambda: collections.defaultdict(list)))
+        for row in figure_rows:
+            series_key = (label_of(row), row.validated)
+            panels[row.workload][series_key][row.n].append(convert(row.value, row.unit, unit))
+
+        kept = []
+        for workload in sorted(panels, key=workload_sort_key):
+            distinct_n = {n for points in panels[workload].values() for n in points}
+            if len(distinct_n) >= 2:
+                kept.append(workload)
+            else:
+                note(f"skip {suite}/{operation} {params} {dim}d {scalar} {workload}: "
+                     f"only one n ({format_n(next(iter(distinct_n)))}), no curve")
+        if not kept:
+            continue
+
+        name = base_names[key]
+        if name_counts[name] > 1:
+            name = unique_name(name, {name}, metric)
+        name = unique_name(name, used, metric)
+        used.add(name)
+
+        entries = max(len(panels[workload]) for workload in kept) + 1  # + theory line
+        figure, axes = new_figure(len(kept), entries)
+        for axis, workload in zip(axes, kept):
+            draw_complexity_panel(axis, panels[workload], operation, metric, unit, workload, styles)
+        title = f"{suite}: {operation}" + (f" ({params})" if params else "")
+        title += f" \u2014 {METRIC_LABELS.get(metric, metric)}, {dim}D, {scalar}"
+        finish_figure(figure, title)
+        written.append(save_atomically(figure, os.path.join(out_dir, name)))
+    return written
+
+
+def draw_complexity_panel(axis, series_by_key, operation, metric, unit, workload, styles):
+    series = {key: {n: median(values) for n, values in points.items()}
+              for key, points in series_by_key.items()}
+    order = sorted(series, key=lambda key: (key[0], not key[1]))
+    for label, validated in order:
+        points = series[(label, validated)]
+        ns = np.array(sorted(points), dtype=float)
+        times = np.array([points[n] for n in sorted(points)])
+        exponent = fit_exponent(ns, times)
+        text = label + ("" if validated else " [unvalidated]")
+        text += f" (n^{exponent:.2f})" if math.isfinite(exponent) else " (one n)"
+        colour, marker = styles(label)
+        axis.plot(ns, times, marker=marker, color=colour, label=text,
+                  linestyle="-" if validated else "--",
+                  markerfacecolor=colour if validated else "none")
+
+    # Theory line: anchored at the smallest-n point of the fastest series, chosen among the
+    # validated ones and, of those, the ones the default ("*", tree) theory applies to, so that
+    # a trivially fast linear-scan build does not replace the n log n line by an n line.
+    candidates = {key: points for key, points in series.items() if key[1]} or series
+    default = theory_for(operation, metric, "*")
+    trees = {key: points for key, points in candidates.items()
+             if theory_for(operation, metric, key[0].split("<")[0]) == default}
+    fastest = fastest_series(trees or candidates)
+    candidates = trees or candidates
+    anchor_n = min(candidates[fastest])
+    anchor_t = candidates[fastest][anchor_n]
+    structure = fastest[0].split("<")[0]
+    complexity = theory_for(operation, metric, structure)
+    function = COMPLEXITY_FUNCTIONS.get(complexity)
+    all_n = sorted({n for points in series.values() for n in points if n >= anchor_n})
+    if function is not None and len(all_n) >= 2:
+        ns = np.array(all_n, dtype=float)
+        base = float(function(np.array([float(anchor_n)]))[0])
+        if base > 0 and math.isfinite(base):
+            axis.plot(ns, anchor_t * function(ns) / base, color="grey", linestyle="--",
+                      linewidth=1.2, label=f"theory O({complexity})", zorder=1)
+
+    axis.set_xscale("log")
+    axis.set_yscale("log")
+    axis.set_title(workload)
+    axis.set_xlabel("n (objects)")
+    axis.set_ylabel(f"{METRIC_LABELS.get(metric, metric)} ({unit})")
+    axis.grid(True, which="major", alpha=0.5)
+    axis.grid(True, which="minor", alpha=0.15)
+    legend_below(axis)
+
+
+# --------------------------------------------------------------------------------------------
+# 2. Accuracy against time (approximate kNN)
+# --------------------------------------------------------------------------------------------
+
+def plot_recall_vs_time(rows, out_dir, styles, include_unvalidated):
+    approx = [row for row in rows if row.operation == APPROX_OPERATION
+              and any(key == "eps" for key, _ in parse_params(row.params))]
+    times = [row for row in approx if row.metric == "time_per_op" and row.value > 0]
+    times = split_validated(times, include_unvalidated, f"{APPROX_OPERATION} timing")
+    recalls = [row for row in approx if row.metric == RECALL_METRIC]
+    if not times or not recalls:
+        if approx:
+            note(f"skip recall-vs-time plots: {APPROX_OPERATION} rows lack "
+                 f"{'time_per_op' if not times else RECALL_METRIC}")
+        return []
+
+    def point_key(row):
+        return (row.suite, row.workload, row.dim, row.scalar, row.n, label_of(row), row.params)
+
+    time_values = collections.defaultdict(list)
+    time_units = collections.defaultdict(set)
+    for row in times:
+        time_values[point_key(row)].append(row)
+    recall_values = collections.defaultdict(list)
+    for row in recalls:
+        recall_values[point_key(row)].append(row.value)
+
+    # figure (suite, workload, dim, scalar) -> n
+    #   -> [(label, other params, eps value, eps text, time rows, recall)]
+    figures = collections.defaultdict(lambda: collections.defaultdict(list))
+    for key, time_rows in time_values.items():
+        if key not in recall_values:
+            continue
+        suite, workload, dim, scalar, n, label, params = key
+        pairs = parse_params(params)
+        eps = dict(pairs)["eps"]
+        try:
+            eps_value = float(eps)
+        except ValueError:
+            continue
+        others = format_params([(k, v) for k, v in pairs if k != "eps"])
+        figures[(suite, workload, dim, scalar)][n].append(
+            (label, others, eps_value, eps, time_rows, median(recall_values[key])))
+        time_units[(suite, workload, dim, scalar)].update(row.unit for row in time_rows)
+
+    written = []
+    for key in sorted(figures, key=lambda k: (k[0], workload_sort_key(k[1]), k[2], k[3])):
+        suite, workload, dim, scalar = key
+        n = max(figures[key])
+        unit = common_unit(time_units[key])
+        if unit is None:
+            note(f"skip recall vs time {suite} {workload}: mixed time units")
+            continue
+        curves = collections.defaultdict(list)
+        for label, others, eps_value, eps, time_rows, recall in figures[key][n]:
+            time = median([convert(row.value, row.unit, unit) for row in time_rows])
+            validated = all(row.validated for row in time_rows)
+            curves[(label, others, validated)].append((eps_value, eps, time, recall))
+        several_others = len({others for _, others, _ in curves}) > 1
+
+        figure, (axis,) = new_figure(1)
+        for (label, others, validated) in sorted(curves, key=lambda k: (k[0], k[1], not k[2])):
+            points = sorted(curves[(label, others, validated)])
+            colour, marker = styles(label)
+            text = label + (f" {others}" if several_others and others else "")
+            text += "" if validated else " [unvalidated]"
+            axis.plot([p[2] for p in points], [p[3] for p in points], marker=marker,
+                      color=colour, label=text, linestyle="-" if validated else "--",
+                      markerfacecolor=colour if validated else "none")
+            for _, eps, time, recall in points:
+                axis.annotate(eps, (time, recall), textcoords="offset points",
+                              xytext=(4, -9), fontsize=7, color=colour)
+        axis.set_xscale("log")
+        low = min(min(p[3] for p in points) for points in curves.values())
+        axis.set_ylim(min(0.0, low) - 0.02, 1.05)
+        axis.set_xlabel(f"time per query ({unit})")
+        axis.set_ylabel("recall (ratio)")
+        others_all = {others for _, others, _ in curves}
+        shared = f" ({others_all.pop()})" if len(others_all) == 1 and "" not in others_all else ""
+        axis.set_title(f"{suite}: approximate kNN{shared}, recall vs time\n"
+                       f"{workload}, n={format_n(n)}, {dim}D, {scalar}")
+        axis.grid(True, which="major", alpha=0.5)
+        axis.grid(True, which="minor", alpha=0.15)
+        # Lower right stays empty on a recall/time front (slow answers are accurate ones).
+        axis.legend(fontsize="small", loc="lower right", title="point labels: eps",
+                    title_fontsize="small")
+        figure.tight_layout()
+        name = f"{slug(suite)}_recall_vs_time_{slug(workload)}_{dim}d_{slug(scalar)}.png"
+        written.append(save_atomically(figure, os.path.join(out_dir, name)))
+    return written
+
+
+# --------------------------------------------------------------------------------------------
+# 3. Ratios
+# --------------------------------------------------------------------------------------------
+
+def plot_ratios(rows, out_dir, styles, include_unvalidated):
+    """Bars of time(RATIO_BASELINE) / time(peer), one subplot per (workload, dim, scalar).
+
+    A time_ratio row names the peer in `structure`, or in a `vs=` / `peer=` param (then
+    `structure` is the baseline); `vs`/`peer` is dropped from the (operation, params) group.
+    Each peer is shown at the largest n it was measured at (brute force often stops early);
+    the legend says so when that n is below the subplot's largest.
+    """
+    ratio_rows = [row for row in rows if row.metric == RATIO_METRIC and row.value > 0]
+    ratio_rows = split_validated(ratio_rows, include_unvalidated, RATIO_METRIC)
+    written = []
+    for suite in sorted({row.suite for row in ratio_rows}):
+        # panel (workload, dim, scalar) -> peer -> (operation, params) -> n -> [values]
+        panels = collections.defaultdict(lambda: collections.defaultdict(
+            lambda: collections.defaultdict(lambda: collections.defaultdict(list))))
+        for row in ratio_rows:
+            if row.suite != suite:
+                continue
+            pairs = parse_params(row.params)
+            named = dict(pairs)
+            peer = named.get("vs") or named.get("peer") or label_of(row)
+            params = format_params([(k, v) for k, v in pairs if k not in ("vs", "peer")])
+            if not row.validated:
+                peer += " [unvalidated]"
+            panels[(row.workload, row.dim, row.scalar)][peer][(row.operation, params)][row.n] \
+                .append(row.value)
+
+        keys = sorted(panels, key=lambda k: (workload_sort_key(k[0]), k[1], k[2]))
+        entries = max(len(panels[key]) for key in keys) + 1  # + the 1.0 line
+        figure, axes = new_figure(len(keys), entries)
+        for axis, key in zip(axes, keys):
+            draw_ratio_panel(axis, key, panels[key], styles)
+        finish_figure(figure, f"{suite}: {RATIO_BASELINE} time / peer time "
+                              f"(below 1: {RATIO_BASELINE} faster)")
+        written.append(save_atomically(figure, os.path.join(out_dir, f"{slug(suite)}_ratios.png")))
+    return written
+
+
+def draw_ratio_panel(axis, key, by_peer, styles):
+    workload, dim, scalar = key
+    peers = sorted(by_peer)
+    peer_n = {peer: max(n for group in by_peer[peer].values() for n in group) for peer in peers}
+    largest_n = max(peer_n.values())
+    group_keys = sorted({group for peer in peers for group in by_peer[peer]})
+    width = 0.8 / len(peers)
+    positions = np.arange(len(group_keys))
+    heights_seen = []
+    for i, peer in enumerate(peers):
+        n = peer_n[peer]
+        heights = [median(by_peer[peer][group][n]) if n in by_peer[peer].get(group, {})
+                   else np.nan for group in group_keys]
+        heights_seen += [h for h in heights if math.isfinite(h)]
+        colour, _ = styles(peer.split(" [")[0])
+        unvalidated = peer.endswith("[unvalidated]")
+        label = peer + (f" (n={format_n(n)})" if n != largest_n else "")
+        bars = axis.bar(positions + (i - (len(peers) - 1) / 2) * width, heights, width,
+                        label=label, color=colour, edgecolor=colour,
+                        fill=not unvalidated, hatch="//" if unvalidated else None)
+        axis.bar_label(bars, fmt="%.3g", fontsize=6, padding=1)
+    axis.axhline(1.0, color="grey", linestyle="--", linewidth=1.0, label="equal time (1.0)")
+    if heights_seen and max(heights_seen) / min(heights_seen) > 10:
+        axis.set_yscale("log")  # ratios spanning decades (brute force) hide each other linearly
+    else:
+        axis.set_ylim(0, max(heights_seen + [1.0]) * 1.12)  # room for the value labels
+    axis.set_xticks(positions)
+    axis.set_xticklabels([f"{op}\n{params}" if params else op for op, params in group_keys],
+                         fontsize="small")
+    axis.set_ylabel(f"{RATIO_BASELINE} time / peer time (ratio)")
+    axis.set_title(f"{workload}, n={format_n(largest_n)}, {dim}D, {scalar}")
+    axis.grid(True, axis="y", alpha=0.5)
+    legend_below(axis)
+
+
+# --------------------------------------------------------------------------------------------
+# Entry point
+# --------------------------------------------------------------------------------------------
+
+def main(argv=None):
+    repo = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
+    parser = argparse.ArgumentParser(description=__doc__.split("\n")[0])
+    parser.add_argument("--results", default=os.path.join(repo, "results"),
+                        help="directory of *.csv tables (default: %(default)s)")
+    parser.add_argument("--out", default=os.path.join(repo, "plots"),
+                        help="directory for the PNGs (default: %(default)s)")
+    parser.add_argument("--include-unvalidated", action="store_true",
+                        help="draw timing rows with validated=false hollow/dashed "
+                             "instead of skipping them")
+    args = parser.parse_args(argv)
+
+    rows = read_results(args.results)
+    if not rows:
+        note("no rows to plot")
+        return 0
+    os.makedirs(args.out, exist_ok=True)
+    styles = StyleBook(label_of(row) for row in rows)
+    written = []
+    written += plot_complexity(rows, args.out, styles, args.include_unvalidated)
+    written += plot_recall_vs_time(rows, args.out, styles, args.include_unvalidated)
+    written += plot_ratios(rows, args.out, styles, args.include_unvalidated)
+    note(f"{len(written)} PNG(s) written to {args.out}")
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())

@@ -1,0 +1,187 @@
+"""Tests for plots/plot_results.py.
+
+Run from the repository root with Debian's interpreter:
+    /usr/bin/python3 -m unittest plots/test_plot_results.py
+Everything is written to temporary directories; results/ and plots/ are not touched.
+"""
+
+import contextlib
+import csv
+import importlib.util
+import io
+import math
+import os
+import subprocess
+import sys
+import tempfile
+import unittest
+
+HERE = os.path.dirname(os.path.abspath(__file__))
+SCRIPT = os.path.join(HERE, "plot_results.py")
+
+_spec = importlib.util.spec_from_file_location("plot_results", SCRIPT)
+plot_results = importlib.util.module_from_spec(_spec)
+_spec.loader.exec_module(plot_results)
+
+HEADER = ["suite", "structure", "bv", "workload", "n", "dim", "scalar", "operation", "params",
+          "metric", "value", "unit", "validated", "run_id"]
+NS = [1000, 10000, 100000, 1000000]
+
+
+def row(suite="knn", structure="kd_tree", workload="uniform", n=1000, operation="knn",
+        params="k=10", metric="time_per_op", value=1.0, unit="ns", validated="true"):
+    return [suite, structure, "", workload, n, 3, "double", operation, params, metric,
+            repr(value), unit, validated, "test-run"]
+
+
+def write_csv(directory, name, rows, header=HEADER):
+    with open(os.path.join(directory, name), "w", newline="") as handle:
+        writer = csv.writer(handle)
+        if header is not None:
+            writer.writerow(header)
+        writer.writerows(rows)
+
+
+def known_exponent_rows():
+    """time = 5 n exactly for every timing; recall and ratio rows for the other two plots."""
+    rows = []
+    for n in NS:
+        for structure in ("kd_tree", "brute_force"):
+            for workload in ("uniform", "clusters"):
+                rows.append(row(structure=structure, workload=workload, n=n, value=5.0 * n))
+                rows.append(row(structure=structure, workload=workload, n=n, operation="build",
+                                params="", metric="build_time", value=5.0 * n, unit="s"))
+        for eps in (0, 0.5, 1, 2):
+            params = f"k=10;eps={eps}"
+            rows.append(row(n=n, operation="approx_knn", params=params,
+                            value=5.0 * n / (1 + eps)))
+            rows.append(row(n=n, operation="approx_knn", params=params, metric="recall",
+                            value=1.0 - 0.1 * eps, unit="ratio"))
+        rows.append(row(structure="nanoflann", n=n, metric="time_ratio", value=1.2, unit="ratio"))
+    return rows
+
+
+def run_main(*args):
+    """main(args) with stdout and stderr captured; returns (exit code, stdout, stderr)."""
+    out, err = io.StringIO(), io.StringIO()
+    with contextlib.redirect_stdout(out), contextlib.redirect_stderr(err):
+        code = plot_results.main(list(args))
+    return code, out.getvalue(), err.getvalue()
+
+
+def pngs(directory):
+    return sorted(name for name in os.listdir(directory) if name.endswith(".png"))
+
+
+class FitExponentTest(unittest.TestCase):
+    def test_exact_power_laws(self):
+        self.assertAlmostEqual(plot_results.fit_exponent(NS, [5.0 * n for n in NS]), 1.0,
+                               delta=1e-9)
+        self.assertAlmostEqual(plot_results.fit_exponent(NS, [3.0 * n ** 0.5 for n in NS]), 0.5,
+                               delta=1e-9)
+        self.assertAlmostEqual(plot_results.fit_exponent(NS, [7.0] * 4), 0.0, delta=1e-9)
+
+    def test_needs_two_distinct_n(self):
+        self.assertTrue(math.isnan(plot_results.fit_exponent([1000, 1000], [1.0, 2.0])))
+        self.assertTrue(math.isnan(plot_results.fit_exponent([], [])))
+
+    def test_theory_mapping(self):
+        theory = plot_results.theory_for
+        self.assertEqual(theory("build", "build_time", "kd_tree"), "n log n")
+        self.assertEqual(theory("knn", "time_per_op", "kd_tree"), "log n")
+        self.assertEqual(theory("knn", "time_per_op", "brute_force"), "n")
+        self.assertEqual(theory("some_new_query", "time_per_op", "octree"), "log n")
+        self.assertEqual(theory("some_new_build", "build_time", "octree"), "n log n")
+        for entry in plot_results.THEORY.values():
+            for complexity in entry.values():
+                self.assertIn(complexity, plot_results.COMPLEXITY_FUNCTIONS)
+
+    def test_legend_shows_exponent_and_theory(self):
+        import matplotlib.pyplot as plt
+        figure, axis = plt.subplots()
+        series = {("kd_tree", True): {n: [5.0 * n] for n in NS}}
+        plot_results.draw_complexity_panel(axis, series, "knn", "time_per_op", "ns", "uniform",
+                                           plot_results.StyleBook(["kd_tree"]))
+        labels = [text.get_text() for text in axis.get_legend().get_texts()]
+        plt.close(figure)
+        self.assertIn("kd_tree (n^1.00)", labels)
+        self.assertIn("theory O(log n)", labels)
+
+
+class PlotFilesTest(unittest.TestCase):
+    def setUp(self):
+        self._temp = tempfile.TemporaryDirectory()
+        self.results = os.path.join(self._temp.name, "results")
+        self.out = os.path.join(self._temp.name, "out")
+        os.makedirs(self.results)
+
+    def tearDown(self):
+        self._temp.cleanup()
+
+    def assert_png(self, name):
+        path = os.path.join(self.out, name)
+        self.assertTrue(os.path.isfile(path), f"{name} missing; have {pngs(self.out)}")
+        with open(path, "rb") as handle:
+            self.assertEqual(handle.read(8), b"\x89PNG\r\n\x1a\n")
+
+    def test_pngs_are_created(self):
+        write_csv(self.results, "knn.csv", known_exponent_rows())
+        code, stdout, _ = run_main("--results", self.results, "--out", self.out)
+        self.assertEqual(code, 0)
+        for name in ("knn_knn_k10_3d_double.png", "knn_build_3d_double.png",
+                     "knn_recall_vs_time_uniform_3d_double.png", "knn_ratios.png"):
+            self.assert_png(name)
+        # Atomic writes leave no temporary files behind.
+        self.assertEqual([name for name in os.listdir(self.out) if not name.endswith(".png")], [])
+        self.assertIn("knn_knn_k10_3d_double.png", stdout)
+
+    def test_unknown_suites_and_bad_files_are_skipped(self):
+        open(os.path.join(self.results, "empty.csv"), "w").close()
+        write_csv(self.results, "header_only.csv", [])
+        write_csv(self.results, "no_schema.csv", [[1, 2, 3]], header=["a", "b", "c"])
+        write_csv(self.results, "short_rows.csv", [["knn", "kd_tree"]])
+        write_csv(self.results, "mystery.csv",
+                  [row(suite="mystery", n=n, value=5.0 * n) for n in NS])
+        code, _, stderr = run_main("--results", self.results, "--out", self.out)
+        self.assertEqual(code, 0)
+        self.assertIn("mystery", stderr)
+        self.assertIn("empty.csv", stderr)
+        self.assertFalse(os.path.isdir(self.out) and pngs(self.out))
+
+    def test_unknown_suite_next_to_known_one(self):
+        rows = known_exponent_rows() + [row(suite="mystery", n=n, value=5.0 * n) for n in NS]
+        write_csv(self.results, "all.csv", rows)
+        code, _, stderr = run_main("--results", self.results, "--out", self.out)
+        self.assertEqual(code, 0)
+        self.assertIn("skip suite 'mystery'", stderr)
+        self.assertFalse([name for name in pngs(self.out) if name.startswith("mystery")])
+        self.assert_png("knn_knn_k10_3d_double.png")
+
+    def test_missing_results_directory(self):
+        code, _, stderr = run_main("--results", os.path.join(self.results, "absent"),
+                                   "--out", self.out)
+        self.assertEqual(code, 0)
+        self.assertIn("nothing to plot", stderr)
+
+    def test_unvalidated_timings_are_skipped_unless_asked(self):
+        write_csv(self.results, "knn.csv",
+                  [row(n=n, value=5.0 * n, validated="false") for n in NS])
+        code, _, stderr = run_main("--results", self.results, "--out", self.out)
+        self.assertEqual(code, 0)
+        self.assertIn("unvalidated", stderr)
+        self.assertEqual(pngs(self.out), [])
+        code, _, _ = run_main("--results", self.results, "--out", self.out,
+                              "--include-unvalidated")
+        self.assertEqual(code, 0)
+        self.assert_png("knn_knn_k10_3d_double.png")
+
+    def test_command_line(self):
+        write_csv(self.results, "knn.csv", known_exponent_rows())
+        done = subprocess.run([sys.executable, SCRIPT, "--results", self.results,
+                               "--out", self.out], capture_output=True, text=True, timeout=300)
+        self.assertEqual(done.returncode, 0, done.stderr)
+        self.assert_png("knn_build_3d_double.png")
+
+
+if __name__ == "__main__":
+    unittest.main()

@@ -1,0 +1,5 @@
+# Adapter tests: every peer adapter against a brute-force oracle written in the test.
+# The test includes only harness/adapters.hpp; peers come in through spatial_adapters
+# (whichever of spatial_adapter_nanoflann / spatial_adapter_cgal were configured).
+spatial_add_test(adapters_test ${CMAKE_CURRENT_LIST_DIR}/adapters_test.cpp)
+target_link_libraries(adapters_test PRIVATE spatial_adapters spatial_harness_interface)
