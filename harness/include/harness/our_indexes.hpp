@@ -129,11 +129,12 @@ private:
             point_of_.resize(id + 1);
         }
     }
-    void remember(std::uint32_t id, const point_type& p, iterator it) {
+    // point_of_ is only needed for ids awaiting resolution (bulk-inserted), so a single
+    // insertion does not write it.
+    void remember(std::uint32_t id, const point_type&, iterator it) {
         grow(id);
         by_id_[id] = it;
         known_[id] = 1;
-        point_of_[id] = p;
     }
 
     std::string name_;

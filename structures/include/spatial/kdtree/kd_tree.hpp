@@ -62,7 +62,7 @@ struct kd_tree_config {
 };
 
 struct kd_tree_stats {
-    std::size_t nodes_visited = 0;
+    std::size_t nodes_visited = 0;  // queries: nodes entered; insertions: nodes climbed + descended
     std::size_t points_tested = 0;
     std::size_t subtree_rebuilds = 0;  // scapegoat and leaf-split rebuilds (not reset by queries)
     std::size_t full_rebuilds = 0;
@@ -154,6 +154,7 @@ public:
         node_index n = b.owner;
         coords lo = b.cell_lo, hi = b.cell_hi;
         while (n != root && !in_cell(c, lo, hi)) {
+            if constexpr (Config::collect_stats) ++stats_.nodes_visited;
             const node_index p = nodes_[n].parent;
             const unsigned d = nodes_[p].dim;
             if (n == nodes_[p].first) hi[d] = nodes_[n].restore;
@@ -226,8 +227,9 @@ public:
     }
 
     // Bulk erase of an iterator range, better than a loop: removing at least a quarter of
-    // the tree rebuilds the survivors once (O(n log n)); smaller ranges unlink each point
-    // from its bucket in O(leaf_capacity) without per-element balance checks, then check once.
+    // the tree rebuilds the survivors once (O(n log n)); smaller ranges release the slots,
+    // then compact each touched bucket once and merge the leaves it emptied (O(m + touched
+    // buckets * leaf_capacity)), with one balance check at the end.
     void erase(const_iterator first, const_iterator last) {
         std::vector<slot_index> doomed;
         for (; first != last; ++first) doomed.push_back(first.slot());
@@ -238,7 +240,30 @@ public:
             rebuild_all();
             return;
         }
-        for (slot_index s : doomed) remove_slot(s, false);
+        std::vector<node_index> touched;
+        std::vector<char> marked(buckets_.size(), 0);  // O(buckets) bytes, cheaper than sorting
+        for (slot_index s : doomed) {
+            const node_index b = slots_.meta(s);
+            if (!marked[b]) {
+                marked[b] = 1;
+                touched.push_back(b);
+            }
+            slots_.release(s);
+        }
+        ops_since_rebuild_ += doomed.size();
+        for (node_index b : touched) {
+            node& L = nodes_[buckets_[b].owner];
+            auto& items = buckets_[b].items;
+            std::uint32_t kept = 0;
+            for (std::uint32_t i = 0; i < L.count; ++i)
+                if (slots_.occupied(items[i])) items[kept++] = items[i];
+            L.count = kept;
+        }
+        for (node_index b : touched) {  // merging may free buckets later in the list
+            const node_index leaf = buckets_[b].owner;
+            if (leaf == no_node || !nodes_[leaf].is_leaf || nodes_[leaf].first != b) continue;
+            if (nodes_[leaf].count == 0 && leaf != root) merge_empty_leaf(leaf);
+        }
         after_erase();
     }
 
@@ -463,6 +488,7 @@ private:
     // ================= insertion ===========================================================
     node_index descend(node_index n, const coords& c) const {
         while (!nodes_[n].is_leaf) {
+            if constexpr (Config::collect_stats) ++stats_.nodes_visited;
             const node& nd = nodes_[n];
             n = c[nd.dim] <= nd.split ? nd.first : nd.first + 1;
         }
@@ -558,6 +584,7 @@ private:
         P_.is_leaf = 1;
         P_.first = sb;
         P_.count = nodes_[sib].count;
+        buckets_[eb].owner = no_node;
         free_buckets_.push_back(eb);
         free_pairs_.push_back(first);
         --leaves_;

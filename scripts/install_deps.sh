@@ -1,0 +1,27 @@
+#!/usr/bin/env bash
+# Installs every Debian 12 package the project needs (idempotent; skips what is present).
+# Run as root (or with sudo available). Used by scripts/main.sh, scripts/test.sh and CI.
+set -euo pipefail
+
+packages=(
+  build-essential cmake ninja-build git
+  libeigen3-dev libcgal-dev libnanoflann-dev
+  libgtest-dev libbenchmark-dev libtbb-dev
+  libcli11-dev nlohmann-json3-dev libtomlplusplus-dev librapidcheck-dev
+  python3 python3-matplotlib python3-numpy
+)
+
+missing=()
+for p in "${packages[@]}"; do
+  dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")
+done
+if ((${#missing[@]} == 0)); then
+  echo "install_deps: all ${#packages[@]} packages present"
+  exit 0
+fi
+SUDO=""
+if [[ $(id -u) -ne 0 ]]; then SUDO="sudo"; fi
+echo "install_deps: installing ${missing[*]}"
+export DEBIAN_FRONTEND=noninteractive
+$SUDO apt-get update -qq
+$SUDO apt-get install -y -qq --no-install-recommends "${missing[@]}"

@@ -1,0 +1,14 @@
+# Harness tests: validation helpers, CSV writing, and a smoke run of the CLI end to end
+# (every structure and peer, answers validated against the oracle, CSV + sidecar written).
+spatial_add_test(harness_test harness_test.cpp)
+target_link_libraries(harness_test PRIVATE spatial_harness)
+
+add_test(NAME spatialbench_smoke_run
+         COMMAND ${CMAKE_COMMAND} -E env
+                 $<TARGET_FILE:spatialbench> run --suite knn --preset smoke --quiet
+                 --results ${CMAKE_CURRENT_BINARY_DIR}/smoke_results)
+set_tests_properties(spatialbench_smoke_run PROPERTIES TIMEOUT 300)
+add_test(NAME spatialbench_rejects_unknown_workload
+         COMMAND $<TARGET_FILE:spatialbench> run --preset smoke --workload nosuchworkload --quiet
+                 --results ${CMAKE_CURRENT_BINARY_DIR}/bad_results)
+set_tests_properties(spatialbench_rejects_unknown_workload PROPERTIES WILL_FAIL TRUE)

@@ -1,0 +1,116 @@
+// Harness building blocks: the validators must reject wrong answers (they are what stands
+// between a bug and a published timing), recall must count ties, CSV must be tidy and
+// written atomically, and our containers behind point_index must keep ids straight.
+
+#include <gtest/gtest.h>
+
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+
+#include "harness/csv_writer.hpp"
+#include "harness/our_indexes.hpp"
+#include "harness/timing.hpp"
+#include "harness/validation.hpp"
+
+using namespace harness;
+
+TEST(validation, exact_answers_must_match_in_count_and_distance) {
+    EXPECT_NO_THROW(require_same_answer<double>({1, 2, 3}, {1, 2, 3}, "ok"));
+    EXPECT_THROW(require_same_answer<double>({1, 2}, {1, 2, 3}, "short"), validation_error);
+    EXPECT_THROW(require_same_answer<double>({1, 2, 3.001}, {1, 2, 3}, "far"), validation_error);
+    try {
+        require_same_answer<double>({1, 5}, {1, 4}, "kd_tree knn query 7");
+        FAIL();
+    } catch (const validation_error& e) {
+        EXPECT_NE(std::string(e.what()).find("kd_tree knn query 7"), std::string::npos);
+        EXPECT_NE(std::string(e.what()).find("result 1"), std::string::npos);
+    }
+    // Rounding-level differences between implementations are accepted.
+    EXPECT_NO_THROW(require_same_answer<float>({1.0f}, {std::nextafter(1.0f, 2.0f)}, "ulp"));
+}
+
+TEST(validation, approximate_answers_must_respect_one_plus_eps) {
+    // squared distances: exact 1 and 4; with eps = 1 the bound is (1+1)^2 = 4x.
+    EXPECT_NO_THROW(require_approximation<double>({3.9, 15.9}, {1, 4}, 1.0, "ok"));
+    EXPECT_THROW(require_approximation<double>({4.1, 4}, {1, 4}, 1.0, "too far"), validation_error);
+    EXPECT_THROW(require_approximation<double>({1}, {1, 4}, 1.0, "missing"), validation_error);
+}
+
+TEST(validation, recall_counts_ties_at_the_kth_distance_as_correct) {
+    EXPECT_DOUBLE_EQ(recall<double>({1, 2, 2}, {1, 2, 2}), 1.0);
+    EXPECT_DOUBLE_EQ(recall<double>({1, 2, 9}, {1, 2, 2}), 2.0 / 3.0);
+    EXPECT_DOUBLE_EQ(recall<double>({2, 2, 2}, {1, 2, 2}), 1.0);  // other points at the k-th distance
+}
+
+TEST(timing, median_of_repetitions_and_checks_run_on_every_repetition) {
+    int before = 0, checks = 0;
+    const auto t = time_repeated(
+        1, 5, [&] { ++before; }, [&] { return 42; },
+        [&](int v) {
+            EXPECT_EQ(v, 42);
+            ++checks;
+        });
+    EXPECT_EQ(t.repetitions, 5u);
+    EXPECT_EQ(before, 6);
+    EXPECT_EQ(checks, 6);
+    EXPECT_LE(t.min_seconds, t.median_seconds);
+    EXPECT_LE(t.median_seconds, t.max_seconds);
+    EXPECT_DOUBLE_EQ(summarize({3, 1, 2}).median_seconds, 2);
+    EXPECT_DOUBLE_EQ(summarize({4, 1, 2, 3}).median_seconds, 2.5);
+}
+
+TEST(csv, rows_have_the_documented_columns_and_files_are_replaced_atomically) {
+    result_row r;
+    r.suite = "knn";
+    r.structure = "kd_tree";
+    r.workload = "real:a,b.xyz";  // a comma must be quoted
+    r.n = 1000;
+    r.dim = 3;
+    r.scalar = "double";
+    r.operation = "knn";
+    r.params = "k=10;eps=0.5";
+    r.metric = "time_per_op";
+    r.value = 123.5;
+    r.unit = "ns";
+    r.validated = true;
+    r.run_id = "knn-smoke-x";
+    EXPECT_EQ(csv_header().substr(0, 88),
+              "suite,structure,bv,workload,n,dim,scalar,operation,params,metric,value,unit,validated,run_id");
+    EXPECT_EQ(csv_line(r).substr(0, 60), "knn,kd_tree,,\"real:a,b.xyz\",1000,3,double,knn,k=10;eps=0.5,ti");
+    const auto dir = std::filesystem::temp_directory_path() / "spatialbench_csv_test";
+    std::filesystem::remove_all(dir);
+    write_csv_atomically(dir / "t.csv", {r});
+    write_csv_atomically(dir / "t.csv", {r, r});
+    std::ifstream in(dir / "t.csv");
+    std::string line;
+    int lines = 0;
+    while (std::getline(in, line)) ++lines;
+    EXPECT_EQ(lines, 3);
+    std::size_t files = 0;
+    for (auto& e : std::filesystem::directory_iterator(dir)) files += e.is_regular_file();
+    EXPECT_EQ(files, 1u) << "a temporary file was left behind";
+}
+
+TEST(our_indexes, dynamic_ids_survive_bulk_build_duplicates_and_reinsertion) {
+    using P = spatial::point<double, 3>;
+    kd_tree_index<double, 3> idx("kd_tree");
+    std::vector<P> pts;
+    for (int i = 0; i < 500; ++i) pts.push_back(P{{double(i % 7), double(i % 5), 0.0}});  // many duplicates
+    idx.build(pts);
+    idx.prepare_dynamic();
+    for (std::uint32_t id = 0; id < 500; id += 2) idx.erase(id);
+    EXPECT_EQ(idx.size(), 250u);
+    idx.insert(1000, P{{9, 9, 9}});
+    idx.insert_near(1000, 1001, P{{9, 9, 8}});
+    std::vector<P> batch{P{{7, 7, 7}}, P{{7, 7, 7}}};
+    idx.insert_bulk(2000, batch);
+    idx.erase(2001);
+    idx.erase(1000);
+    EXPECT_EQ(idx.size(), 252u);  // 500 - 250 erased + 2 inserted + 2 bulk - 2 erased
+    std::vector<neighbor<double>> out;
+    idx.knn(P{{7, 7, 7}}, 1, 0, out);
+    ASSERT_EQ(out.size(), 1u);
+    EXPECT_EQ(out[0].distance_squared, 0.0);
+    EXPECT_THROW(idx.erase(2001), std::logic_error);  // already erased
+}
