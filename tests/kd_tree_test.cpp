@@ -9,6 +9,7 @@
 #include <vector>
 
 #include "spatial/brute/brute_force.hpp"
+#include "spatial/core/ray.hpp"
 #include "spatial/kdtree/kd_tree.hpp"
 #include "test_support.hpp"
 
@@ -228,3 +229,20 @@ TEST(kd_tree_hard_cases, collinear_and_coplanar_sets) {
 }
 
 }  // namespace
+
+TEST(ray, cast_forwards_to_the_container_and_at_gives_points_on_the_ray) {
+    kd_tree<P3> t;
+    t.insert(P3{{3, 0.1, 0}});
+    t.insert(P3{{5, 0, 0}});
+    ray<P3> r{P3{{0, 0, 0}}, P3{{1, 0, 0}}, 0.2};
+    intersect_info<P3> info;
+    auto hit = cast(t, r, info);
+    ASSERT_TRUE(hit != t.end());
+    EXPECT_EQ(*hit, (P3{{3, 0.1, 0}}));
+    EXPECT_EQ(info.hit_time, 3.0);
+    EXPECT_EQ(r.at(2.5), (P3{{2.5, 0, 0}}));
+    r.thickness = 0;
+    intersect_info<P3> exact;
+    EXPECT_TRUE(cast(t, r, exact) != t.end());
+    EXPECT_EQ(exact.hit_time, 5.0);
+}

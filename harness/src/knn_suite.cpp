@@ -484,7 +484,7 @@ private:
                 },
                 [&](int) { validate_contents(*s, expected, where(name, "churn")); });
             const double scale = 1e9 / static_cast<double>(2 * rounds);
-            ctx_.rows.push_back(row(name, "churn", "rounds=" + std::to_string(rounds), "time_per_op",
+            ctx_.rows.push_back(row(name, "churn", "rounds=min_n_" + std::to_string(ctx_.cfg.churn_rounds), "time_per_op",
                                     t.median_seconds * scale, "ns", &t, scale));
             ctx_.prog.say(where(name, "churn") + ": " + std::to_string(t.median_seconds * scale) + " ns/op");
         }
@@ -523,7 +523,7 @@ private:
                                           workload_name(), m, ctx_.opt.seed ^ 0x5EED5ull))
                                     : walk_stream(m, walks);
             const std::size_t stride = stream_kind == "morton" ? 1 : walks;  // hint = previous of the same stream
-            const std::string params = "stream=" + stream_kind + ";m=" + std::to_string(m);
+            const std::string params = "stream=" + stream_kind + ";m=n/2";
             std::vector<point_type> expected = wc_.points;
             expected.insert(expected.end(), stream.begin(), stream.end());
             auto insert_all = [&](point_index<T, D>& s, bool hinted) {
@@ -591,8 +591,7 @@ private:
             for (bool into_empty : {true, false}) {
                 const std::vector<point_type>& add = into_empty ? wc_.points : batch;
                 const std::vector<point_type>& expected = into_empty ? wc_.points : merged;
-                const std::string params = into_empty ? "into=empty;m=" + std::to_string(n)
-                                                      : "into=n;m=" + std::to_string(m);
+                const std::string params = into_empty ? std::string("into=empty;m=n") : std::string("into=n;m=n/10");
                 std::map<bool, double> t_of;
                 for (bool bulk : {true, false}) {
                     const std::string op = bulk ? "insert_bulk" : "insert_loop";
@@ -629,7 +628,7 @@ private:
         const std::size_t n = wc_.points.size();
         for (double fraction : {0.1, 0.5}) {
             const std::size_t m = std::max<std::size_t>(1, static_cast<std::size_t>(fraction * static_cast<double>(n)));
-            const std::string params = "range=" + std::to_string(m);
+            const std::string params = "range=" + std::to_string(static_cast<int>(fraction * 100)) + "%";
             std::map<bool, double> t_of;
             for (bool bulk : {true, false}) {
                 const std::string op = bulk ? "erase_bulk" : "erase_loop";
