@@ -13,11 +13,11 @@ cmake --preset release -G Ninja
 cmake --build --preset release -j"$jobs"
 ctest --preset release -j"$jobs"
 
+echo "== plot script tests"
+/usr/bin/python3 -m unittest plots/test_plot_results.py
+
 echo "== address+undefined sanitizer build"
 cmake --preset asan -G Ninja
 cmake --build --preset asan -j"$jobs"
 ASAN_OPTIONS=detect_leaks=1:abort_on_error=1 UBSAN_OPTIONS=print_stacktrace=1:halt_on_error=1 \
   ctest --preset asan -j"$jobs"
-
-echo "== plot script tests"
-/usr/bin/python3 -m unittest plots/test_plot_results.py
