@@ -49,6 +49,7 @@ public:
     void insert(InputIt first, InputIt last) {
         std::vector<P> batch(first, last);  // validate all before storing any
         for (const P& x : batch) detail::require_finite(x, "brute_force::insert(first, last)", "point");
+        slots_.require_room_for(batch.size(), "brute_force::insert(first, last)");
         slots_.reserve(slots_.capacity() + batch.size());
         for (const P& x : batch) slots_.allocate(x, 1);
     }

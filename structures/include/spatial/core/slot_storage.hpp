@@ -15,7 +15,9 @@
 #include <cstdint>
 #include <iterator>
 #include <limits>
+#include <algorithm>
 #include <stdexcept>
+#include <string>
 #include <vector>
 
 namespace spatial {
@@ -61,6 +63,8 @@ public:
         }
         if (values_.size() >= static_cast<std::size_t>(no_slot))
             throw std::length_error("spatial: more than 2^32-1 elements");
+        // Grow both vectors before writing either, so a std::bad_alloc leaves them equal.
+        if (values_.size() == values_.capacity()) reserve(values_.size() + 1);
         values_.push_back(v);
         meta_.push_back(meta);
         ++live_;
@@ -88,9 +92,18 @@ public:
         free_.clear();
         live_ = 0;
     }
+    // Room for n slots, growing geometrically (so repeated small bulk inserts stay
+    // amortised O(1) per element).
     void reserve(std::size_t n) {
+        if (n <= values_.capacity() && n <= meta_.capacity()) return;
+        n = std::max(n, 2 * values_.capacity());
         values_.reserve(n);
         meta_.reserve(n);
+    }
+    // Throws std::length_error if m more slots would exceed the 32-bit handle space.
+    void require_room_for(std::size_t m, const char* where) const {
+        if (m > static_cast<std::size_t>(no_slot) - values_.size())
+            throw std::length_error(std::string(where) + ": more than 2^32-1 elements");
     }
 
     bool occupied(slot_index s) const { return s < meta_.size() && meta_[s] != vacant; }

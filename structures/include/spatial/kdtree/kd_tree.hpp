@@ -181,13 +181,12 @@ public:
             for (auto it = first; it != last; ++it) detail::require_finite(*it, "kd_tree::insert(first, last)", "point");
             const auto m = static_cast<std::size_t>(last - first);
             if (m == 0) return;
+            slots_.require_room_for(m, "kd_tree::insert(first, last)");
             if (slots_.size() == 0) {
                 build_fresh(first, m);
                 return;
             }
             const std::size_t old_size = slots_.size();
-            if (m > static_cast<std::size_t>(no_slot) - 1 - slots_.capacity())
-                throw std::length_error("kd_tree::insert(first, last): more than 2^32-1 elements");
             slots_.reserve(slots_.capacity() + m);  // no reallocation failure half-way
             std::vector<entry> fresh;
             fresh.reserve(m);
@@ -229,7 +228,8 @@ public:
     // Bulk erase of an iterator range, better than a loop: removing at least a quarter of
     // the tree rebuilds the survivors once (O(n log n)); smaller ranges release the slots,
     // then compact each touched bucket once and merge the leaves it emptied (O(m + touched
-    // buckets * leaf_capacity)), with one balance check at the end.
+    // buckets * leaf_capacity) plus O(buckets) to clear a byte mark array), with one balance
+    // check at the end.
     void erase(const_iterator first, const_iterator last) {
         std::vector<slot_index> doomed;
         for (; first != last; ++first) doomed.push_back(first.slot());
@@ -314,8 +314,9 @@ public:
     // Nearest point hit before info.hit_time by the ray thickened to `thickness` (see
     // point::intersect), or end(). Front-to-back traversal: a node is entered only for the
     // ray-parameter interval in which the thick ray can reach its half-space, and skipped once
-    // a hit closer than that interval is known. A thin ray visits the O(n^(1-1/D)) worst-case
-    // / about (n/leaf_capacity)^(1/D) typical cells it crosses until the first hit.
+    // a hit closer than that interval is known. Cost: the cells the ray crosses before its
+    // first hit, typically about (n/leaf_capacity)^(1/D) in 3D-uniform data; O(n) worst case
+    // with widest-spread splits (a ray along a very flat set).
     iterator intersect_object(const P& origin, const P& direction, scalar_type thickness,
                               info_type& info) const {
         detail::require_finite(origin, "kd_tree::intersect", "ray origin");
