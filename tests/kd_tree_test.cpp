@@ -193,6 +193,28 @@ TEST(kd_tree_hard_cases, axis_rays_with_zero_and_negative_zero_components_and_or
                 }
 }
 
+TEST(kd_tree, bulk_build_places_split_planes_between_points_unless_a_tie_spans_the_cut) {
+    kd_tree<P3> lattice, uniform;
+    std::vector<P3> grid, random;
+    for (int x = 0; x < 20; ++x)
+        for (int y = 0; y < 20; ++y)
+            for (int z = 0; z < 20; ++z) grid.push_back(P3{{x * 0.05, y * 0.05, z * 0.05}});
+    spatial_test::point_source<P3> src(spatial_test::distribution::uniform, 3);
+    for (int i = 0; i < 100000; ++i) random.push_back(src.next());
+    lattice.insert(grid.begin(), grid.end());
+    uniform.insert(random.begin(), random.end());
+    EXPECT_EQ(uniform.points_on_split_planes(), 0u);
+    // On a lattice, cuts fall inside runs of equal coordinates: the tie split is kept.
+    EXPECT_GT(lattice.points_on_split_planes(), 0u);
+    EXPECT_EQ(lattice.check_invariants(), "");
+    // Duplicates beyond any cut keep the (valid) tie split.
+    kd_tree<P3> same;
+    std::vector<P3> dup(100, P3{{1, 1, 1}});
+    same.insert(dup.begin(), dup.end());
+    EXPECT_GT(same.points_on_split_planes(), 0u);
+    EXPECT_EQ(same.check_invariants(), "");
+}
+
 TEST(kd_tree_hard_cases, lattice_ties_are_compared_by_distance) {
     kd_tree<P3> t;
     brute_force<P3> b;

@@ -175,7 +175,7 @@ public:
             if (p->name() != "nanoflann_dynamic" && ctx_.wants_structure(p->name())) structures.push_back(std::move(p));
         if (n <= ctx_.cfg.brute_max_n && ctx_.wants_structure("brute_force"))
             structures.push_back(std::make_unique<brute_force_index<T, D>>());
-        for (auto& s : structures) measure(*s);
+        measure_interleaved(structures);
         nodes_visited();
         ratios();
     }
@@ -275,67 +275,89 @@ private:
                                     " vs validated " + reference_owner_);
     }
 
-    void measure(point_index<T, D>& s) {
+    // All structures are measured together, repetition by repetition (rep 1: A, B, C; rep 2:
+    // A, B, C; ...), so a noisy interval on this shared machine hits every structure alike
+    // and the same-run ratios stay meaningful. Per structure and operation the answers are
+    // first computed once and validated; every timed repetition must reproduce their checksum.
+    void measure_interleaved(std::vector<std::unique_ptr<point_index<T, D>>>& structures) {
         const std::size_t n = wc_.points.size();
-        const std::string name = s.name();
-        // ---- build ----
         const std::span<const point_type> pts(wc_.points);
-        const timing_result bt = time_repeated(
-            0, ctx_.cfg.build_repetitions, [] {},
-            [&] {
-                s.build(pts);
-                return s.size();
-            },
-            [&](std::size_t size) {
-                if (size != n) throw validation_error(tag(name, "build") + ": size " + std::to_string(size));
-            });
-        const std::size_t bytes = s.memory_bytes();
+        const std::size_t S = structures.size();
+        // ---- build (interleaved; the last repetition leaves every structure built) ----
+        std::vector<std::vector<double>> build_samples(S);
+        for (std::size_t rep = 0; rep < ctx_.cfg.build_repetitions; ++rep)
+            for (std::size_t i = 0; i < S; ++i) {
+                const auto t0 = std::chrono::steady_clock::now();
+                structures[i]->build(pts);
+                build_samples[i].push_back(seconds_since(t0));
+                if (structures[i]->size() != n)
+                    throw validation_error(tag(structures[i]->name(), "build") + ": size " +
+                                           std::to_string(structures[i]->size()));
+            }
+        std::vector<timing_result> builds(S);
+        for (std::size_t i = 0; i < S; ++i) builds[i] = summarize(build_samples[i]);
         // ---- queries ----
-        const bool is_brute = name == "brute_force";
-        const std::size_t Q = is_brute ? std::min<std::size_t>(wc_.queries.size(), 200) : wc_.queries.size();
-        std::vector<std::pair<const operation_spec*, timing_result>> timings;
+        std::vector<std::map<std::string, double>> knn_us(S);
         for (const auto& op : ops_) {
-            if (is_brute && op.operation != "knn") continue;
-            if (op.operation == "approx_knn" && !s.can(capability::approximate_knn)) continue;
-            double expected = 0;
-            const auto answers = answer_all(s, op, Q, expected);
-            validate(name, op, answers);
+            std::vector<std::size_t> who;
+            std::vector<std::size_t> count(S, 0);
+            std::vector<double> expected(S, 0);
+            std::vector<std::vector<std::vector<double>>> answers(S);
+            for (std::size_t i = 0; i < S; ++i) {
+                auto& s = *structures[i];
+                const bool is_brute = s.name() == "brute_force";
+                if (is_brute && op.operation != "knn") continue;
+                if (op.operation == "approx_knn" && !s.can(capability::approximate_knn)) continue;
+                count[i] = is_brute ? std::min<std::size_t>(wc_.queries.size(), 200) : wc_.queries.size();
+                answers[i] = answer_all(s, op, count[i], expected[i]);
+                validate(s.name(), op, answers[i]);
+                who.push_back(i);
+            }
+            std::vector<std::vector<double>> samples(S);
             std::vector<neighbor<T>> out;
-            const timing_result t = time_repeated(
-                1, ctx_.cfg.repetitions, [] {},
-                [&] {
+            for (std::size_t rep = 0; rep < 1 + ctx_.cfg.repetitions; ++rep)  // the first is a warm-up
+                for (std::size_t i : who) {
+                    auto& s = *structures[i];
+                    const auto t0 = std::chrono::steady_clock::now();
                     double sum = 0;
-                    for (std::size_t i = 0; i < Q; ++i) {
-                        run_one(s, op, wc_.queries[i], out);
+                    for (std::size_t q = 0; q < count[i]; ++q) {
+                        run_one(s, op, wc_.queries[q], out);
                         sum += raw_checksum(out);
                     }
-                    return sum;
-                },
-                [&](double sum) {
-                    if (sum != expected)
-                        throw validation_error(tag(name, op.operation + "(" + op.params + ")") +
+                    const double sec = seconds_since(t0);
+                    if (sum != expected[i])
+                        throw validation_error(tag(s.name(), op.operation + "(" + op.params + ")") +
                                                ": a timed repetition gave different answers than the validated run");
-                });
-            const double per_op_ns = 1e9 / static_cast<double>(Q);
-            record(row(name, op.operation, op.params, "time_per_op", t.median_seconds * per_op_ns, "ns"), &t, per_op_ns);
-            if (op.operation == "approx_knn") {
-                const auto& exact = reference_.at("knn|k=10");
-                double rec = 0;
-                for (std::size_t i = 0; i < Q; ++i) rec += recall(as_t(answers[i]), as_t(exact[i]));
-                record(row(name, op.operation, op.params, "recall", rec / static_cast<double>(Q), "ratio"));
+                    if (rep > 0) samples[i].push_back(sec);
+                }
+            for (std::size_t i : who) {
+                const std::string name = structures[i]->name();
+                const timing_result t = summarize(samples[i]);
+                const double per_op_ns = 1e9 / static_cast<double>(count[i]);
+                record(row(name, op.operation, op.params, "time_per_op", t.median_seconds * per_op_ns, "ns"), &t,
+                       per_op_ns);
+                if (op.operation == "approx_knn") {
+                    const auto& exact = reference_.at("knn|k=10");
+                    double rec = 0;
+                    for (std::size_t q = 0; q < count[i]; ++q) rec += recall(as_t(answers[i][q]), as_t(exact[q]));
+                    record(row(name, op.operation, op.params, "recall", rec / static_cast<double>(count[i]), "ratio"));
+                }
+                if (op.operation == "knn") knn_us[i][op.params] = t.median_seconds * 1e6 / static_cast<double>(count[i]);
             }
-            timings.push_back({&op, t});
         }
-        record(row(name, "build", "", "build_time", bt.median_seconds, "s"), &bt);
-        record(row(name, "build", "", "memory_bytes", static_cast<double>(bytes), "B"));
-        record(row(name, "build", "", "bytes_per_point", static_cast<double>(bytes) / static_cast<double>(n), "B"));
-        std::ostringstream msg;
-        msg.precision(3);
-        msg << tag(name, "") << ": build " << bt.median_seconds << " s, " << static_cast<double>(bytes) / static_cast<double>(n)
-            << " B/pt";
-        for (auto& [op, t] : timings)
-            if (op->operation == "knn") msg << ", " << op->params << " " << t.median_seconds * 1e6 / static_cast<double>(Q) << " us";
-        ctx_.prog.say(msg.str());
+        for (std::size_t i = 0; i < S; ++i) {
+            const std::string name = structures[i]->name();
+            const std::size_t bytes = structures[i]->memory_bytes();
+            record(row(name, "build", "", "build_time", builds[i].median_seconds, "s"), &builds[i]);
+            record(row(name, "build", "", "memory_bytes", static_cast<double>(bytes), "B"));
+            record(row(name, "build", "", "bytes_per_point", static_cast<double>(bytes) / static_cast<double>(n), "B"));
+            std::ostringstream msg;
+            msg.precision(3);
+            msg << tag(name, "") << ": build " << builds[i].median_seconds << " s, "
+                << static_cast<double>(bytes) / static_cast<double>(n) << " B/pt";
+            for (const auto& [params, us] : knn_us[i]) msg << ", " << params << " " << us << " us";
+            ctx_.prog.say(msg.str());
+        }
     }
 
     // Nodes visited per query, from a kd_tree built with statistics compiled in (a separate,

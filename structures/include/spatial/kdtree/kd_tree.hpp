@@ -410,6 +410,11 @@ public:
     const kd_tree_stats& stats() const { return stats_; }
     void reset_stats() const { stats_ = {}; }
 
+    // Diagnostics: how many (point, ancestor split plane) pairs have the point exactly ON the
+    // plane. Bulk builds place planes in gaps between coordinates (see splitters.hpp), so
+    // this is 0 unless a coordinate run is too large to move the cut. O(n * height).
+    std::size_t points_on_split_planes() const { return on_planes(root); }
+
     // Checks every structural invariant (split bounds, cells, bucket back-links, counts,
     // depths); returns an empty string when sound, else what is wrong. For tests: O(n).
     std::string check_invariants() const {
@@ -782,6 +787,23 @@ private:
     std::size_t subtree_size(node_index n) const {
         if (nodes_[n].is_leaf) return nodes_[n].count;
         return subtree_size(nodes_[n].first) + subtree_size(nodes_[n].first + 1);
+    }
+    std::size_t on_planes(node_index n) const {
+        const node& nd = nodes_[n];
+        if (nd.is_leaf) return 0;
+        std::size_t here = 0;
+        for_each_slot(n, [&](slot_index s) { here += slots_.value(s)[nd.dim] == nd.split; });
+        return here + on_planes(nd.first) + on_planes(nd.first + 1);
+    }
+    template <class F>
+    void for_each_slot(node_index n, F&& f) const {
+        const node& nd = nodes_[n];
+        if (nd.is_leaf) {
+            for (std::uint32_t i = 0; i < nd.count; ++i) f(buckets_[nd.first].items[i]);
+            return;
+        }
+        for_each_slot(nd.first, f);
+        for_each_slot(nd.first + 1, f);
     }
     std::size_t height_of(node_index n) const {
         if (nodes_[n].is_leaf) return 0;
