@@ -1,0 +1,178 @@
+// Bounding volumes (first part of issue 3): every fit contains every input point on random
+// and adversarial sets (1 and 2 points, all equal, collinear, coplanar, offset by 1e8,
+// spread of 1e-12), no NaN; ray intervals, overlaps and distance bounds against brute-force
+// checks; merge and measures.
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <random>
+#include <vector>
+
+#include "spatial/bv/aabb.hpp"
+#include "spatial/bv/sphere.hpp"
+#include "test_support.hpp"
+
+using namespace spatial;
+
+namespace {
+
+template <class T, std::size_t D>
+struct dims {
+    using scalar = T;
+    static constexpr std::size_t dim = D;
+};
+
+template <class C>
+class bv : public ::testing::Test {
+protected:
+    using scalar_t = typename C::scalar;
+    static constexpr std::size_t dim = C::dim;
+    using point_t = point<scalar_t, dim>;
+
+    // Named adversarial sets from a logged seed.
+    static std::vector<std::pair<std::string, std::vector<point_t>>> sets(std::uint64_t seed) {
+        std::mt19937_64 rng(seed);
+        auto u = [&] { return static_cast<double>(rng() >> 11) * 0x1.0p-53; };
+        std::vector<std::pair<std::string, std::vector<point_t>>> out;
+        auto make = [&](const std::string& name, std::size_t n, auto f) {
+            std::vector<point_t> v;
+            for (std::size_t i = 0; i < n; ++i) {
+                point_t p;
+                for (std::size_t d = 0; d < dim; ++d) p[d] = static_cast<scalar_t>(f(i, d));
+                v.push_back(p);
+            }
+            out.push_back({name, v});
+        };
+        make("random", 500, [&](std::size_t, std::size_t) { return u() * 10 - 5; });
+        make("one point", 1, [&](std::size_t, std::size_t d) { return 1.5 + static_cast<double>(d); });
+        make("two points", 2, [&](std::size_t i, std::size_t d) { return static_cast<double>(i * 3 + d); });
+        make("all equal", 100, [&](std::size_t, std::size_t) { return 0.25; });
+        make("collinear", 200, [&](std::size_t i, std::size_t d) { return static_cast<double>(i) * 0.01 * static_cast<double>(d + 1); });
+        make("coplanar", 200, [&](std::size_t, std::size_t d) { return d + 1 == dim ? 0.5 : u(); });
+        make("offset 1e8", 200, [&](std::size_t, std::size_t) { return 1e8 + u() * (sizeof(scalar_t) == 4 ? 1e3 : 1.0); });
+        make("spread 1e-12", 200, [&](std::size_t, std::size_t) { return 0.5 + u() * 1e-12; });
+        return out;
+    }
+};
+
+using dim_types = ::testing::Types<dims<float, 2>, dims<float, 3>, dims<double, 2>, dims<double, 3>>;
+TYPED_TEST_SUITE(bv, dim_types);
+
+TYPED_TEST(bv, every_fit_contains_every_point_without_nan) {
+    using P = typename TestFixture::point_t;
+    using T = typename TestFixture::scalar_t;
+    constexpr std::size_t D = TestFixture::dim;
+    const std::uint64_t seed = spatial_test::test_seed(31);
+    SCOPED_TRACE(spatial_test::replay_hint(seed));
+    for (const auto& [name, pts] : TestFixture::sets(seed)) {
+        SCOPED_TRACE(name);
+        const std::span<const P> s(pts);
+        const auto box = aabb<T, D>::fit(s);
+        const auto c = sphere<T, D>::fit_centroid_farthest(s);
+        const auto r = sphere<T, D>::fit_ritter(s);
+        ASSERT_TRUE(std::isfinite(c.radius) && std::isfinite(r.radius));
+        for (std::size_t d = 0; d < D; ++d) ASSERT_TRUE(std::isfinite(c.center[d]) && std::isfinite(r.center[d]));
+        double diameter = 0;  // brute force, for the radius bounds
+        for (std::size_t i = 0; i < pts.size(); ++i)
+            for (std::size_t j = i + 1; j < pts.size(); ++j)
+                diameter = std::max(diameter, std::sqrt(static_cast<double>(squared_distance(pts[i], pts[j]))));
+        for (const auto& p : pts) {
+            ASSERT_TRUE(box.contains(p));
+            ASSERT_TRUE(c.contains(p)) << p;
+            ASSERT_TRUE(r.contains(p)) << p;
+        }
+        // Any enclosing ball has radius >= diameter / 2; both fits centre inside the hull,
+        // so radius <= diameter (up to rounding).
+        const double slack = 1e-5 * (diameter + 1e-30) + 8 * std::numeric_limits<T>::epsilon() * 1e8;
+        for (const auto* b : {&c, &r}) {
+            EXPECT_GE(static_cast<double>(b->radius), diameter / 2 * (1 - 1e-6));
+            EXPECT_LE(static_cast<double>(b->radius), diameter + slack);
+        }
+        EXPECT_GE(box.volume(), T(0));
+    }
+}
+
+TYPED_TEST(bv, ray_intervals_agree_with_point_sampling_including_axis_rays) {
+    using P = typename TestFixture::point_t;
+    using T = typename TestFixture::scalar_t;
+    constexpr std::size_t D = TestFixture::dim;
+    std::mt19937_64 rng(spatial_test::test_seed(5));
+    auto u = [&] { return static_cast<T>(static_cast<double>(rng() >> 11) * 0x1.0p-53); };
+    aabb<T, D> box;
+    sphere<T, D> ball;
+    for (std::size_t d = 0; d < D; ++d) box.lo[d] = T(-1), box.hi[d] = T(2), ball.center[d] = T(0.5);
+    ball.radius = T(1.25);
+    for (int trial = 0; trial < 400; ++trial) {
+        P o, dir;
+        for (std::size_t d = 0; d < D; ++d) o[d] = u() * 8 - 4, dir[d] = u() - T(0.5);
+        if (trial % 4 == 0)  // axis rays: zero and negative-zero components
+            for (std::size_t d = 0; d < D; ++d)
+                if (d != static_cast<std::size_t>(trial / 4) % D) dir[d] = trial % 8 == 0 ? T(0) : T(-0.0);
+        if (trial % 5 == 0) o[0] = T(-1);  // origin on a slab plane
+        T t0, t1;
+        for (int which = 0; which < 2; ++which) {
+            const bool hit = which == 0 ? box.ray_interval(o, dir, t0, t1) : ball.ray_interval(o, dir, t0, t1);
+            auto inside = [&](T t) {
+                P p;
+                for (std::size_t d = 0; d < D; ++d) p[d] = o[d] + t * dir[d];
+                return which == 0 ? box.contains(p) : ball.contains(p);
+            };
+            // Sample the line: every inside sample must lie within [t0, t1] (with slack).
+            bool any = false;
+            for (int k = -400; k <= 400; ++k) {
+                const T t = static_cast<T>(k) * T(0.05);
+                if (!inside(t)) continue;
+                any = true;
+                ASSERT_TRUE(hit) << "missed a line through the volume, trial " << trial;
+                EXPECT_GE(t, t0 - T(1e-3));
+                EXPECT_LE(t, t1 + T(1e-3));
+            }
+            if (hit && t1 - t0 > T(0.2)) {
+                EXPECT_TRUE(any || std::abs(t0) > 20) << "interval with no inside point";
+            }
+        }
+    }
+}
+
+TYPED_TEST(bv, overlaps_distance_bounds_merge_and_measures) {
+    using P = typename TestFixture::point_t;
+    using T = typename TestFixture::scalar_t;
+    constexpr std::size_t D = TestFixture::dim;
+    aabb<T, D> a, b;
+    for (std::size_t d = 0; d < D; ++d) a.lo[d] = 0, a.hi[d] = 1, b.lo[d] = 1, b.hi[d] = 3;
+    EXPECT_TRUE(a.overlaps(b));  // touching
+    b.lo[0] = T(1.5);
+    EXPECT_FALSE(a.overlaps(b));
+    const auto m = a.merged(b);
+    EXPECT_TRUE(m.contains(a.lo) && m.contains(b.hi));
+    EXPECT_EQ(a.volume(), T(1));
+    EXPECT_EQ(a.surface_area(), T(2 * D));  // 4 (perimeter) in 2D, 6 in 3D
+    P far{};
+    far[0] = T(4);
+    EXPECT_NEAR(static_cast<double>(a.distance_lower_bound(far)), 3.0, 1e-6);
+    EXPECT_EQ(a.distance_lower_bound(a.lo), T(0));
+
+    sphere<T, D> s1, s2;
+    s1.radius = 1;
+    s2.center[0] = T(2);
+    s2.radius = 1;
+    EXPECT_TRUE(s1.overlaps(s2));  // touching
+    s2.center[0] = T(2.01);
+    EXPECT_FALSE(s1.overlaps(s2));
+    const auto sm = s1.merged(s2);
+    EXPECT_NEAR(static_cast<double>(sm.radius), 2.005, 1e-5);
+    P left{}, right{};
+    left[0] = T(-1);
+    right[0] = T(3.01);
+    EXPECT_TRUE(sm.contains(left));
+    EXPECT_TRUE(sm.contains(right));
+    EXPECT_NEAR(static_cast<double>(s1.distance_lower_bound(far)), 3.0, 1e-6);
+    const double pi = 3.14159265358979323846;
+    EXPECT_NEAR(static_cast<double>(s1.volume()), D == 2 ? pi : 4 * pi / 3, 1e-5);
+    EXPECT_NEAR(static_cast<double>(s1.surface_area()), D == 2 ? 2 * pi : 4 * pi, 1e-5);
+    EXPECT_TRUE((aabb<T, D>::empty().is_empty()));
+    EXPECT_FALSE((aabb<T, D>::empty().contains(P{})));
+}
+
+}  // namespace
