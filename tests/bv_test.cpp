@@ -5,6 +5,7 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <random>
 #include <vector>
@@ -71,7 +72,12 @@ TYPED_TEST(bv, every_fit_contains_every_point_without_nan) {
         const auto box = aabb<T, D>::fit(s);
         const auto c = sphere<T, D>::fit_centroid_farthest(s);
         const auto r = sphere<T, D>::fit_ritter(s);
-        ASSERT_TRUE(std::isfinite(c.radius) && std::isfinite(r.radius));
+        const auto mb = sphere<T, D>::fit_minimum(s);
+        ASSERT_TRUE(std::isfinite(c.radius) && std::isfinite(r.radius) && std::isfinite(mb.radius));
+        for (std::size_t d = 0; d < D; ++d) ASSERT_TRUE(std::isfinite(mb.center[d]));
+        // The minimum ball is never larger than the other fits (rounding aside).
+        EXPECT_LE(static_cast<double>(mb.radius), static_cast<double>(std::min(c.radius, r.radius)) * (1 + 1e-5) + 1e-30);
+        for (const auto& p : pts) ASSERT_TRUE(mb.contains(p)) << p;
         for (std::size_t d = 0; d < D; ++d) ASSERT_TRUE(std::isfinite(c.center[d]) && std::isfinite(r.center[d]));
         double diameter = 0;  // brute force, for the radius bounds
         for (std::size_t i = 0; i < pts.size(); ++i)
@@ -85,7 +91,7 @@ TYPED_TEST(bv, every_fit_contains_every_point_without_nan) {
         // Any enclosing ball has radius >= diameter / 2; both fits centre inside the hull,
         // so radius <= diameter (up to rounding).
         const double slack = 1e-5 * (diameter + 1e-30) + 8 * std::numeric_limits<T>::epsilon() * 1e8;
-        for (const auto* b : {&c, &r}) {
+        for (const auto* b : {&c, &r, &mb}) {
             EXPECT_GE(static_cast<double>(b->radius), diameter / 2 * (1 - 1e-6));
             EXPECT_LE(static_cast<double>(b->radius), diameter + slack);
         }
@@ -173,6 +179,113 @@ TYPED_TEST(bv, overlaps_distance_bounds_merge_and_measures) {
     EXPECT_NEAR(static_cast<double>(s1.surface_area()), D == 2 ? 2 * pi : 4 * pi, 1e-5);
     EXPECT_TRUE((aabb<T, D>::empty().is_empty()));
     EXPECT_FALSE((aabb<T, D>::empty().contains(P{})));
+}
+
+}  // namespace
+
+namespace {
+
+// Brute-force minimum enclosing ball for tiny sets: the optimum is the circumball (in the
+// affine hull) of some subset of at most D + 1 points that contains all points.
+template <std::size_t D>
+double brute_min_radius(const std::vector<std::array<double, D>>& p) {
+    const std::size_t n = p.size();
+    double best = 1e300;
+    for (std::uint32_t mask = 1; mask < (1u << n); ++mask) {
+        if (static_cast<std::size_t>(__builtin_popcount(mask)) > D + 1) continue;
+        std::vector<std::array<double, D>> s;
+        for (std::size_t i = 0; i < n; ++i)
+            if (mask >> i & 1) s.push_back(p[i]);
+        const std::size_t k = s.size() - 1;
+        std::array<double, D> c = s[0];
+        if (k > 0) {  // solve 2 (v_i . v_j) l_j = |v_i|^2 by Gaussian elimination
+            std::vector<std::vector<double>> a(k, std::vector<double>(k + 1));
+            std::vector<std::array<double, D>> v(k);
+            for (std::size_t i = 0; i < k; ++i)
+                for (std::size_t d = 0; d < D; ++d) v[i][d] = s[i + 1][d] - s[0][d];
+            for (std::size_t i = 0; i < k; ++i) {
+                for (std::size_t j = 0; j < k; ++j) {
+                    double g = 0;
+                    for (std::size_t d = 0; d < D; ++d) g += v[i][d] * v[j][d];
+                    a[i][j] = 2 * g;
+                }
+                double n2 = 0;
+                for (std::size_t d = 0; d < D; ++d) n2 += v[i][d] * v[i][d];
+                a[i][k] = n2;
+            }
+            bool ok = true;
+            for (std::size_t col = 0; col < k && ok; ++col) {
+                std::size_t piv = col;
+                for (std::size_t r = col + 1; r < k; ++r)
+                    if (std::abs(a[r][col]) > std::abs(a[piv][col])) piv = r;
+                if (std::abs(a[piv][col]) < 1e-12) ok = false;
+                else {
+                    std::swap(a[col], a[piv]);
+                    for (std::size_t r = 0; r < k; ++r)
+                        if (r != col) {
+                            const double f = a[r][col] / a[col][col];
+                            for (std::size_t j = col; j <= k; ++j) a[r][j] -= f * a[col][j];
+                        }
+                }
+            }
+            if (!ok) continue;
+            for (std::size_t i = 0; i < k; ++i)
+                for (std::size_t d = 0; d < D; ++d) c[d] += a[i][k] / a[i][i] * v[i][d];
+        }
+        double r2 = 0;
+        for (std::size_t d = 0; d < D; ++d) r2 += (c[d] - s[0][d]) * (c[d] - s[0][d]);
+        bool all = true;
+        for (const auto& q : p) {
+            double d2 = 0;
+            for (std::size_t d = 0; d < D; ++d) d2 += (c[d] - q[d]) * (c[d] - q[d]);
+            all &= d2 <= r2 * (1 + 1e-9) + 1e-15;
+        }
+        if (all) best = std::min(best, std::sqrt(r2));
+    }
+    return best;
+}
+
+template <std::size_t D>
+void minimum_ball_matches_brute_force() {
+    const std::uint64_t seed = spatial_test::test_seed(2026);
+    SCOPED_TRACE(spatial_test::replay_hint(seed));
+    std::mt19937_64 rng(seed);
+    auto u = [&] { return static_cast<double>(rng() >> 11) * 0x1.0p-53; };
+    for (int trial = 0; trial < 300; ++trial) {
+        const std::size_t n = 1 + rng() % 10;
+        std::vector<std::array<double, D>> raw(n);
+        std::vector<point<double, D>> pts(n);
+        for (std::size_t i = 0; i < n; ++i)
+            for (std::size_t d = 0; d < D; ++d) pts[i][d] = raw[i][d] = u() * 4 - 2;
+        const auto mb = sphere<double, D>::fit_minimum(std::span<const point<double, D>>(pts));
+        const double want = brute_min_radius<D>(raw);
+        ASSERT_NEAR(mb.radius, want, 1e-9 * (1 + want)) << "trial " << trial << " n " << n;
+    }
+}
+
+TEST(sphere_minimum, matches_brute_force_optimum_2d) { minimum_ball_matches_brute_force<2>(); }
+TEST(sphere_minimum, matches_brute_force_optimum_3d) { minimum_ball_matches_brute_force<3>(); }
+
+TEST(sphere_minimum, is_tighter_than_ritter_on_a_large_cloud_and_contains_it) {
+    std::mt19937_64 rng(spatial_test::test_seed(9));
+    std::vector<point<double, 3>> pts(200000);
+    for (auto& p : pts)
+        for (int d = 0; d < 3; ++d) p[d] = static_cast<double>(rng() >> 11) * 0x1.0p-53 * (d + 1);
+    const auto mb = sphere<double, 3>::fit_minimum(pts);
+    const auto rt = sphere<double, 3>::fit_ritter(pts);
+    for (const auto& p : pts) ASSERT_TRUE(mb.contains(p));
+    EXPECT_LT(mb.radius, rt.radius);
+    // Upper bound: the box [0,1]x[0,2]x[0,3]'s circumscribed ball. Lower bound: any enclosing
+    // ball has radius >= half the distance between two of its points; take the points
+    // nearest to opposite corners of the box.
+    EXPECT_LE(mb.radius, std::sqrt(14.0) / 2 + 1e-9);
+    const point<double, 3> lo{{0, 0, 0}}, hi{{1, 2, 3}};
+    auto nearest = [&](const point<double, 3>& c) {
+        return *std::min_element(pts.begin(), pts.end(), [&](const auto& a, const auto& b) {
+            return squared_distance(a, c) < squared_distance(b, c);
+        });
+    };
+    EXPECT_GE(mb.radius, std::sqrt(squared_distance(nearest(lo), nearest(hi))) / 2);
 }
 
 }  // namespace

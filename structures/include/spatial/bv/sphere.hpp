@@ -5,7 +5,14 @@
 //   fit_ritter: Ritter's approximate ball (Ritter 1990, "An efficient bounding sphere",
 //     Graphics Gems): seed with a far pair, grow to swallow outliers. O(n D), typically
 //     within 5-20% of the minimum radius.
-//   (exact minimum enclosing ball, Welzl 1991: planned, see issue 3.)
+//   fit_minimum: the minimum enclosing ball, Welzl's algorithm (Welzl 1991) in Gartner's
+//     move-to-front form with pivoting (Gartner 1999, "Fast and robust smallest enclosing
+//     balls"): each round finds the point farthest outside the current ball in one O(n)
+//     pass and re-solves move-to-front on the short front of the list; a handful of rounds
+//     in practice, recursion depth <= D + 1. A support
+//     point that is (nearly) affinely dependent on the current support is not pushed (as in
+//     Gartner's pivoting), so degenerate input (duplicates, collinear, coplanar) never
+//     produces NaN; the final enclosing pass keeps containment exact.
 // Every fit ends with one pass that sets the radius to the farthest point from the final
 // centre, rounded up so that contains() holds for every input point in floating point.
 // Overlap and ray tests are exact up to rounding.
@@ -15,8 +22,11 @@
 #include <cstddef>
 #include <limits>
 #include <numbers>
+#include <array>
+#include <cstdint>
 #include <span>
 #include <stdexcept>
+#include <vector>
 
 #include "spatial/bv/bounding_volume.hpp"
 #include "spatial/core/distance.hpp"
@@ -72,6 +82,20 @@ struct sphere {
             for (std::size_t i = 0; i < D; ++i) c[i] += (p[i] - c[i]) * shift;
             r = nr;
         }
+        return enclose_from(c, pts);
+    }
+
+    static sphere fit_minimum(std::span<const point_type> pts) {
+        if (pts.empty()) return {};
+        // Work relative to the first point (precision at large offsets).
+        const point_type origin = pts[0];
+        std::vector<std::array<double, D>> q(pts.size());
+        for (std::size_t i = 0; i < pts.size(); ++i)
+            for (std::size_t d = 0; d < D; ++d) q[i][d] = static_cast<double>(pts[i][d]) - static_cast<double>(origin[d]);
+        detail_min_ball mb(q);
+        mb.solve();
+        point_type c;
+        for (std::size_t d = 0; d < D; ++d) c[d] = static_cast<T>(static_cast<double>(origin[d]) + mb.center[d]);
         return enclose_from(c, pts);
     }
 
@@ -132,6 +156,145 @@ struct sphere {
     }
 
 private:
+    // Move-to-front Welzl over a list of points, in double precision. The support (points
+    // on the boundary of the current ball) is kept as an orthogonal-ish basis: the centre
+    // of the circumball of s0..sk lies in their affine hull and is found by solving the
+    // k x k Gram system 2 (v_i . v_j) l_j = |v_i|^2 with v_i = s_i - s0.
+    struct detail_min_ball {
+        using vec = std::array<double, D>;
+        std::vector<vec>& pts;
+        std::vector<std::size_t> order;  // move-to-front list of point indices
+        vec support[D + 1];
+        std::size_t support_size = 0;
+        vec center{};
+        double r2 = -1;
+        double scale = 0;  // squared extent, for relative tolerances
+
+        explicit detail_min_ball(std::vector<vec>& p) : pts(p), order(p.size()) {
+            for (std::size_t i = 0; i < order.size(); ++i) order[i] = i;
+            for (const auto& x : pts)
+                for (std::size_t d = 0; d < D; ++d) scale = std::max(scale, x[d] * x[d]);
+            scale = std::max(scale, 1e-300);
+        }
+        static double dist2(const vec& a, const vec& b) {
+            double s = 0;
+            for (std::size_t d = 0; d < D; ++d) s += (a[d] - b[d]) * (a[d] - b[d]);
+            return s;
+        }
+        // Circumball of the current support; false if it is (nearly) affinely dependent.
+        bool circumball(vec& c, double& rr) const {
+            if (support_size == 0) return false;
+            const vec& s0 = support[0];
+            const std::size_t k = support_size - 1;
+            if (k == 0) {
+                c = s0;
+                rr = 0;
+                return true;
+            }
+            double a[D][D + 1];
+            vec v[D];
+            for (std::size_t i = 0; i < k; ++i)
+                for (std::size_t d = 0; d < D; ++d) v[i][d] = support[i + 1][d] - s0[d];
+            for (std::size_t i = 0; i < k; ++i) {
+                for (std::size_t j = 0; j < k; ++j) {
+                    double g = 0;
+                    for (std::size_t d = 0; d < D; ++d) g += v[i][d] * v[j][d];
+                    a[i][j] = 2 * g;
+                }
+                double n2 = 0;
+                for (std::size_t d = 0; d < D; ++d) n2 += v[i][d] * v[i][d];
+                a[i][k] = n2;
+            }
+            // Gaussian elimination with partial pivoting; a tiny pivot means the support is
+            // affinely dependent.
+            for (std::size_t col = 0; col < k; ++col) {
+                std::size_t piv = col;
+                for (std::size_t r = col + 1; r < k; ++r)
+                    if (std::abs(a[r][col]) > std::abs(a[piv][col])) piv = r;
+                if (std::abs(a[piv][col]) <= 1e-12 * scale) return false;
+                if (piv != col)
+                    for (std::size_t j = 0; j <= k; ++j) std::swap(a[col][j], a[piv][j]);
+                for (std::size_t r = 0; r < k; ++r) {
+                    if (r == col) continue;
+                    const double f = a[r][col] / a[col][col];
+                    for (std::size_t j = col; j <= k; ++j) a[r][j] -= f * a[col][j];
+                }
+            }
+            c = s0;
+            for (std::size_t i = 0; i < k; ++i) {
+                const double l = a[i][k] / a[i][i];
+                for (std::size_t d = 0; d < D; ++d) c[d] += l * v[i][d];
+            }
+            rr = dist2(c, s0);
+            return std::isfinite(rr);
+        }
+        bool push(const vec& p) {
+            support[support_size++] = p;
+            vec c;
+            double rr;
+            if (!circumball(c, rr)) {
+                --support_size;
+                return false;
+            }
+            center = c;
+            r2 = rr;
+            return true;
+        }
+        void move_to_front(std::size_t i, std::size_t& support_end) {
+            if (support_end == i) ++support_end;
+            const std::size_t idx = order[i];
+            std::copy_backward(order.begin(), order.begin() + static_cast<std::ptrdiff_t>(i),
+                               order.begin() + static_cast<std::ptrdiff_t>(i) + 1);
+            order[0] = idx;
+        }
+        double excess(std::size_t idx) const { return r2 < 0 ? 1 : dist2(pts[idx], center) - r2; }
+        // Gartner's mtf_mb: the smallest ball of the first `end` list entries with the
+        // current support on its boundary. Returns how many entries were moved to the front.
+        std::size_t mtf(std::size_t end) {
+            std::size_t support_end = 0;
+            if (support_size == D + 1) return support_end;
+            for (std::size_t i = 0; i < end; ++i) {
+                const std::size_t idx = order[i];
+                if (excess(idx) > 1e-13 * scale) {
+                    if (push(pts[idx])) {
+                        mtf(i);
+                        --support_size;
+                        move_to_front(i, support_end);
+                    }
+                }
+            }
+            return support_end;
+        }
+        // Gartner's pivot_mb: keep the important points in a front prefix of the list;
+        // each round scans ALL points for the largest excess, puts that pivot on the
+        // boundary, re-solves move-to-front on the front prefix, and moves the pivot into
+        // the front. Stops when nothing is outside (or the ball stops growing, which only
+        // rounding can cause; the final enclosing pass then covers the rest).
+        void solve() {
+            r2 = -1;
+            std::size_t front = 1;
+            mtf(front);
+            while (true) {
+                std::size_t pivot = 0;
+                double max_e = 0;
+                for (std::size_t i = 0; i < order.size(); ++i) {
+                    const double e = excess(order[i]);
+                    if (e > max_e) max_e = e, pivot = i;
+                }
+                if (!(max_e > 1e-13 * scale)) break;
+                const double old_r2 = r2;
+                if (!push(pts[order[pivot]])) break;
+                mtf(std::min(front, pivot));
+                --support_size;
+                std::size_t unused = order.size();
+                move_to_front(pivot, unused);
+                if (pivot >= front) ++front;
+                if (!(r2 > old_r2)) break;
+            }
+            if (r2 < 0) center = pts[0], r2 = 0;
+        }
+    };
+
     static sphere enclose_from(const point_type& c, std::span<const point_type> pts) {
         T m = 0;
         for (const auto& p : pts) m = std::max(m, squared_distance(p, c));
