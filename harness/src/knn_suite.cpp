@@ -98,6 +98,34 @@ struct workload_case {
     std::vector<point_type> queries;
 };
 
+// One CSV row of this suite for workload `wc`; with a timing, its repetitions and the spread
+// (min, max) scaled like the value.
+template <class T, std::size_t D>
+result_row make_row(const context& ctx, const workload_case<T, D>& wc, const std::string& structure,
+                    const std::string& operation, const std::string& params, const std::string& metric, double value,
+                    const std::string& unit, const timing_result* t = nullptr, double scale = 1) {
+    result_row r;
+    r.suite = "knn";
+    r.structure = structure;
+    r.workload = wc.label;
+    r.n = wc.points.size();
+    r.dim = D;
+    r.scalar = scalar_name<T>();
+    r.operation = operation;
+    r.params = params;
+    r.metric = metric;
+    r.value = value;
+    r.unit = unit;
+    r.validated = true;
+    r.run_id = ctx.run_id;
+    if (t) {
+        r.repetitions = t->repetitions;
+        r.min_value = t->min_seconds * scale;
+        r.max_value = t->max_seconds * scale;
+    }
+    return r;
+}
+
 // ---------------------------------------------------------------------------------------
 // Brute-force oracle over a plain array (the simplest possible code: a scan and a sort).
 template <class T, std::size_t D>
@@ -188,21 +216,7 @@ private:
 
     result_row row(const std::string& structure, const std::string& operation, const std::string& params,
                    const std::string& metric, double value, const std::string& unit) const {
-        result_row r;
-        r.suite = "knn";
-        r.structure = structure;
-        r.workload = wc_.label;
-        r.n = wc_.points.size();
-        r.dim = D;
-        r.scalar = scalar_name<T>();
-        r.operation = operation;
-        r.params = params;
-        r.metric = metric;
-        r.value = value;
-        r.unit = unit;
-        r.validated = true;
-        r.run_id = ctx_.run_id;
-        return r;
+        return make_row(ctx_, wc_, structure, operation, params, metric, value, unit);
     }
 
     void record(result_row r, const timing_result* t = nullptr, double scale = 1) {
@@ -430,26 +444,7 @@ private:
     result_row row(const std::string& structure, const std::string& operation, const std::string& params,
                    const std::string& metric, double value, const std::string& unit, const timing_result* t = nullptr,
                    double scale = 1) {
-        result_row r;
-        r.suite = "knn";
-        r.structure = structure;
-        r.workload = wc_.label;
-        r.n = wc_.points.size();
-        r.dim = D;
-        r.scalar = scalar_name<T>();
-        r.operation = operation;
-        r.params = params;
-        r.metric = metric;
-        r.value = value;
-        r.unit = unit;
-        r.validated = true;
-        r.run_id = ctx_.run_id;
-        if (t) {
-            r.repetitions = t->repetitions;
-            r.min_value = t->min_seconds * scale;
-            r.max_value = t->max_seconds * scale;
-        }
-        return r;
+        return make_row(ctx_, wc_, structure, operation, params, metric, value, unit, t, scale);
     }
 
     // After a dynamic workload: the structure holds exactly `expected` (size, and kNN

@@ -55,12 +55,12 @@ public:
     }
     void insert(std::uint32_t id, const point_type& p) override {
         if (ids_pending_) resolve_ids();
-        remember(id, p, c_.insert(p));
+        remember(id, c_.insert(p));
     }
     void insert_near(std::uint32_t prev_id, std::uint32_t id, const point_type& p) override {
         resolve_ids();
         const bool have_hint = prev_id < known_.size() && known_[prev_id];
-        remember(id, p, c_.insert(have_hint ? by_id_[prev_id] : c_.end(), p));
+        remember(id, c_.insert(have_hint ? by_id_[prev_id] : c_.end(), p));
     }
     void insert_bulk(std::uint32_t first_id, std::span<const point_type> pts) override {
         if (ids_pending_) resolve_ids();
@@ -76,9 +76,6 @@ public:
         if (id >= known_.size() || !known_[id]) throw std::logic_error(name_ + ": erase of unknown id");
         c_.erase(by_id_[id]);
         known_[id] = 0;
-    }
-    void erase_bulk(std::span<const std::uint32_t> ids) override {
-        for (auto id : ids) erase(id);
     }
     // Resolve ids of bulk-inserted points by matching coordinates with elements no id owns
     // (equal values are interchangeable, so any pairing of duplicates is correct).
@@ -131,7 +128,7 @@ private:
     }
     // point_of_ is only needed for ids awaiting resolution (bulk-inserted), so a single
     // insertion does not write it.
-    void remember(std::uint32_t id, const point_type&, iterator it) {
+    void remember(std::uint32_t id, iterator it) {
         grow(id);
         by_id_[id] = it;
         known_[id] = 1;

@@ -240,8 +240,7 @@ private:
             r2 = rr;
             return true;
         }
-        void move_to_front(std::size_t i, std::size_t& support_end) {
-            if (support_end == i) ++support_end;
+        void move_to_front(std::size_t i) {
             const std::size_t idx = order[i];
             std::copy_backward(order.begin(), order.begin() + static_cast<std::ptrdiff_t>(i),
                                order.begin() + static_cast<std::ptrdiff_t>(i) + 1);
@@ -249,21 +248,19 @@ private:
         }
         double excess(std::size_t idx) const { return r2 < 0 ? 1 : dist2(pts[idx], center) - r2; }
         // Gartner's mtf_mb: the smallest ball of the first `end` list entries with the
-        // current support on its boundary. Returns how many entries were moved to the front.
-        std::size_t mtf(std::size_t end) {
-            std::size_t support_end = 0;
-            if (support_size == D + 1) return support_end;
+        // current support on its boundary.
+        void mtf(std::size_t end) {
+            if (support_size == D + 1) return;
             for (std::size_t i = 0; i < end; ++i) {
                 const std::size_t idx = order[i];
                 if (excess(idx) > 1e-13 * scale) {
                     if (push(pts[idx])) {
                         mtf(i);
                         --support_size;
-                        move_to_front(i, support_end);
+                        move_to_front(i);
                     }
                 }
             }
-            return support_end;
         }
         // Gartner's pivot_mb: keep the important points in a front prefix of the list;
         // each round scans ALL points for the largest excess, puts that pivot on the
@@ -286,8 +283,7 @@ private:
                 if (!push(pts[order[pivot]])) break;
                 mtf(std::min(front, pivot));
                 --support_size;
-                std::size_t unused = order.size();
-                move_to_front(pivot, unused);
+                move_to_front(pivot);
                 if (pivot >= front) ++front;
                 if (!(r2 > old_r2)) break;
             }

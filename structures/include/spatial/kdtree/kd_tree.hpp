@@ -195,7 +195,6 @@ public:
                 grow_bounds(c);
                 fresh.push_back({c, slots_.allocate(*it, 0)});
             }
-            ops_since_rebuild_ += m;
             if (m * 2 >= old_size) {
                 rebuild_all();
                 return;
@@ -236,7 +235,6 @@ public:
         if (doomed.empty()) return;
         if (doomed.size() * 4 >= slots_.size()) {
             for (slot_index s : doomed) slots_.release(s);
-            ops_since_rebuild_ += doomed.size();
             rebuild_all();
             return;
         }
@@ -250,7 +248,6 @@ public:
             }
             slots_.release(s);
         }
-        ops_since_rebuild_ += doomed.size();
         for (node_index b : touched) {
             node& L = nodes_[buckets_[b].owner];
             auto& items = buckets_[b].items;
@@ -283,7 +280,6 @@ private:
         std::swap(bounds_lo_, o.bounds_lo_);
         std::swap(bounds_hi_, o.bounds_hi_);
         std::swap(size_at_rebuild_, o.size_at_rebuild_);
-        std::swap(ops_since_rebuild_, o.ops_since_rebuild_);
         std::swap(ray_thickness_, o.ray_thickness_);
     }
 
@@ -463,7 +459,6 @@ private:
         bounds_lo_.fill(std::numeric_limits<T>::infinity());
         bounds_hi_.fill(-std::numeric_limits<T>::infinity());
         size_at_rebuild_ = 0;
-        ops_since_rebuild_ = 0;
     }
 
     node_index new_bucket(node_index owner, const coords& lo, const coords& hi) {
@@ -506,7 +501,6 @@ private:
         // std::bad_alloc in the split below would leave the slot unlinked.)
         const slot_index s = slots_.allocate(x, nodes_[leaf].first);
         grow_bounds(c);
-        ++ops_since_rebuild_;
         node& L = nodes_[leaf];
         if (L.count < leaf_capacity) {
             buckets_[L.first].items[L.count++] = s;
@@ -569,7 +563,6 @@ private:
                 break;
             }
         slots_.release(s);
-        ++ops_since_rebuild_;
         if (allow_merge && L.count == 0 && leaf != root) merge_empty_leaf(leaf);
     }
 
@@ -729,7 +722,6 @@ private:
         slots_.assign(std::move(ordered), 0);
         for (std::size_t i = 0; i < es.size(); ++i) slots_.set_meta(static_cast<slot_index>(i), es[i].bucket);
         size_at_rebuild_ = slots_.size();
-        ops_since_rebuild_ = 0;
         ++stats_.full_rebuilds;
         nodes_.shrink_to_fit();
         buckets_.shrink_to_fit();
@@ -755,7 +747,6 @@ private:
         hi.fill(std::numeric_limits<T>::infinity());
         build_node(root, es.data(), es.size(), lo, hi, 0, false, 0);
         size_at_rebuild_ = slots_.size();
-        ops_since_rebuild_ = 0;
         ++stats_.full_rebuilds;
     }
 
@@ -1002,7 +993,6 @@ private:
     std::size_t leaves_ = 0;
     coords bounds_lo_{}, bounds_hi_{};  // bounding box of everything inserted since rebuild
     std::size_t size_at_rebuild_ = 0;
-    std::size_t ops_since_rebuild_ = 0;
     std::vector<entry> entry_buffer_;  // reused by leaf splits (no allocation per split)
     scalar_type ray_thickness_ = 0;
     mutable kd_tree_stats stats_;
