@@ -14,6 +14,7 @@
 
 #include "spatial/bv/bounding_volume.hpp"
 #include "spatial/core/point.hpp"
+#include "spatial/core/rigid_transform.hpp"
 
 namespace spatial {
 
@@ -89,6 +90,25 @@ struct aabb {
         for (std::size_t i = 0; i < D; ++i) {
             b.lo[i] = std::min(lo[i], o.lo[i]);
             b.hi[i] = std::max(hi[i], o.hi[i]);
+        }
+        return b;
+    }
+    // Box of the rotated box (Arvo 1990, "Transforming axis-aligned bounding boxes", Graphics
+    // Gems): per output axis, the centre moves by R c + t and the half-extent is sum |R_ij| e_j.
+    // Exact as a box of the moved box; looser than refitting the moved points.
+    aabb transformed(const rigid_transform<T, D>& xf) const {
+        if (is_empty()) return *this;
+        aabb b;
+        for (std::size_t i = 0; i < D; ++i) {
+            T c = xf.translation[i], e = 0;
+            for (std::size_t j = 0; j < D; ++j) {
+                c += xf.rotation[i][j] * (lo[j] + (hi[j] - lo[j]) / 2);
+                e += std::abs(xf.rotation[i][j]) * ((hi[j] - lo[j]) / 2);
+            }
+            // Round outward by a few ulps: the moved box must contain the moved corners.
+            const T pad = (std::abs(c) + e) * std::numeric_limits<T>::epsilon() * 4;
+            b.lo[i] = c - e - pad;
+            b.hi[i] = c + e + pad;
         }
         return b;
     }

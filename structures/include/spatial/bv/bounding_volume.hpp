@@ -10,9 +10,14 @@
 //   distance_lower_bound(p)     <= the distance from p to any point inside (0 inside)
 //   merged(other)               a volume of the same type containing both
 //   volume(), surface_area()    (area and perimeter in 2D)
+//   transformed(xf)             a volume of the same type containing the image of this one
+//                               under the rigid motion xf (exact for every type except aabb,
+//                               which re-boxes the rotated box: Arvo 1990)
 
 #include <concepts>
 #include <cstddef>
+
+#include "spatial/core/rigid_transform.hpp"
 
 namespace spatial {
 
@@ -28,6 +33,7 @@ concept bounding_volume = requires(const BV& bv, const typename BV::point_type& 
     { bv.merged(bv) } -> std::same_as<BV>;
     { bv.volume() } -> std::convertible_to<typename BV::scalar_type>;
     { bv.surface_area() } -> std::convertible_to<typename BV::scalar_type>;
+    { bv.transformed(rigid_transform<typename BV::scalar_type, BV::dimension>{}) } -> std::same_as<BV>;
 };
 
 }  // namespace spatial

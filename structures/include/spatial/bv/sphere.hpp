@@ -31,6 +31,7 @@
 #include "spatial/bv/bounding_volume.hpp"
 #include "spatial/core/distance.hpp"
 #include "spatial/core/point.hpp"
+#include "spatial/core/rigid_transform.hpp"
 
 namespace spatial {
 
@@ -142,6 +143,17 @@ struct sphere {
         const T w = (s.radius - radius) / d;  // d > 0 here
         for (std::size_t i = 0; i < D; ++i) s.center[i] = center[i] + (o.center[i] - center[i]) * w;
         s.radius = std::nextafter(s.radius, std::numeric_limits<T>::infinity());
+        return s;
+    }
+    // Exact: a rigid motion moves the centre and keeps the radius (one ulp of slack for the
+    // rounding of the moved centre).
+    sphere transformed(const rigid_transform<T, D>& xf) const {
+        if (is_empty()) return *this;
+        sphere s;
+        s.center = xf.apply(center);
+        T m = std::abs(radius);
+        for (std::size_t i = 0; i < D; ++i) m = std::max(m, std::abs(s.center[i]));
+        s.radius = radius + m * std::numeric_limits<T>::epsilon() * 4;
         return s;
     }
     T volume() const {  // unit-ball volume pi^(D/2) / Gamma(D/2 + 1) times r^D
