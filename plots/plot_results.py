@@ -104,7 +104,11 @@ COMPLEXITY_FUNCTIONS = {
     "n^2": lambda n: np.asarray(n, dtype=float) ** 2,
 }
 
-TIME_METRICS = {"time_per_op", "build_time"}
+# Suites whose complexity figures are split by bounding-volume type (the `bv` column), with
+# these params moved from the figure into the series label: one curve per fitting method.
+SERIES_PARAMS = {"bv": ("method",)}
+
+TIME_METRICS = {"time_per_op", "build_time", "fit_time"}
 RATIO_METRIC = "time_ratio"
 RATIO_BASELINE = "kd_tree"  # time_ratio = time(RATIO_BASELINE) / time(peer)
 APPROX_OPERATION = "approx_knn"
@@ -117,6 +121,7 @@ UNIT_SECONDS = {"ns": 1e-9, "us": 1e-6, "\u00b5s": 1e-6, "ms": 1e-3, "s": 1.0}
 
 METRIC_LABELS = {
     "time_per_op": "time per operation",
+    "fit_time": "fit time",
     "build_time": "build time",
     "recall": "recall",
     "time_ratio": "time ratio",
@@ -286,6 +291,21 @@ def label_of(row):
     return f"{row.structure}<{row.bv}>" if row.bv else row.structure
 
 
+def series_label(row):
+    """Label of a curve: label_of(row), or for SERIES_PARAMS suites the structure and method."""
+    keys = SERIES_PARAMS.get(row.suite)
+    if not keys:
+        return label_of(row)
+    named = dict(parse_params(row.params))
+    return " ".join([row.structure] + [named[key] for key in keys if key in named])
+
+
+def figure_params(row):
+    """The params that select a figure (SERIES_PARAMS keys removed)."""
+    keys = SERIES_PARAMS.get(row.suite, ())
+    return format_params([(k, v) for k, v in parse_params(row.params) if k not in keys])
+
+
 def workload_sort_key(workload):
     if workload in WORKLOAD_ORDER:
         return (0, WORKLOAD_ORDER.index(workload), workload)
@@ -437,19 +457,22 @@ def plot_complexity(rows, out_dir, styles, include_unvalidated):
 
     figures = collections.defaultdict(list)
     for row in timing:
-        figures[(row.suite, row.operation, row.params, row.dim, row.scalar, row.metric)].append(row)
+        bv = row.bv if row.suite in SERIES_PARAMS else ""
+        figures[(row.suite, row.operation, figure_params(row), row.dim, row.scalar, row.metric, bv)] \
+            .append(row)
 
     # File names; an operation with two time metrics gets the metric as a suffix.
     base_names = {}
     for key in figures:
-        suite, operation, params, dim, scalar, _metric = key
-        parts = [suite, operation] + ([slug(params)] if params else []) + [f"{dim}d", scalar]
+        suite, operation, params, dim, scalar, _metric, bv = key
+        parts = [suite] + ([bv] if bv else []) + [operation] + ([slug(params)] if params else []) \
+            + [f"{dim}d", scalar]
         base_names[key] = "_".join(slug(part) for part in parts) + ".png"
     name_counts = collections.Counter(base_names.values())
 
     written, used = [], set()
     for key in sorted(figures, key=lambda k: tuple(map(str, k))):
-        suite, operation, params, dim, scalar, metric = key
+        suite, operation, params, dim, scalar, metric, bv = key
         figure_rows = figures[key]
         unit = common_unit(row.unit for row in figure_rows)
         if unit is None:
@@ -461,7 +484,7 @@ def plot_complexity(rows, out_dir, styles, include_unvalidated):
         panels = collections.defaultdict(
             lambda: collections.defaultdict(lambda: collections.defaultdict(list)))
         for row in figure_rows:
-            series_key = (label_of(row), row.validated)
+            series_key = (series_label(row), row.validated)
             panels[row.workload][series_key][row.n].append(convert(row.value, row.unit, unit))
 
         kept = []
@@ -485,7 +508,7 @@ def plot_complexity(rows, out_dir, styles, include_unvalidated):
         figure, axes = new_figure(len(kept), entries)
         for axis, workload in zip(axes, kept):
             draw_complexity_panel(axis, panels[workload], operation, metric, unit, workload, styles)
-        title = f"{suite}: {operation}" + (f" ({params})" if params else "")
+        title = f"{suite}: " + (f"{bv} " if bv else "") + operation + (f" ({params})" if params else "")
         title += f" \u2014 {METRIC_LABELS.get(metric, metric)}, {dim}D, {scalar}"
         finish_figure(figure, title)
         written.append(save_atomically(figure, os.path.join(out_dir, name)))
@@ -710,6 +733,132 @@ def draw_ratio_panel(axis, key, by_peer, styles):
 
 
 # --------------------------------------------------------------------------------------------
+# 4. Bounding volumes: accuracy against time, with the Pareto front
+# --------------------------------------------------------------------------------------------
+
+BV_TRADEOFF_FILE = "bv_tradeoff.png"
+BV_REFERENCE_N = 100000  # fit figures are compared at this n (else the largest n measured)
+
+
+def geometric_mean(values):
+    values = [v for v in values if v > 0 and math.isfinite(v)]
+    return math.exp(sum(math.log(v) for v in values) / len(values)) if values else float("nan")
+
+
+def pareto_front(points):
+    """Indices of the points not dominated in (x, y), both to be minimised, sorted by x."""
+    order = sorted(range(len(points)), key=lambda i: (points[i][0], points[i][1]))
+    front, best_y = [], float("inf")
+    for i in order:
+        if points[i][1] < best_y:
+            front.append(i)
+            best_y = points[i][1]
+    return front
+
+
+def bv_points(rows, operation, x_metric, y_metric, n_choice, group_params=("method",)):
+    """(label, x, y) per (structure, bv, method[, test]): geometric means over workloads of
+    the median x and y at one n per workload (n_choice picks it from the ns measured)."""
+    cells = collections.defaultdict(lambda: collections.defaultdict(list))
+    for row in rows:
+        if row.operation != operation or row.metric not in (x_metric, y_metric):
+            continue
+        named = dict(parse_params(row.params))
+        key = (row.structure, row.bv) + tuple(named.get(k, "") for k in group_params)
+        cells[(key, row.workload, row.n)][row.metric].append(row.value)
+    by_key = collections.defaultdict(dict)  # key -> workload -> n -> (x, y)
+    for (key, workload, n), metrics in cells.items():
+        if x_metric in metrics and y_metric in metrics:
+            by_key[key].setdefault(workload, {})[n] = (median(metrics[x_metric]),
+                                                       median(metrics[y_metric]))
+    points = []
+    for key, workloads in sorted(by_key.items()):
+        xs, ys = [], []
+        for per_n in workloads.values():
+            n = n_choice(sorted(per_n))
+            xs.append(per_n[n][0])
+            ys.append(per_n[n][1])
+        structure, bv, *rest = key
+        label = f"{bv} {' '.join(r for r in rest if r)}" + ("" if structure == "spatialbench"
+                                                             else f" [{structure}]")
+        points.append((label, geometric_mean(xs), geometric_mean(ys)))
+    return [p for p in points if math.isfinite(p[1]) and math.isfinite(p[2])]
+
+
+def draw_tradeoff_panel(axis, points, xlabel, ylabel, title, log_y=True):
+    xy = [(x, y) for _, x, y in points]
+    front = set(pareto_front(xy))
+    cmap = plt.get_cmap("tab20")
+    for i, (label, x, y) in enumerate(points):
+        on_front = i in front
+        axis.scatter([x], [y], color=cmap(i % 20), marker="*" if on_front else "o",
+                     s=90 if on_front else 30, zorder=3,
+                     edgecolors="black" if on_front else "none")
+        axis.annotate(label, (x, y), fontsize=6, xytext=(3, 3), textcoords="offset points")
+    if front:
+        fx = [xy[i][0] for i in sorted(front, key=lambda i: xy[i][0])]
+        fy = [xy[i][1] for i in sorted(front, key=lambda i: xy[i][0])]
+        axis.step(fx, fy, where="post", color="black", linewidth=1, linestyle="--",
+                  label="Pareto front (stars)", zorder=2)
+        axis.legend(fontsize="small", loc="upper right")
+    axis.set_xscale("log")
+    if log_y:
+        axis.set_yscale("log")
+    axis.set_xlabel(xlabel)
+    axis.set_ylabel(ylabel)
+    axis.set_title(title, fontsize="medium")
+    axis.grid(True, which="both", alpha=0.3)
+
+
+def plot_bv_tradeoff(rows, out_dir, include_unvalidated):
+    """plots/bv_tradeoff.png: tightness (volume / convex hull volume) against fit time, and
+    the false-positive rate of the overlap test (pairs whose enclosed shapes are disjoint but
+    whose volumes overlap) and tightness against the overlap-test time; one point per type x
+    method (x test), geometric means over the shapes, the Pareto front marked."""
+    bv_rows = [row for row in rows if row.suite == "bv"]
+    if not bv_rows:
+        return []
+    bv_rows = [row for row in bv_rows if row.validated or include_unvalidated]
+
+    def at_reference_n(ns):
+        return BV_REFERENCE_N if BV_REFERENCE_N in ns else max(ns)
+
+    fit = bv_points(bv_rows, "fit", "fit_time", "tightness", at_reference_n)
+    overlap = bv_points(bv_rows, "overlap", "time_per_op", "false_positive_rate_shapes", max,
+                        ("method", "test"))
+    tight_by_method = {label.split(" [")[0]: y for label, _, y in fit}
+    overlap_tight = []
+    for label, x, _ in overlap:
+        parts = label.split(" ")
+        key = " ".join(parts[:2])  # "<bv> <method>"
+        if key in tight_by_method:
+            overlap_tight.append((label, x, tight_by_method[key]))
+    panels = [p for p in (fit, overlap_tight, overlap) if p]
+    if not panels:
+        note("skip bv_tradeoff.png: no fit/overlap rows with both time and accuracy")
+        return []
+    figure, axes = plt.subplots(1, 3, figsize=(19, 6.5), squeeze=False)
+    axes = axes[0]
+    if fit:
+        draw_tradeoff_panel(axes[0], fit, "fit time (s), n = 1e5 where measured",
+                            "tightness: volume / convex hull volume",
+                            "tightness against fit time")
+    if overlap_tight:
+        draw_tradeoff_panel(axes[1], overlap_tight, "overlap test time (ns)",
+                            "tightness: volume / convex hull volume",
+                            "tightness against overlap-test time")
+    if overlap:
+        y = [(label, x, max(v, 1e-4)) for label, x, v in overlap]
+        draw_tradeoff_panel(axes[2], y, "overlap test time (ns)",
+                            "false-positive rate vs. the enclosed shapes (floor 1e-4)",
+                            "pruning power against overlap-test time")
+    figure.suptitle("bv: accuracy against time (geometric means over shapes; lower-left is "
+                    "better; stars = Pareto front)")
+    figure.tight_layout()
+    return [save_atomically(figure, os.path.join(out_dir, BV_TRADEOFF_FILE))]
+
+
+# --------------------------------------------------------------------------------------------
 # Entry point
 # --------------------------------------------------------------------------------------------
 
@@ -730,11 +879,12 @@ def main(argv=None):
         note("no rows to plot")
         return 0
     os.makedirs(args.out, exist_ok=True)
-    styles = StyleBook(label_of(row) for row in rows)
+    styles = StyleBook({label_of(row) for row in rows} | {series_label(row) for row in rows})
     written = []
     written += plot_complexity(rows, args.out, styles, args.include_unvalidated)
     written += plot_recall_vs_time(rows, args.out, styles, args.include_unvalidated)
     written += plot_ratios(rows, args.out, styles, args.include_unvalidated)
+    written += plot_bv_tradeoff(rows, args.out, args.include_unvalidated)
     note(f"{len(written)} PNG(s) written to {args.out}")
     return 0
 

@@ -183,5 +183,69 @@ class PlotFilesTest(unittest.TestCase):
         self.assert_png("knn_build_3d_double.png")
 
 
+def bv_row(structure, bv, method, workload, n, operation, metric, value, unit, test=None):
+    params = f"method={method}" + (f";test={test}" if test else "")
+    return ["bv", structure, bv, workload, n, 3, "double", operation, params, metric,
+            repr(value), unit, "true", "test-run"]
+
+
+class BvTradeoffTest(unittest.TestCase):
+    def setUp(self):
+        self._tmp = tempfile.TemporaryDirectory()
+        self.results = os.path.join(self._tmp.name, "results")
+        self.out = os.path.join(self._tmp.name, "plots")
+        os.makedirs(self.results)
+
+    def tearDown(self):
+        self._tmp.cleanup()
+
+    def test_pareto_front(self):
+        points = [(1, 5), (2, 3), (3, 4), (4, 1), (0.5, 9), (4, 2)]
+        # (3, 4) is dominated by (2, 3); (4, 2) by (4, 1).
+        self.assertEqual(plot_results.pareto_front(points), [4, 0, 1, 3])
+
+    def test_points_are_geometric_means_over_shapes_at_the_reference_n(self):
+        rows = []
+        for workload, scale in (("sphere", 1.0), ("elongated", 4.0)):
+            for n in (1000, 100000, 1000000):
+                rows.append(plot_results.Row("bv", "spatialbench", "aabb", workload, n, 3, "double",
+                                             "fit", "method=minmax", "fit_time", scale * n,
+                                             "s", True, "r"))
+                rows.append(plot_results.Row("bv", "spatialbench", "aabb", workload, n, 3, "double",
+                                             "fit", "method=minmax", "tightness", scale, "ratio",
+                                             True, "r"))
+        points = plot_results.bv_points(rows, "fit", "fit_time", "tightness",
+                                        lambda ns: 100000 if 100000 in ns else max(ns))
+        self.assertEqual(len(points), 1)
+        label, x, y = points[0]
+        self.assertEqual(label, "aabb minmax")
+        self.assertAlmostEqual(x, 2.0 * 100000)  # sqrt(1 * 4) * 1e5
+        self.assertAlmostEqual(y, 2.0)
+
+    def test_bv_plots_are_written(self):
+        rows = []
+        for workload in ("sphere", "elongated"):
+            for n in (1000, 100000):
+                for bv, method, t, tight in (("aabb", "minmax", 1e-4, 3.0), ("sphere", "ritter", 2e-4, 4.0),
+                                             ("obb", "dito", 1e-3, 1.5)):
+                    rows.append(bv_row("spatialbench", bv, method, workload, n, "fit", "fit_time",
+                                       t * n / 1000, "s"))
+                    rows.append(bv_row("spatialbench", bv, method, workload, n, "fit", "tightness", tight,
+                                       "ratio"))
+            for bv, method, t, fp in (("aabb", "minmax", 3.0, 0.2), ("sphere", "ritter", 2.0, 0.4),
+                                      ("obb", "dito", 20.0, 0.05)):
+                rows.append(bv_row("spatialbench", bv, method, workload, 200, "overlap", "time_per_op",
+                                   t, "ns", test="t"))
+                rows.append(bv_row("spatialbench", bv, method, workload, 200, "overlap",
+                                   "false_positive_rate_shapes", fp, "ratio", test="t"))
+        write_csv(self.results, "bv.csv", rows)
+        code, _, _ = run_main("--results", self.results, "--out", self.out)
+        self.assertEqual(code, 0)
+        names = pngs(self.out)
+        self.assertIn("bv_tradeoff.png", names)
+        # Fit-time curves are split by volume type, one curve per method.
+        self.assertIn("bv_obb_fit_3d_double.png", names)
+
+
 if __name__ == "__main__":
     unittest.main()

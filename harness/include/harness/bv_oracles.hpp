@@ -2,9 +2,9 @@
 // CGAL as the oracle for the bounding-volume fits and overlap tests (issue 3). Everything
 // here is implemented in harness/adapters/cgal/cgal_bv_oracles.cpp, the only translation
 // unit that includes CGAL's geometry headers for this purpose, so tests and the `bv` suite
-// link the answers without paying CGAL's compile time. When the project is configured
-// without CGAL (SPATIAL_WITH_CGAL=OFF) the functions throw std::logic_error and
-// cgal_bv_oracles_available() returns false.
+// link the answers without paying CGAL's compile time. The functions exist only when the
+// project is configured with CGAL (SPATIAL_HAVE_CGAL=1, set by spatial_adapter_cgal);
+// callers check cgal_bv_oracles_available() inside `#if SPATIAL_HAVE_CGAL` or skip.
 //
 // Points are plain double arrays: the oracles are independent of the library's types.
 // `seconds` is the wall time of the CGAL call alone (input conversion excluded), for the
@@ -15,9 +15,15 @@
 #include <span>
 #include <vector>
 
-namespace spatial::harness {
+namespace harness {
 
-bool cgal_bv_oracles_available();
+constexpr bool cgal_bv_oracles_available() {
+#if defined(SPATIAL_HAVE_CGAL) && SPATIAL_HAVE_CGAL
+    return true;
+#else
+    return false;
+#endif
+}
 
 struct oracle_ball {
     std::vector<double> center;
@@ -64,4 +70,4 @@ oracle_ellipsoid cgal_min_ellipsoid(std::span<const std::array<double, 3>> pts, 
 bool cgal_convex_hulls_intersect(std::span<const std::array<double, 2>> a, std::span<const std::array<double, 2>> b);
 bool cgal_convex_hulls_intersect(std::span<const std::array<double, 3>> a, std::span<const std::array<double, 3>> b);
 
-}  // namespace spatial::harness
+}  // namespace harness

@@ -1,0 +1,24 @@
+#pragma once
+// Options shared by every suite of the spatialbench CLI (each suite reads the ones it uses).
+
+#include <cstdint>
+#include <filesystem>
+#include <string>
+#include <vector>
+
+namespace harness {
+
+struct suite_options {
+    std::string preset = "quick";  // smoke | quick | full
+    std::filesystem::path results_dir = "results";
+    std::filesystem::path real_data_dir;  // point sets (.xyz/.ply/.off) to add as workloads; may be empty
+    std::uint64_t seed = 20261122;
+    std::vector<std::string> workloads;   // empty = the preset's
+    std::vector<std::string> structures;  // empty = all available
+    std::vector<std::size_t> sizes;       // empty = the preset's
+    bool quiet = false;
+    bool dynamic = true;  // run the insert/erase workloads
+    std::string output_name = "knn.csv";  // the CLI sets <suite>.csv unless --output is given
+};
+
+}  // namespace harness
