@@ -3,3 +3,7 @@
 # (whichever of spatial_adapter_nanoflann / spatial_adapter_cgal were configured).
 spatial_add_test(adapters_test ${CMAKE_CURRENT_LIST_DIR}/adapters_test.cpp)
 target_link_libraries(adapters_test PRIVATE spatial_adapters spatial_harness_interface)
+
+# Bounding volumes against CGAL (harness/bv_oracles.hpp; CGAL itself stays in the adapter).
+spatial_add_test(bv_oracle_test ${CMAKE_CURRENT_LIST_DIR}/bv_oracle_test.cpp)
+target_link_libraries(bv_oracle_test PRIVATE spatial_adapters spatial_harness_interface spatial::datasets)

@@ -1,5 +1,5 @@
 // spatialbench — the benchmark harness CLI.
-//   spatialbench run --suite knn [--preset smoke|quick|full] [--results DIR] [--real-data DIR]
+//   spatialbench run --suite knn|bv [--preset smoke|quick|full] [--results DIR] [--real-data DIR]
 //                    [--workload W ...] [--structure S ...] [--n N ...] [--seed S] [--quiet]
 //   spatialbench list
 // Exit codes: 0 success, 1 bad usage or input, 2 validation failure (a wrong answer).
@@ -9,7 +9,9 @@
 #include <iostream>
 
 #include "datasets/generators.hpp"
+#include "datasets/shapes.hpp"
 #include "harness/adapters.hpp"
+#include "harness/bv_suite.hpp"
 #include "harness/knn_suite.hpp"
 #include "harness/validation.hpp"
 
@@ -20,13 +22,14 @@ int main(int argc, char** argv) {
     harness::suite_options opt;
     std::string suite = "knn";
     auto* run = app.add_subcommand("run", "run a benchmark suite and write results/<suite>.csv");
-    run->add_option("--suite", suite, "suite to run")->check(CLI::IsMember({"knn"}));
+    run->add_option("--suite", suite, "suite to run")->check(CLI::IsMember({"knn", "bv"}));
     run->add_option("--preset", opt.preset, "size preset: smoke (seconds), quick (<15 min), full (1e7)")
         ->check(CLI::IsMember({"smoke", "quick", "full"}));
     run->add_option("--results", opt.results_dir, "directory for CSV tables and run sidecars");
-    run->add_option("--output", opt.output_name, "CSV file name inside --results (default <suite>.csv)");
+    std::string output_name;
+    run->add_option("--output", output_name, "CSV file name inside --results (default <suite>.csv)");
     run->add_option("--real-data", opt.real_data_dir, "directory of real point sets (.xyz, .ply) to add as workloads");
-    run->add_option("--workload", opt.workloads, "restrict to these generated workloads");
+    run->add_option("--workload", opt.workloads, "restrict to these generated workloads (bv: shapes)");
     run->add_option("--structure", opt.structures, "restrict to these structures (kd_tree, nanoflann, ...)");
     run->add_option("--n", opt.sizes, "restrict to these sizes");
     run->add_option("--seed", opt.seed, "seed of every generated workload (logged in the run sidecar)");
@@ -39,16 +42,22 @@ int main(int argc, char** argv) {
     CLI11_PARSE(app, argc, argv);
 
     if (*list) {
-        std::cout << "suites: knn\nworkloads:";
+        std::cout << "suites: knn bv\nworkloads (knn):";
         for (auto w : datasets::point_workload_names()) std::cout << ' ' << w;
+        std::cout << "\nshapes (bv):";
+        for (const auto& w : datasets::shape_names()) std::cout << ' ' << w;
         std::cout << "\nstructures: kd_tree brute_force";
         for (const auto& p : harness::make_peer_indices<double, 3>()) std::cout << ' ' << p->name();
         std::cout << '\n';
         return 0;
     }
     opt.dynamic = !no_dynamic;
+    opt.output_name = output_name.empty() ? suite + ".csv" : output_name;
     try {
-        harness::run_knn_suite(opt);
+        if (suite == "bv")
+            harness::run_bv_suite(opt);
+        else
+            harness::run_knn_suite(opt);
     } catch (const harness::validation_error& e) {
         std::fprintf(stderr, "spatialbench: VALIDATION FAILED, nothing written: %s\n", e.what());
         return 2;

@@ -34,7 +34,10 @@ inline spatial::rigid_transform<double, 3> random_rotation(random_stream& rng) {
     double q[4], s = 0;
     do {
         s = 0;
-        for (double& x : q) s += (x = rng.gaussian()) * x;
+        for (double& x : q) {
+            x = rng.gaussian();
+            s += x * x;
+        }
     } while (s < 1e-12);
     s = std::sqrt(s);
     const double w = q[0] / s, x = q[1] / s, y = q[2] / s, z = q[3] / s;

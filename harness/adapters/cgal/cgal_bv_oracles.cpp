@@ -132,11 +132,13 @@ oracle_hull<2> cgal_convex_hull(std::span<const std::array<double, 2>> pts) {
     CGAL::convex_hull_2(p.begin(), p.end(), std::back_inserter(h));
     oracle_hull<2> out;
     out.seconds = seconds_since(t0);
+    // Shoelace relative to the first vertex (no cancellation at large offsets).
     double area2 = 0;
     for (std::size_t i = 0; i < h.size(); ++i) {
         const auto& u = h[i];
         const auto& v = h[(i + 1) % h.size()];
-        area2 += u.x() * v.y() - v.x() * u.y();
+        const double ux = u.x() - h[0].x(), uy = u.y() - h[0].y(), vx = v.x() - h[0].x(), vy = v.y() - h[0].y();
+        area2 += ux * vy - vx * uy;
         out.vertices.push_back({u.x(), u.y()});
     }
     out.volume = h.size() >= 3 ? std::abs(area2) / 2 : 0.0;

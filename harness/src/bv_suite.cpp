@@ -1,0 +1,660 @@
+// The bv suite (see bv_suite.hpp). Flow for one shape:
+//   1. fit study: for each n, generate the shape, build its convex hull (the tightness
+//      reference, checked against CGAL's), then time every type x method fit, check that it
+//      contains every point, and record time, volume and tightness; CGAL's fits run on the
+//      same points;
+//   2. pair study: M instances of m points each, randomly rotated and placed; the truth for
+//      each pair (do the instances' hulls intersect?) comes from CGAL's exact LP; for every
+//      type x method x overlap test, the answers over all pairs are checked against the
+//      exact intersection of the two volumes (no false negative allowed) and only then
+//      timed; the rays are checked against contains() and timed;
+//   3. rows are written atomically when the whole suite has passed.
+
+#include "harness/bv_suite.hpp"
+
+#include <algorithm>
+#include <array>
+#include <chrono>
+#include <cmath>
+#include <functional>
+#include <map>
+#include <numeric>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include <Eigen/Dense>
+
+#include "datasets/point_set_io.hpp"
+#include "datasets/random.hpp"
+#include "datasets/shapes.hpp"
+#include "harness/bv_oracles.hpp"
+#include "harness/csv_writer.hpp"
+#include "harness/progress.hpp"
+#include "harness/run_info.hpp"
+#include "harness/timing.hpp"
+#include "harness/validation.hpp"
+#include "spatial/bv/aabb.hpp"
+#include "spatial/bv/convex_hull.hpp"
+#include "spatial/bv/ellipsoid.hpp"
+#include "spatial/bv/kdop.hpp"
+#include "spatial/bv/obb.hpp"
+#include "spatial/bv/sphere.hpp"
+
+namespace harness {
+namespace {
+
+using P = spatial::point<double, 3>;
+using vec3 = std::array<double, 3>;
+
+struct preset_config {
+    std::vector<std::size_t> sizes;   // fit study
+    std::size_t fit_repetitions;
+    std::size_t instances;            // pair study: M instances ...
+    std::size_t instance_points;      // ... of m points each
+    std::size_t rays;                 // lines per instance set
+    std::size_t cgal_ellipsoid_max_n; // CGAL's Approximate_min_ellipsoid_d is slow (8-10 s at 1e6)
+    std::size_t cgal_hull_shell_max_n;// CGAL's hull on a thin shell (18 s at 1e6)
+    std::vector<std::string> real_meshes;
+};
+
+preset_config preset(const std::string& name) {
+    const std::vector<std::string> meshes{"bunny00.off", "refined_elephant.off", "armadillo.off"};
+    if (name == "smoke") return {{1000}, 1, 12, 64, 64, 1000, 1000, {}};
+    if (name == "quick") return {{1000, 10000, 100000, 1000000}, 3, 40, 200, 400, 100000, 100000, meshes};
+    if (name == "full") return {{1000, 10000, 100000, 1000000}, 5, 64, 400, 1000, 1000000, 1000000, meshes};
+    throw std::invalid_argument("unknown preset '" + name + "' (expected smoke, quick or full)");
+}
+
+std::vector<vec3> to_arrays(std::span<const P> pts) {
+    std::vector<vec3> v(pts.size());
+    for (std::size_t i = 0; i < pts.size(); ++i) v[i] = pts[i].coords;
+    return v;
+}
+
+// ---------------------------------------------------------------------------------------
+// One fitting method of one volume type, and the volume type's description.
+
+template <class BV>
+struct fit_method {
+    std::string name;
+    std::function<BV(std::span<const P>)> fit;
+    bool exact_vs_cgal = false;  // checked against CGAL's answer
+};
+
+template <class BV>
+struct overlap_test {
+    std::string name;
+    bool (*test)(const BV&, const BV&);
+};
+
+// Exact reference for "do these two volumes intersect?": 1 yes, 0 no, -1 too close to call
+// (within rounding of touching: such pairs can never be counted as false negatives or
+// false positives).
+template <class BV>
+struct volume_type {
+    std::string name;
+    std::vector<fit_method<BV>> methods;
+    std::vector<overlap_test<BV>> tests;
+    std::function<int(const BV&, const BV&)> exact_intersect;
+};
+
+// Polytopes: CGAL's exact LP on the vertex sets, after a cheap disjoint-bounding-box exit.
+int polytopes_intersect(const std::vector<vec3>& a, const std::vector<vec3>& b) {
+    for (int d = 0; d < 3; ++d) {
+        double alo = INFINITY, ahi = -INFINITY, blo = INFINITY, bhi = -INFINITY;
+        for (const auto& p : a) alo = std::min(alo, p[d]), ahi = std::max(ahi, p[d]);
+        for (const auto& p : b) blo = std::min(blo, p[d]), bhi = std::max(bhi, p[d]);
+        if (ahi < blo || bhi < alo) return 0;
+    }
+#if defined(SPATIAL_HAVE_CGAL) && SPATIAL_HAVE_CGAL
+    return cgal_convex_hulls_intersect(a, b) ? 1 : 0;
+#else
+    throw std::logic_error("the bv suite's exact polytope reference needs CGAL (configure with SPATIAL_WITH_CGAL=ON)");
+#endif
+}
+
+// Balls: squared centre distance against squared radius sum, in long double; within a
+// relative 1e-12 band the pair is "touching" and left undecided.
+int balls_intersect(const spatial::sphere<double, 3>& a, const spatial::sphere<double, 3>& b) {
+    long double d2 = 0;
+    for (int i = 0; i < 3; ++i) {
+        const long double e = static_cast<long double>(a.center[i]) - static_cast<long double>(b.center[i]);
+        d2 += e * e;
+    }
+    const long double s = static_cast<long double>(a.radius) + static_cast<long double>(b.radius);
+    const long double gap = d2 - s * s;
+    if (std::abs(gap) <= 1e-12L * (d2 + s * s)) return -1;
+    return gap < 0 ? 1 : 0;
+}
+
+// Ellipsoids: the Perram & Wertheim (1985) contact function, an independent implementation
+// in long double: with shape matrices A, B (x inside iff (x - c)^T A (x - c) <= 1) and
+// r = c_B - c_A, F(l) = l (1 - l) r^T [(1 - l) A^-1 + l B^-1]^-1 r is concave on [0, 1] and
+// the ellipsoids intersect iff max F <= 1. Golden-section search to 1e-15 in l.
+using mat3l = Eigen::Matrix<long double, 3, 3>;
+using vec3l = Eigen::Matrix<long double, 3, 1>;
+mat3l inverse_shape(const spatial::ellipsoid<double, 3>& e) {  // A^-1 = U diag(a_k^2) U^T
+    mat3l m = mat3l::Zero();
+    for (int k = 0; k < 3; ++k) {
+        vec3l u;
+        for (int d = 0; d < 3; ++d) u[d] = e.axes[static_cast<std::size_t>(k)][static_cast<std::size_t>(d)];
+        const long double a = e.semi_axes[static_cast<std::size_t>(k)];
+        m += a * a * u * u.transpose();
+    }
+    return m;
+}
+int ellipsoids_intersect(const spatial::ellipsoid<double, 3>& a, const spatial::ellipsoid<double, 3>& b) {
+    const mat3l ai = inverse_shape(a), bi = inverse_shape(b);
+    vec3l r;
+    for (int d = 0; d < 3; ++d) r[d] = static_cast<long double>(b.center[d]) - static_cast<long double>(a.center[d]);
+    auto f = [&](long double l) -> long double {
+        const mat3l m = (1 - l) * ai + l * bi;
+        return l * (1 - l) * r.dot(m.ldlt().solve(r));
+    };
+    long double lo = 0, hi = 1;
+    const long double g = (std::sqrt(5.0L) - 1) / 2;
+    long double x1 = hi - g * (hi - lo), x2 = lo + g * (hi - lo), f1 = f(x1), f2 = f(x2);
+    while (hi - lo > 1e-15L) {
+        if (f1 < f2) lo = x1, x1 = x2, f1 = f2, x2 = lo + g * (hi - lo), f2 = f(x2);
+        else hi = x2, x2 = x1, f2 = f1, x1 = hi - g * (hi - lo), f1 = f(x1);
+    }
+    const long double fmax = std::max(f1, f2);
+    if (std::abs(fmax - 1) <= 1e-9L) return -1;
+    return fmax <= 1 ? 1 : 0;
+}
+
+template <class BV>
+std::vector<vec3> corners_of(const BV& b) {
+    std::vector<vec3> v;
+    if constexpr (std::is_same_v<BV, spatial::aabb<double, 3>>) {
+        for (int m = 0; m < 8; ++m) v.push_back({m & 1 ? b.hi[0] : b.lo[0], m & 2 ? b.hi[1] : b.lo[1], m & 4 ? b.hi[2] : b.lo[2]});
+    } else if constexpr (std::is_same_v<BV, spatial::obb<double, 3>>) {
+        for (const auto& c : b.corners()) v.push_back(c.coords);
+    } else {
+        for (const auto& c : b.vertices()) v.push_back(c.coords);
+    }
+    return v;
+}
+
+template <class BV>
+std::function<int(const BV&, const BV&)> polytope_reference() {
+    return [](const BV& a, const BV& b) { return polytopes_intersect(corners_of(a), corners_of(b)); };
+}
+
+// ---------------------------------------------------------------------------------------
+
+struct context {
+    suite_options opt;
+    preset_config cfg;
+    std::string run_id;
+    progress prog;
+    std::vector<result_row> rows;
+    std::map<std::string, std::uint64_t> seeds;
+};
+
+result_row make_row(const context& ctx, const std::string& structure, const std::string& bv, const std::string& workload,
+                    std::size_t n, const std::string& operation, const std::string& params, const std::string& metric,
+                    double value, const std::string& unit, const timing_result* t = nullptr, double scale = 1) {
+    result_row r;
+    r.suite = "bv";
+    r.structure = structure;
+    r.bv = bv;
+    r.workload = workload;
+    r.n = n;
+    r.dim = 3;
+    r.scalar = "double";
+    r.operation = operation;
+    r.params = params;
+    r.metric = metric;
+    r.value = value;
+    r.unit = unit;
+    r.validated = true;
+    r.run_id = ctx.run_id;
+    if (t) {
+        r.repetitions = t->repetitions;
+        r.min_value = t->min_seconds * scale;
+        r.max_value = t->max_seconds * scale;
+    }
+    return r;
+}
+
+std::string fmt(double v) {
+    std::ostringstream os;
+    os.precision(4);
+    os << v;
+    return os.str();
+}
+
+// The shape's reference hull on n points: ours, checked against CGAL's (volume and vertex
+// count) when CGAL is present.
+struct hull_reference {
+    double volume = 0;
+};
+
+// ---------------------------------------------------------------------------------------
+// Fit study of one volume type on one point set.
+
+template <class BV>
+void fit_study(context& ctx, const volume_type<BV>& type, const std::string& workload, std::span<const P> pts,
+               double hull_volume, const spatial::sphere<double, 3>* cgal_ball) {
+    for (const auto& m : type.methods) {
+        BV fitted{};
+        const auto t = time_repeated(
+            pts.size() >= 1000000 ? 0 : 1, ctx.cfg.fit_repetitions, [] {}, [&] { return fitted = m.fit(pts); },
+            [&](const BV& b) {
+                for (std::size_t i = 0; i < pts.size(); ++i)
+                    if (!b.contains(pts[i]))
+                        throw validation_error("bv " + type.name + " method " + m.name + " on " + workload + " n=" +
+                                               std::to_string(pts.size()) + ": point " + std::to_string(i) +
+                                               " is outside the fitted volume");
+            });
+        const double vol = static_cast<double>(fitted.volume());
+        if (!std::isfinite(vol) || vol < 0)
+            throw validation_error("bv " + type.name + " method " + m.name + " on " + workload + ": volume " + fmt(vol));
+        if constexpr (std::is_same_v<BV, spatial::sphere<double, 3>>) {
+            if (m.exact_vs_cgal && cgal_ball) {
+                const double r = fitted.radius, rc = cgal_ball->radius;
+                if (std::abs(r - rc) > 1e-9 * std::max(1.0, rc) + 1e-7 * rc)
+                    throw validation_error("minimum ball on " + workload + " n=" + std::to_string(pts.size()) + ": radius " +
+                                           fmt(r) + " but CGAL's Min_sphere_of_spheres_d gives " + fmt(rc));
+            }
+        }
+        const std::string params = "method=" + m.name;
+        ctx.rows.push_back(make_row(ctx, "spatialbench", type.name, workload, pts.size(), "fit", params, "fit_time",
+                                    t.median_seconds, "s", &t));
+        ctx.rows.push_back(make_row(ctx, "spatialbench", type.name, workload, pts.size(), "fit", params, "volume", vol, "u^3"));
+        if (hull_volume > 0)
+            ctx.rows.push_back(make_row(ctx, "spatialbench", type.name, workload, pts.size(), "fit", params, "tightness",
+                                        vol / hull_volume, "ratio"));
+    }
+}
+
+// How many passes of `pass` make a timed repetition of ~2 ms (at least one).
+template <class Pass>
+std::size_t calibrate_loops(Pass&& pass) {
+    const auto t0 = std::chrono::steady_clock::now();
+    volatile std::size_t sink = pass();
+    (void)sink;
+    const double one = std::max(seconds_since(t0), 1e-9);
+    return std::max<std::size_t>(1, static_cast<std::size_t>(2e-3 / one));
+}
+
+// ---------------------------------------------------------------------------------------
+// Pair study: instances, their hulls, and the exact truth per pair.
+
+struct instance_set {
+    std::vector<std::vector<P>> points;
+    std::vector<spatial::convex_hull<double, 3>> hulls;
+    std::vector<std::pair<std::size_t, std::size_t>> pairs;
+    std::vector<char> shapes_meet;  // per pair: do the instances' hulls intersect (exact)?
+    std::vector<std::pair<P, P>> rays;  // lines (origin, direction)
+    std::size_t disjoint_pairs = 0;
+};
+
+instance_set make_instances(context& ctx, const std::string& workload, const std::vector<P>* mesh, std::uint64_t seed) {
+    instance_set s;
+    datasets::random_stream rng(datasets::derive_seed(seed, 0x1a57));
+    const std::size_t M = ctx.cfg.instances, m = ctx.cfg.instance_points;
+    const double side = 2.2;  // instances of diameter ~1 in a cube of this side: ~1/4 of pairs overlap
+    for (std::size_t i = 0; i < M; ++i) {
+        std::vector<P> pts;
+        if (mesh) {
+            const auto rot = datasets::random_rotation(rng);
+            for (std::size_t j = 0; j < m; ++j) pts.push_back(rot.apply_vector((*mesh)[rng.uniform_index(mesh->size())]));
+        } else {
+            pts = datasets::generate_shape(workload, m, datasets::derive_seed(seed, i));
+        }
+        P off;
+        for (int d = 0; d < 3; ++d) off[d] = side * (rng.uniform01<double>() - 0.5);
+        for (auto& p : pts)
+            for (int d = 0; d < 3; ++d) p[d] += off[d];
+        s.hulls.push_back(spatial::convex_hull<double, 3>::fit(pts));
+        s.points.push_back(std::move(pts));
+    }
+    for (std::size_t i = 0; i < M; ++i)
+        for (std::size_t j = i + 1; j < M; ++j) {
+            s.pairs.emplace_back(i, j);
+            const int meet = polytopes_intersect(corners_of(s.hulls[i]), corners_of(s.hulls[j]));
+            s.shapes_meet.push_back(static_cast<char>(meet));
+            s.disjoint_pairs += meet == 0;
+        }
+    for (std::size_t r = 0; r < ctx.cfg.rays; ++r) {
+        P o, d;
+        for (int k = 0; k < 3; ++k) o[k] = (side + 1) * (rng.uniform01<double>() - 0.5);
+        for (int k = 0; k < 3; ++k) d[k] = rng.gaussian();
+        s.rays.emplace_back(o, d);
+    }
+    return s;
+}
+
+template <class BV>
+void pair_study(context& ctx, const volume_type<BV>& type, const std::string& workload, const instance_set& s) {
+    const std::size_t m = ctx.cfg.instance_points;
+    const std::string inst = ";instances=" + std::to_string(s.points.size());
+    for (const auto& meth : type.methods) {
+        std::vector<BV> bvs;
+        for (const auto& pts : s.points) bvs.push_back(meth.fit(pts));
+        std::vector<int> exact(s.pairs.size());
+        for (std::size_t p = 0; p < s.pairs.size(); ++p) exact[p] = type.exact_intersect(bvs[s.pairs[p].first], bvs[s.pairs[p].second]);
+        for (const auto& test : type.tests) {
+            const std::string params = "method=" + meth.name + ";test=" + test.name + inst;
+            // Validate: no false negative against the exact reference.
+            std::size_t positives = 0, fp_exact = 0, exact_no = 0, fp_shapes = 0;
+            for (std::size_t p = 0; p < s.pairs.size(); ++p) {
+                const bool yes = test.test(bvs[s.pairs[p].first], bvs[s.pairs[p].second]);
+                if (!yes && exact[p] == 1)
+                    throw validation_error("bv " + type.name + " method " + meth.name + " test " + test.name + " on " +
+                                           workload + ": pair (" + std::to_string(s.pairs[p].first) + ", " +
+                                           std::to_string(s.pairs[p].second) +
+                                           ") intersects exactly but the test says disjoint (a false negative)");
+                positives += yes;
+                exact_no += exact[p] == 0;
+                fp_exact += yes && exact[p] == 0;
+                fp_shapes += yes && s.shapes_meet[p] == 0;
+            }
+            // Time: all pairs, repeated so that one repetition lasts ~2 ms.
+            const std::size_t loops = calibrate_loops([&] {
+                std::size_t c = 0;
+                for (const auto& [i, j] : s.pairs) c += test.test(bvs[i], bvs[j]);
+                return c;
+            });
+            const auto t = time_repeated(
+                1, 5, [] {},
+                [&] {
+                    std::size_t c = 0;
+                    for (std::size_t l = 0; l < loops; ++l)
+                        for (const auto& [i, j] : s.pairs) c += test.test(bvs[i], bvs[j]);
+                    return c;
+                },
+                [&](std::size_t c) {
+                    if (c != positives * loops) throw validation_error("bv " + type.name + " " + test.name + ": timed answers differ");
+                });
+            const double per = 1e9 / static_cast<double>(loops * s.pairs.size());
+            ctx.rows.push_back(make_row(ctx, "spatialbench", type.name, workload, m, "overlap", params, "time_per_op",
+                                        t.median_seconds * per, "ns", &t, per));
+            ctx.rows.push_back(make_row(ctx, "spatialbench", type.name, workload, m, "overlap", params, "positive_rate",
+                                        static_cast<double>(positives) / static_cast<double>(s.pairs.size()), "ratio"));
+            ctx.rows.push_back(make_row(ctx, "spatialbench", type.name, workload, m, "overlap", params,
+                                        "false_positive_rate_exact",
+                                        exact_no ? static_cast<double>(fp_exact) / static_cast<double>(exact_no) : 0.0, "ratio"));
+            ctx.rows.push_back(make_row(ctx, "spatialbench", type.name, workload, m, "overlap", params,
+                                        "false_positive_rate_shapes",
+                                        s.disjoint_pairs ? static_cast<double>(fp_shapes) / static_cast<double>(s.disjoint_pairs) : 0.0,
+                                        "ratio"));
+        }
+        // Rays: every line against every instance's volume.
+        std::size_t hits = 0, hull_misses = 0;
+        for (std::size_t r = 0; r < s.rays.size(); ++r) {
+            const auto& [o, d] = s.rays[r];
+            for (std::size_t b = 0; b < bvs.size(); ++b) {
+                double t0 = 0, t1 = 0;
+                const bool hit = bvs[b].ray_interval(o, d, t0, t1);
+                if (hit) {
+                    ++hits;
+                    double h0 = 0, h1 = 0;
+                    hull_misses += !s.hulls[b].ray_interval(o, d, h0, h1);
+                    // The middle of the interval is inside (unless the line only grazes it).
+                    const double tm = (t0 + t1) / 2;
+                    P q;
+                    for (int k = 0; k < 3; ++k) q[k] = o[k] + tm * d[k];
+                    if (!(t0 <= t1) || (t1 - t0 > 1e-6 * std::max(1.0, std::abs(tm)) && !bvs[b].contains(q)))
+                        throw validation_error("bv " + type.name + " method " + meth.name + " on " + workload + ": ray " +
+                                               std::to_string(r) + " interval [" + fmt(t0) + ", " + fmt(t1) +
+                                               "] is not inside the volume");
+                } else {
+                    // A missed line has no point inside: check 64 samples across the domain.
+                    for (int k = 0; k <= 64; ++k) {
+                        const double tt = -4.0 + 8.0 * k / 64.0;
+                        P q;
+                        for (int c = 0; c < 3; ++c) q[c] = o[c] + tt * d[c];
+                        if (bvs[b].contains(q))
+                            throw validation_error("bv " + type.name + " method " + meth.name + " on " + workload + ": ray " +
+                                                   std::to_string(r) + " reported as missing, but its point at t=" + fmt(tt) +
+                                                   " is inside");
+                    }
+                }
+            }
+        }
+        const std::size_t loops = calibrate_loops([&] {
+            std::size_t c = 0;
+            for (const auto& [o, d] : s.rays)
+                for (const auto& b : bvs) {
+                    double t0, t1;
+                    c += b.ray_interval(o, d, t0, t1);
+                }
+            return c;
+        });
+        const auto t = time_repeated(
+            1, 5, [] {},
+            [&] {
+                std::size_t c = 0;
+                for (std::size_t l = 0; l < loops; ++l)
+                    for (const auto& [o, d] : s.rays)
+                        for (const auto& b : bvs) {
+                            double t0, t1;
+                            c += b.ray_interval(o, d, t0, t1);
+                        }
+                return c;
+            },
+            [&](std::size_t c) {
+                if (c != hits * loops) throw validation_error("bv " + type.name + " ray: timed answers differ");
+            });
+        const double per = 1e9 / static_cast<double>(loops * s.rays.size() * bvs.size());
+        const std::string params = "method=" + meth.name + inst;
+        ctx.rows.push_back(make_row(ctx, "spatialbench", type.name, workload, m, "ray", params, "time_per_op",
+                                    t.median_seconds * per, "ns", &t, per));
+        ctx.rows.push_back(make_row(ctx, "spatialbench", type.name, workload, m, "ray", params, "hit_rate",
+                                    static_cast<double>(hits) / static_cast<double>(s.rays.size() * bvs.size()), "ratio"));
+        ctx.rows.push_back(make_row(ctx, "spatialbench", type.name, workload, m, "ray", params, "false_positive_rate_shapes",
+                                    hits ? static_cast<double>(hull_misses) / static_cast<double>(hits) : 0.0, "ratio"));
+    }
+}
+
+// ---------------------------------------------------------------------------------------
+// The volume types and their methods.
+
+using aabb3 = spatial::aabb<double, 3>;
+using sphere3 = spatial::sphere<double, 3>;
+using obb3 = spatial::obb<double, 3>;
+using ellipsoid3 = spatial::ellipsoid<double, 3>;
+using hull3 = spatial::convex_hull<double, 3>;
+template <std::size_t K>
+using kdop3 = spatial::kdop<double, 3, K>;
+
+template <class BV>
+bool plain_overlaps(const BV& a, const BV& b) {
+    return a.overlaps(b);
+}
+template <class BV>
+bool exact_overlaps(const BV& a, const BV& b) {
+    return a.overlaps_exact(b);
+}
+
+volume_type<aabb3> aabb_type() {
+    return {"aabb", {{"minmax", [](std::span<const P> p) { return aabb3::fit(p); }}}, {{"slabs", plain_overlaps<aabb3>}},
+            polytope_reference<aabb3>()};
+}
+volume_type<sphere3> sphere_type() {
+    return {"sphere",
+            {{"centroid_farthest", [](std::span<const P> p) { return sphere3::fit_centroid_farthest(p); }},
+             {"ritter", [](std::span<const P> p) { return sphere3::fit_ritter(p); }},
+             {"minimum", [](std::span<const P> p) { return sphere3::fit_minimum(p); }, true}},
+            {{"distance", plain_overlaps<sphere3>}},
+            balls_intersect};
+}
+volume_type<obb3> obb_type() {
+    return {"obb",
+            {{"pca", [](std::span<const P> p) { return obb3::fit_pca(p); }},
+             {"principal_axes_search", [](std::span<const P> p) { return obb3::fit_principal_axes_search(p); }},
+             {"dito", [](std::span<const P> p) { return obb3::fit_dito(p); }}},
+            {{"sat15", plain_overlaps<obb3>}},
+            polytope_reference<obb3>()};
+}
+template <std::size_t K>
+volume_type<kdop3<K>> kdop_type() {
+    return {"kdop" + std::to_string(K),
+            {{"minmax", [](std::span<const P> p) { return kdop3<K>::fit(p); }}},
+            {{"slabs", plain_overlaps<kdop3<K>>}, {"sat_exact", exact_overlaps<kdop3<K>>}},
+            polytope_reference<kdop3<K>>()};
+}
+volume_type<ellipsoid3> ellipsoid_type() {
+    return {"ellipsoid",
+            {{"pca", [](std::span<const P> p) { return ellipsoid3::fit_pca(p); }},
+             {"khachiyan_1e-3", [](std::span<const P> p) { return ellipsoid3::fit_khachiyan(p, 1e-3); }}},
+            {{"perram_wertheim", plain_overlaps<ellipsoid3>}},
+            ellipsoids_intersect};
+}
+volume_type<hull3> hull_type() {
+    return {"convex_hull", {{"quickhull", [](std::span<const P> p) { return hull3::fit(p); }}}, {{"exact", plain_overlaps<hull3>}},
+            polytope_reference<hull3>()};
+}
+
+// ---------------------------------------------------------------------------------------
+
+void run_shape(context& ctx, const std::string& workload, const std::vector<P>* mesh, std::uint64_t seed) {
+    std::vector<std::size_t> sizes = ctx.cfg.sizes;
+    if (mesh) sizes = {mesh->size()};
+    const bool shell = workload == "thin_shell";
+    for (std::size_t n : sizes) {
+        const std::vector<P> pts = mesh ? *mesh : datasets::generate_shape(workload, n, seed);
+        const std::span<const P> sp(pts);
+        const auto arr = to_arrays(sp);
+        // The reference hull: ours, timed as the convex_hull type's fit below; checked here
+        // against CGAL's volume and vertex count.
+        const auto hull = hull3::fit(sp);
+        const double hull_volume = static_cast<double>(hull.volume());
+        sphere3 cgal_ball;
+        const sphere3* cgal_ball_ptr = nullptr;
+#if defined(SPATIAL_HAVE_CGAL) && SPATIAL_HAVE_CGAL
+        {
+            const auto b = cgal_min_sphere(arr);
+            cgal_ball.radius = b.radius;
+            for (int d = 0; d < 3; ++d) cgal_ball.center[d] = b.center[static_cast<std::size_t>(d)];
+            cgal_ball_ptr = &cgal_ball;
+            ctx.rows.push_back(make_row(ctx, "cgal", "sphere", workload, n, "fit", "method=min_sphere_of_spheres_d",
+                                        "fit_time", b.seconds, "s"));
+            // CGAL's ball is validated like ours: it must contain every point.
+            for (const auto& p : pts)
+                if (spatial::squared_distance(p, cgal_ball.center) > b.radius * b.radius * (1 + 1e-12) + 1e-300)
+                    throw validation_error("CGAL's minimum ball misses a point on " + workload);
+            if (!shell || n <= ctx.cfg.cgal_hull_shell_max_n) {
+                const auto h = cgal_convex_hull(arr);
+                if (std::abs(h.volume - hull_volume) > 1e-9 * std::max(h.volume, 1e-300) ||
+                    h.vertices.size() != hull.vertices().size())
+                    throw validation_error("convex hull on " + workload + " n=" + std::to_string(n) + ": volume " + fmt(hull_volume) +
+                                           " with " + std::to_string(hull.vertices().size()) + " vertices, CGAL's convex_hull_3 " +
+                                           fmt(h.volume) + " with " + std::to_string(h.vertices.size()));
+                ctx.rows.push_back(make_row(ctx, "cgal", "convex_hull", workload, n, "fit", "method=convex_hull_3", "fit_time",
+                                            h.seconds, "s"));
+                ctx.rows.push_back(make_row(ctx, "cgal", "convex_hull", workload, n, "fit", "method=convex_hull_3", "volume",
+                                            h.volume, "u^3"));
+            }
+            {
+                const auto o = cgal_oriented_bounding_box(arr);
+                ctx.rows.push_back(make_row(ctx, "cgal", "obb", workload, n, "fit", "method=oriented_bounding_box", "fit_time",
+                                            o.seconds, "s"));
+                ctx.rows.push_back(make_row(ctx, "cgal", "obb", workload, n, "fit", "method=oriented_bounding_box", "volume",
+                                            o.volume, "u^3"));
+                if (hull_volume > 0)
+                    ctx.rows.push_back(make_row(ctx, "cgal", "obb", workload, n, "fit", "method=oriented_bounding_box",
+                                                "tightness", o.volume / hull_volume, "ratio"));
+            }
+            if (n <= ctx.cfg.cgal_ellipsoid_max_n) {
+                const auto e = cgal_min_ellipsoid(arr, 1e-3);
+                if (e.full_dimensional) {
+                    // Cross-check with ours: both are within (1 + tolerance) of the minimum
+                    // (CGAL's double arithmetic overshoots its epsilon slightly: a factor 2 of
+                    // slack on the tolerance).
+                    const auto mine = ellipsoid3::fit_khachiyan(sp, 1e-3);
+                    const double v = static_cast<double>(mine.volume());
+                    if (e.volume < v / (1 + 2e-3) || v < e.volume / (1 + 2e-3))
+                        throw validation_error("minimum ellipsoid on " + workload + ": volume " + fmt(v) + " but CGAL's " +
+                                               fmt(e.volume) + " (both should be within 0.1% of the minimum)");
+                    ctx.rows.push_back(make_row(ctx, "cgal", "ellipsoid", workload, n, "fit", "method=approximate_min_ellipsoid_d_1e-3",
+                                                "fit_time", e.seconds, "s"));
+                    ctx.rows.push_back(make_row(ctx, "cgal", "ellipsoid", workload, n, "fit", "method=approximate_min_ellipsoid_d_1e-3",
+                                                "volume", e.volume, "u^3"));
+                    if (hull_volume > 0)
+                        ctx.rows.push_back(make_row(ctx, "cgal", "ellipsoid", workload, n, "fit",
+                                                    "method=approximate_min_ellipsoid_d_1e-3", "tightness", e.volume / hull_volume, "ratio"));
+                }
+            }
+        }
+#endif
+        fit_study(ctx, aabb_type(), workload, sp, hull_volume, nullptr);
+        fit_study(ctx, sphere_type(), workload, sp, hull_volume, cgal_ball_ptr);
+        fit_study(ctx, obb_type(), workload, sp, hull_volume, nullptr);
+        fit_study(ctx, kdop_type<6>(), workload, sp, hull_volume, nullptr);
+        fit_study(ctx, kdop_type<14>(), workload, sp, hull_volume, nullptr);
+        fit_study(ctx, kdop_type<18>(), workload, sp, hull_volume, nullptr);
+        fit_study(ctx, kdop_type<26>(), workload, sp, hull_volume, nullptr);
+        fit_study(ctx, ellipsoid_type(), workload, sp, hull_volume, nullptr);
+        fit_study(ctx, hull_type(), workload, sp, hull_volume, nullptr);
+        ctx.prog.say("fit " + workload + " n=" + std::to_string(n) + " hull volume " + fmt(hull_volume));
+    }
+#if defined(SPATIAL_HAVE_CGAL) && SPATIAL_HAVE_CGAL
+    const auto inst = make_instances(ctx, workload, mesh, seed);
+    pair_study(ctx, aabb_type(), workload, inst);
+    pair_study(ctx, sphere_type(), workload, inst);
+    pair_study(ctx, obb_type(), workload, inst);
+    pair_study(ctx, kdop_type<6>(), workload, inst);
+    pair_study(ctx, kdop_type<14>(), workload, inst);
+    pair_study(ctx, kdop_type<18>(), workload, inst);
+    pair_study(ctx, kdop_type<26>(), workload, inst);
+    pair_study(ctx, ellipsoid_type(), workload, inst);
+    pair_study(ctx, hull_type(), workload, inst);
+    ctx.prog.say("pairs " + workload + ": " + std::to_string(inst.pairs.size()) + " pairs, " +
+                 std::to_string(inst.disjoint_pairs) + " disjoint");
+#else
+    ctx.prog.say("pairs " + workload + ": skipped (the exact overlap reference needs CGAL)");
+#endif
+}
+
+// A real mesh's vertices, centred and scaled to diameter ~1 (so instances compare with the
+// generated shapes).
+std::vector<P> normalized_mesh(const std::filesystem::path& file) {
+    auto pts = datasets::load_point_set(file);
+    const auto box = aabb3::fit(pts);
+    double diag = 0;
+    for (int d = 0; d < 3; ++d) diag += (box.hi[d] - box.lo[d]) * (box.hi[d] - box.lo[d]);
+    diag = std::sqrt(diag);
+    for (auto& p : pts)
+        for (int d = 0; d < 3; ++d) p[d] = (p[d] - (box.lo[d] + box.hi[d]) / 2) / diag;
+    return pts;
+}
+
+}  // namespace
+
+void run_bv_suite(const suite_options& options) {
+    context ctx{options, preset(options.preset), make_run_id("bv", options.preset), progress(options.quiet), {}, {}};
+    if (!options.sizes.empty()) ctx.cfg.sizes = options.sizes;
+    std::vector<std::string> shapes = options.workloads.empty() ? datasets::shape_names() : options.workloads;
+    ctx.seeds["data"] = options.seed;
+    const auto t0 = std::chrono::steady_clock::now();
+    std::size_t real = 0;
+    for (const auto& w : shapes) {
+        const auto names = datasets::shape_names();
+        if (std::find(names.begin(), names.end(), w) == names.end()) continue;
+        run_shape(ctx, w, nullptr, options.seed);
+    }
+    if (!options.real_data_dir.empty())
+        for (const auto& f : ctx.cfg.real_meshes) {
+            const auto path = options.real_data_dir / f;
+            if (!std::filesystem::exists(path)) {
+                ctx.prog.say("no " + path.string() + " (run datasets/fetch_real_data.sh)");
+                continue;
+            }
+            const auto mesh = normalized_mesh(path);
+            run_shape(ctx, std::filesystem::path(f).stem().string(), &mesh, options.seed);
+            ++real;
+        }
+    write_csv_atomically(options.results_dir / options.output_name, ctx.rows);
+    run_info info{ctx.run_id, "bv", options.preset, ctx.seeds, {}};
+    info.extra["real_meshes"] = std::to_string(real);
+    write_run_sidecar(options.results_dir, info, seconds_since(t0));
+    ctx.prog.say("wrote " + (options.results_dir / options.output_name).string() + " (" + std::to_string(ctx.rows.size()) +
+                 " rows), run " + ctx.run_id);
+}
+
+}  // namespace harness
