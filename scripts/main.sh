@@ -1,6 +1,6 @@
 #!/usr/bin/env bash
-# The main job: install dependencies, fetch real data, build Release, run a benchmark
-# suite (default: the quick preset, < 15 min on 2 cores), write results/*.csv and draw
+# The main job: install dependencies, fetch real data, build Release, run the benchmark
+# suites knn and bv (default: the quick preset, < 15 min on 2 cores), write results/*.csv and draw
 # plots/*.png.   Usage: scripts/main.sh [smoke|quick|full]
 set -euo pipefail
 cd "$(dirname "$0")/.."
@@ -14,8 +14,10 @@ cmake --build --preset release --target spatialbench -j"$(nproc)"
 
 real_dir=datasets/real
 [[ "$preset" == smoke ]] && real_dir=""   # smoke stays seconds long
-./build/release/harness/spatialbench run --suite knn --preset "$preset" --results results \
-  ${real_dir:+--real-data "$real_dir"}
+for suite in knn bv; do
+  ./build/release/harness/spatialbench run --suite "$suite" --preset "$preset" --results results \
+    ${real_dir:+--real-data "$real_dir"}
+done
 
 /usr/bin/python3 plots/plot_results.py --results results --out plots
 echo "main: results in results/, plots in plots/"

@@ -12,3 +12,14 @@ add_test(NAME spatialbench_rejects_unknown_workload
          COMMAND $<TARGET_FILE:spatialbench> run --preset smoke --workload nosuchworkload --quiet
                  --results ${CMAKE_CURRENT_BINARY_DIR}/bad_results)
 set_tests_properties(spatialbench_rejects_unknown_workload PROPERTIES WILL_FAIL TRUE)
+
+# The bv suite end to end at smoke size (every fit checked for containment, overlap tests
+# against the exact reference, CSV + sidecar written), and its rejection of an unknown shape.
+add_test(NAME spatialbench_bv_smoke_run
+         COMMAND $<TARGET_FILE:spatialbench> run --suite bv --preset smoke --quiet
+                 --results ${CMAKE_CURRENT_BINARY_DIR}/bv_smoke_results)
+set_tests_properties(spatialbench_bv_smoke_run PROPERTIES TIMEOUT 300)
+add_test(NAME spatialbench_bv_rejects_unknown_shape
+         COMMAND $<TARGET_FILE:spatialbench> run --suite bv --preset smoke --workload nosuchshape --quiet
+                 --results ${CMAKE_CURRENT_BINARY_DIR}/bv_bad_results)
+set_tests_properties(spatialbench_bv_rejects_unknown_shape PROPERTIES WILL_FAIL TRUE)
