@@ -756,9 +756,16 @@ def pareto_front(points):
     return front
 
 
-def bv_points(rows, operation, x_metric, y_metric, n_choice, group_params=("method",)):
-    """(label, x, y) per (structure, bv, method[, test]): geometric means over workloads of
-    the median x and y at one n per workload (n_choice picks it from the ns measured)."""
+def arithmetic_mean(values):
+    values = [v for v in values if math.isfinite(v)]
+    return sum(values) / len(values) if values else float("nan")
+
+
+def bv_points(rows, operation, x_metric, y_metric, n_choice, group_params=("method",),
+              y_mean=geometric_mean):
+    """(label, x, y) per (structure, bv, method[, test]): the geometric mean over workloads of
+    the median x, and y_mean (geometric by default; arithmetic for rates, which may be 0) of
+    the median y, at one n per workload (n_choice picks it from the ns measured)."""
     cells = collections.defaultdict(lambda: collections.defaultdict(list))
     for row in rows:
         if row.operation != operation or row.metric not in (x_metric, y_metric):
@@ -781,7 +788,7 @@ def bv_points(rows, operation, x_metric, y_metric, n_choice, group_params=("meth
         structure, bv, *rest = key
         label = f"{bv} {' '.join(r for r in rest if r)}" + ("" if structure == "spatialbench"
                                                              else f" [{structure}]")
-        points.append((label, geometric_mean(xs), geometric_mean(ys)))
+        points.append((label, geometric_mean(xs), y_mean(ys)))
     return [p for p in points if math.isfinite(p[1]) and math.isfinite(p[2])]
 
 
@@ -825,7 +832,7 @@ def plot_bv_tradeoff(rows, out_dir, include_unvalidated):
 
     fit = bv_points(bv_rows, "fit", "fit_time", "tightness", at_reference_n)
     overlap = bv_points(bv_rows, "overlap", "time_per_op", "false_positive_rate_shapes", max,
-                        ("method", "test"))
+                        ("method", "test"), y_mean=arithmetic_mean)
     tight_by_method = {label.split(" [")[0]: y for label, _, y in fit}
     overlap_tight = []
     for label, x, _ in overlap:
@@ -850,10 +857,10 @@ def plot_bv_tradeoff(rows, out_dir, include_unvalidated):
     if overlap:
         y = [(label, x, max(v, 1e-4)) for label, x, v in overlap]
         draw_tradeoff_panel(axes[2], y, "overlap test time (ns)",
-                            "false-positive rate vs. the enclosed shapes (floor 1e-4)",
+                            "false-positive rate vs. the enclosed shapes\n(mean over shapes; 0 drawn at 1e-4)",
                             "pruning power against overlap-test time")
-    figure.suptitle("bv: accuracy against time (geometric means over shapes; lower-left is "
-                    "better; stars = Pareto front)")
+    figure.suptitle("bv: accuracy against time (times and tightness: geometric means over "
+                    "shapes; lower-left is better; stars = Pareto front)")
     figure.tight_layout()
     return [save_atomically(figure, os.path.join(out_dir, BV_TRADEOFF_FILE))]
 
