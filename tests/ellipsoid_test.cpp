@@ -8,10 +8,11 @@
 //   * point-ellipsoid distance by dense parametric sampling plus local refinement;
 //   * surface area by numerical quadrature and closed forms for spheroids.
 
+#include "spatial/bv/ellipsoid.hpp"
+
 #include <gtest/gtest.h>
 
 #include <Eigen/Dense>
-
 #include <algorithm>
 #include <array>
 #include <chrono>
@@ -23,7 +24,6 @@
 #include <string>
 #include <vector>
 
-#include "spatial/bv/ellipsoid.hpp"
 #include "test_support.hpp"
 
 using namespace spatial;
@@ -37,7 +37,9 @@ struct dims {
 };
 
 using rng_t = std::mt19937_64;
-inline double unit(rng_t& r) { return static_cast<double>(r() >> 11) * 0x1.0p-53; }
+inline double unit(rng_t& r) {
+    return static_cast<double>(r() >> 11) * 0x1.0p-53;
+}
 inline double gauss(rng_t& r) {  // Box-Muller
     const double u1 = std::max(unit(r), 1e-300), u2 = unit(r);
     return std::sqrt(-2 * std::log(u1)) * std::cos(6.283185307179586 * u2);
@@ -90,7 +92,8 @@ std::array<double, D> surface_point(const ellipsoid<T, D>& e, const std::array<d
     std::array<double, D> x;
     for (std::size_t i = 0; i < D; ++i) {
         x[i] = static_cast<double>(e.center[i]);
-        for (std::size_t k = 0; k < D; ++k) x[i] += scale * static_cast<double>(e.semi_axes[k]) * z[k] * ui(int(i), int(k));
+        for (std::size_t k = 0; k < D; ++k)
+            x[i] += scale * static_cast<double>(e.semi_axes[k]) * z[k] * ui(int(i), int(k));
     }
     return x;
 }
@@ -131,7 +134,8 @@ std::vector<std::pair<std::string, std::vector<point<T, D>>>> hard_sets(std::uin
     make("three points", 3, [&](std::size_t i, std::size_t d) { return std::sin(static_cast<double>(7 * i + 3 * d)); });
     make("all equal", 100, [&](std::size_t, std::size_t) { return 0.25; });
     make("all zero", 10, [&](std::size_t, std::size_t) { return 0.0; });
-    make("collinear", 200, [&](std::size_t i, std::size_t d) { return static_cast<double>(i) * 0.01 * static_cast<double>(d + 1); });
+    make("collinear", 200,
+         [&](std::size_t i, std::size_t d) { return static_cast<double>(i) * 0.01 * static_cast<double>(d + 1); });
     make("coplanar", 200, [&](std::size_t, std::size_t d) { return d + 1 == D ? 0.5 : unit(rng); });
     make("offset 1e8", 200, [&](std::size_t, std::size_t) { return 1e8 + unit(rng) * (sizeof(T) == 4 ? 1e3 : 1.0); });
     make("spread 1e-12", 200, [&](std::size_t, std::size_t) { return 0.5 + unit(rng) * 1e-12; });
@@ -139,7 +143,8 @@ std::vector<std::pair<std::string, std::vector<point<T, D>>>> hard_sets(std::uin
         return static_cast<double>(i % 3) * static_cast<double>(d * d + 1) + 1e-13 * unit(rng);
     });
     make("thin slab 1e-9", 300, [&](std::size_t, std::size_t d) { return d + 1 == D ? 1e-9 * unit(rng) : unit(rng); });
-    make("one outlier", 300, [&](std::size_t i, std::size_t d) { return i == 7 ? 50.0 : gauss(rng) * 0.1 + static_cast<double>(d); });
+    make("one outlier", 300,
+         [&](std::size_t i, std::size_t d) { return i == 7 ? 50.0 : gauss(rng) * 0.1 + static_cast<double>(d); });
     {
         const auto rot = random_rotation<D>(rng);
         std::vector<point<T, D>> v;
@@ -163,7 +168,8 @@ double frame_error(const ellipsoid<T, D>& e) {
     for (std::size_t a = 0; a < D; ++a)
         for (std::size_t b = 0; b < D; ++b) {
             double s = 0;
-            for (std::size_t i = 0; i < D; ++i) s += static_cast<double>(e.axes[a][i]) * static_cast<double>(e.axes[b][i]);
+            for (std::size_t i = 0; i < D; ++i)
+                s += static_cast<double>(e.axes[a][i]) * static_cast<double>(e.axes[b][i]);
             err = std::max(err, std::abs(s - (a == b ? 1.0 : 0.0)));
         }
     return err;
@@ -183,7 +189,8 @@ lmat<D> inverse_shape(const ellipsoid<T, D>& e) {
     for (std::size_t i = 0; i < D; ++i)
         for (std::size_t j = 0; j < D; ++j) u(int(i), int(j)) = static_cast<long double>(e.axes[i][j]);
     lmat<D> d = lmat<D>::Zero();
-    for (std::size_t k = 0; k < D; ++k) d(int(k), int(k)) = static_cast<long double>(e.semi_axes[k]) * static_cast<long double>(e.semi_axes[k]);
+    for (std::size_t k = 0; k < D; ++k)
+        d(int(k), int(k)) = static_cast<long double>(e.semi_axes[k]) * static_cast<long double>(e.semi_axes[k]);
     const lmat<D> ui = u.inverse();
     return ui * d * ui.transpose();
 }
@@ -193,7 +200,8 @@ template <class T, std::size_t D>
 long double pw_reference(const ellipsoid<T, D>& a, const ellipsoid<T, D>& b) {
     const lmat<D> ai = inverse_shape(a), bi = inverse_shape(b);
     lvec<D> r;
-    for (std::size_t i = 0; i < D; ++i) r[int(i)] = static_cast<long double>(b.center[i]) - static_cast<long double>(a.center[i]);
+    for (std::size_t i = 0; i < D; ++i)
+        r[int(i)] = static_cast<long double>(b.center[i]) - static_cast<long double>(a.center[i]);
     auto f = [&](long double l) -> long double {
         const lmat<D> m = (1 - l) * ai + l * bi;
         return l * (1 - l) * r.dot(m.partialPivLu().solve(r));
@@ -202,8 +210,10 @@ long double pw_reference(const ellipsoid<T, D>& a, const ellipsoid<T, D>& b) {
     const long double g = (std::sqrt(5.0L) - 1) / 2;
     long double x1 = hi - g * (hi - lo), x2 = lo + g * (hi - lo), f1 = f(x1), f2 = f(x2);
     for (int it = 0; it < 200 && hi - lo > 1e-17L; ++it) {
-        if (f1 < f2) lo = x1, x1 = x2, f1 = f2, x2 = lo + g * (hi - lo), f2 = f(x2);
-        else hi = x2, x2 = x1, f2 = f1, x1 = hi - g * (hi - lo), f1 = f(x1);
+        if (f1 < f2)
+            lo = x1, x1 = x2, f1 = f2, x2 = lo + g * (hi - lo), f2 = f(x2);
+        else
+            hi = x2, x2 = x1, f2 = f1, x1 = hi - g * (hi - lo), f1 = f(x1);
     }
     return std::max(f1, f2);
 }
@@ -318,7 +328,8 @@ TYPED_TEST(ellipsoid_typed, khachiyan_is_within_tolerance_of_the_minimum) {
             std::array<double, D> z;
             for (std::size_t k = 0; k < D; ++k) {
                 const double sc = 1.0 + static_cast<double>(k) * 2;
-                z[k] = (trial % 4 == 1 ? gauss(rng) : unit(rng) - 0.5) * sc + (trial % 4 == 3 ? static_cast<double>(i % 3) * 4 : 0.0);
+                z[k] = (trial % 4 == 1 ? gauss(rng) : unit(rng) - 0.5) * sc +
+                       (trial % 4 == 3 ? static_cast<double>(i % 3) * 4 : 0.0);
             }
             std::array<double, D> x{};
             for (std::size_t r = 0; r < D; ++r)
@@ -326,9 +337,10 @@ TYPED_TEST(ellipsoid_typed, khachiyan_is_within_tolerance_of_the_minimum) {
             pts.push_back(to_point<T, D>(x));
         }
         khachiyan_report ref_rep;
-        const E ref = E::fit_khachiyan(pts, 1e-9, &ref_rep);
+        const double ref_tol = sizeof(T) == 4 ? 1e-7 : 1e-9;
+        const E ref = E::fit_khachiyan(pts, ref_tol, &ref_rep);
         ASSERT_EQ(ref_rep.fitted_dimension, D);
-        EXPECT_LE(ref_rep.certified_ratio, 1 + 1e-9);
+        EXPECT_LE(ref_rep.certified_ratio, 1 + ref_tol);
         for (const auto& p : pts) ASSERT_TRUE(ref.contains(p));
         const double vref = static_cast<double>(ref.volume());
         for (double tol : {0.3, 1e-2, 1e-3}) {
@@ -337,7 +349,7 @@ TYPED_TEST(ellipsoid_typed, khachiyan_is_within_tolerance_of_the_minimum) {
             for (const auto& p : pts) ASSERT_TRUE(e.contains(p));
             const double v = static_cast<double>(e.volume());
             EXPECT_LE(v, vref * (1 + tol) * (1 + rnd)) << "tol " << tol;
-            EXPECT_GE(v, vref / (1 + 1e-9) * (1 - rnd)) << "tol " << tol;
+            EXPECT_GE(v, vref / (1 + ref_tol) * (1 - rnd)) << "tol " << tol;
             EXPECT_LE(rep.certified_ratio, 1 + tol);
             EXPECT_GE(rep.certified_ratio, 1.0 - 1e-9);
         }
@@ -350,10 +362,12 @@ TYPED_TEST(ellipsoid_typed, khachiyan_is_within_tolerance_of_the_minimum) {
         std::array<double, D> v0{};
         for (std::size_t i = 0; i <= D; ++i) {
             std::array<double, D> x;
-            for (std::size_t c = 0; c < D; ++c) x[c] = unit(rng) * 4 - 2 + (trial == 5 ? (sizeof(T) == 4 ? 1e3 : 1e6) : 0.0);
+            for (std::size_t c = 0; c < D; ++c)
+                x[c] = unit(rng) * 4 - 2 + (trial == 5 ? (sizeof(T) == 4 ? 1e3 : 1e6) : 0.0);
             const point<T, D> p = to_point<T, D>(x);
             for (std::size_t c = 0; c < D; ++c) x[c] = static_cast<double>(p[c]);
-            if (i == 0) v0 = x;
+            if (i == 0)
+                v0 = x;
             else
                 for (std::size_t c = 0; c < D; ++c) edges(int(c), int(i - 1)) = x[c] - v0[c];
             pts.push_back(p);
@@ -388,15 +402,20 @@ TYPED_TEST(ellipsoid_typed, khachiyan_is_within_tolerance_of_the_minimum) {
         const double vk = static_cast<double>(known.volume());
         // At offset 1e4 a float point is rounded by up to 5e-4: the set is only near the surface.
         const double r = trial == 3 ? (sizeof(T) == 4 ? 2e-2 : 1e-8) : (sizeof(T) == 4 ? 1e-4 : 1e-9);
-        for (double tol : {1e-3, 1e-9}) {
+        // Float-rounded surface points lie only within ~1e-7 (1e-4 at the offset) of the
+        // ellipsoid: nearly all are active and tolerances below that are not reachable
+        // within the iteration cap (documented), so float stops at 1e-6.
+        for (double tol : {1e-3, sizeof(T) == 4 ? 1e-6 : 1e-9}) {
             const E e = E::fit_khachiyan(pts, tol);
             const double v = static_cast<double>(e.volume());
             EXPECT_LE(v, vk * (1 + tol) * (1 + r)) << "surface trial " << trial << " tol " << tol;
             EXPECT_GE(v, vk * (1 - r)) << "surface trial " << trial << " tol " << tol;
-            if (tol == 1e-9) {
+            if (tol < 1e-5) {
                 double cd = 0;
-                for (std::size_t i = 0; i < D; ++i) cd = std::max(cd, std::abs(static_cast<double>(e.center[i]) - c[i]));
-                EXPECT_LE(cd, sizeof(T) == 4 ? 1e-2 * (1 + std::abs(c[0])) * 1e-3 + 1e-3 : 1e-5 * (1 + std::abs(c[0])) * 1e-3 + 1e-6);
+                for (std::size_t i = 0; i < D; ++i)
+                    cd = std::max(cd, std::abs(static_cast<double>(e.center[i]) - c[i]));
+                EXPECT_LE(cd, sizeof(T) == 4 ? 1e-2 * (1 + std::abs(c[0])) * 1e-3 + 1e-3
+                                             : 1e-5 * (1 + std::abs(c[0])) * 1e-3 + 1e-6);
             }
         }
     }
@@ -440,12 +459,14 @@ TEST(ellipsoid_overlap, tangent_pairs_are_decided_exactly) {
                 const bool ov = a.overlaps(b), ov2 = b.overlaps(a);
                 const auto c = a.contact_function(b);
                 const long double ref = pw_reference(a, b);
-                EXPECT_NEAR(c.value, static_cast<double>(ref), 1e-12 * static_cast<double>(ref) + 1e-13) << "trial " << trial;
+                EXPECT_NEAR(c.value, static_cast<double>(ref), 1e-12 * static_cast<double>(ref) + 1e-13)
+                    << "trial " << trial;
                 if (delta <= 0) {
-                    EXPECT_TRUE(ov && ov2) << "false negative, trial " << trial << " delta " << delta << " F=" << c.value
-                                           << " ref=" << static_cast<double>(ref);
+                    EXPECT_TRUE(ov && ov2) << "false negative, trial " << trial << " delta " << delta
+                                           << " F=" << c.value << " ref=" << static_cast<double>(ref);
                 } else {
-                    EXPECT_FALSE(ov || ov2) << "trial " << trial << " delta " << delta << " F=" << c.value << " tol=" << c.tolerance;
+                    EXPECT_FALSE(ov || ov2)
+                        << "trial " << trial << " delta " << delta << " F=" << c.value << " tol=" << c.tolerance;
                     EXPECT_GT(static_cast<double>(ref), 1.0);
                 }
                 ++checked;
@@ -485,11 +506,12 @@ TYPED_TEST(ellipsoid_typed, overlaps_has_no_false_negatives_against_the_long_dou
         const auto c = a.contact_function(b);
         if (ref <= 1) {
             ++yes;
-            ASSERT_TRUE(ov) << "false negative, trial " << trial << " ref F=" << static_cast<double>(ref) << " F=" << c.value;
+            ASSERT_TRUE(ov) << "false negative, trial " << trial << " ref F=" << static_cast<double>(ref)
+                            << " F=" << c.value;
         } else if (ref > 1 + 1e-10L) {
             ++no;
-            ASSERT_FALSE(ov) << "false positive outside the band, trial " << trial << " ref F=" << static_cast<double>(ref)
-                             << " F=" << c.value << " tol=" << c.tolerance;
+            ASSERT_FALSE(ov) << "false positive outside the band, trial " << trial
+                             << " ref F=" << static_cast<double>(ref) << " F=" << c.value << " tol=" << c.tolerance;
         } else {
             ++band;
         }
@@ -498,7 +520,8 @@ TYPED_TEST(ellipsoid_typed, overlaps_has_no_false_negatives_against_the_long_dou
         if (trial % 7 < 2) {
             for (int s = 0; s < 400; ++s) {
                 auto z = random_unit<D>(rng);
-                const point<T, D> q = to_point<T, D>(surface_point(a, z, std::pow(unit(rng), 1.0 / static_cast<double>(D))));
+                const point<T, D> q =
+                    to_point<T, D>(surface_point(a, z, std::pow(unit(rng), 1.0 / static_cast<double>(D))));
                 if (a.contains(q) && b.contains(q)) {
                     ++sampled;
                     ASSERT_TRUE(ov) << "a sample lies in both, trial " << trial;
@@ -524,7 +547,8 @@ TYPED_TEST(ellipsoid_typed, ray_intervals_agree_with_point_sampling) {
     const E e = random_ellipsoid<T, D>(rng, 0.3, 2.0, std::array<double, D>{});
     for (int trial = 0; trial < 400; ++trial) {
         point<T, D> o, d;
-        for (std::size_t c = 0; c < D; ++c) o[c] = static_cast<T>(unit(rng) * 6 - 3), d[c] = static_cast<T>(unit(rng) - 0.5);
+        for (std::size_t c = 0; c < D; ++c)
+            o[c] = static_cast<T>(unit(rng) * 6 - 3), d[c] = static_cast<T>(unit(rng) - 0.5);
         if (trial % 4 == 0)  // axis rays: zero and negative-zero components
             for (std::size_t c = 0; c < D; ++c)
                 if (c != static_cast<std::size_t>(trial / 4) % D) d[c] = trial % 8 == 0 ? T(0) : T(-0.0);
@@ -568,14 +592,31 @@ TYPED_TEST(ellipsoid_typed, distance_lower_bound_is_the_exact_distance) {
     rng_t rng(seed);
     for (int shape = 0; shape < 3; ++shape) {
         const E e = random_ellipsoid<T, D>(rng, shape == 2 ? 0.05 : 0.3, 2.0, std::array<double, D>{0.5, -0.25});
-        // Surface parametrisation in e's frame.
+        // Surface parametrisation of the stored form: c + U^-1 diag(a) z(th, ph).
+        Eigen::Matrix<double, int(D), int(D)> u;
+        for (std::size_t i = 0; i < D; ++i)
+            for (std::size_t j = 0; j < D; ++j) u(int(i), int(j)) = static_cast<double>(e.axes[i][j]);
+        const Eigen::Matrix<double, int(D), int(D)> ui = u.inverse();
         auto surf = [&](double th, double ph) {
             std::array<double, D> z;
-            if constexpr (D == 2) z = {std::cos(th), std::sin(th)};
-            else z = {std::cos(th) * std::sin(ph), std::sin(th) * std::sin(ph), std::cos(ph)};
-            return surface_point(e, z);
+            if constexpr (D == 2)
+                z = {std::cos(th), std::sin(th)};
+            else
+                z = {std::cos(th) * std::sin(ph), std::sin(th) * std::sin(ph), std::cos(ph)};
+            std::array<double, D> x;
+            for (std::size_t i = 0; i < D; ++i) {
+                x[i] = static_cast<double>(e.center[i]);
+                for (std::size_t k = 0; k < D; ++k)
+                    x[i] += static_cast<double>(e.semi_axes[k]) * z[k] * ui(int(i), int(k));
+            }
+            return x;
         };
-        for (int q = 0; q < 40; ++q) {
+#ifdef NDEBUG
+        const int queries = 40;
+#else
+        const int queries = 12;  // sanitizer builds: keep the run short
+#endif
+        for (int q = 0; q < queries; ++q) {
             point<T, D> p;
             for (std::size_t c = 0; c < D; ++c) p[c] = static_cast<T>(unit(rng) * 8 - 4);
             const double lb = static_cast<double>(e.distance_lower_bound(p));
@@ -586,11 +627,12 @@ TYPED_TEST(ellipsoid_typed, distance_lower_bound_is_the_exact_distance) {
             auto dist = [&](double th, double ph) {
                 const auto x = surf(th, ph);
                 double s = 0;
-                for (std::size_t c = 0; c < D; ++c) s += (x[c] - static_cast<double>(p[c])) * (x[c] - static_cast<double>(p[c]));
+                for (std::size_t c = 0; c < D; ++c)
+                    s += (x[c] - static_cast<double>(p[c])) * (x[c] - static_cast<double>(p[c]));
                 return std::sqrt(s);
             };
             double bt = 0, bp = 0, best = 1e300;
-            const int nt = D == 2 ? 4000 : 400, np = D == 2 ? 1 : 200;
+            const int nt = D == 2 ? 4000 : 200, np = D == 2 ? 1 : 100;
             for (int i = 0; i < nt; ++i)
                 for (int j = 0; j < np; ++j) {
                     const double th = 2 * pi * i / nt, ph = D == 2 ? 0.0 : pi * (j + 0.5) / np;
@@ -631,7 +673,9 @@ TYPED_TEST(ellipsoid_typed, merged_contains_both_and_transformed_is_exact) {
             cb[i] = trial % 5 == 0 ? ca[i] : (trial % 5 == 1 ? ca[i] + 0.01 : unit(rng) * 8 - 4);
         }
         const E a = random_ellipsoid<T, D>(rng, 0.05, 2.0, ca);
-        E b = trial % 5 == 0 ? a : random_ellipsoid<T, D>(rng, trial % 5 == 1 ? 0.01 : 0.05, trial % 5 == 1 ? 0.04 : 2.0, cb);
+        E b = trial % 5 == 0
+                  ? a
+                  : random_ellipsoid<T, D>(rng, trial % 5 == 1 ? 0.01 : 0.05, trial % 5 == 1 ? 0.04 : 2.0, cb);
         const E m = a.merged(b);
         ASSERT_FALSE(m.is_empty());
         for (const E* src : {static_cast<const E*>(&a), static_cast<const E*>(&b)})
@@ -641,7 +685,8 @@ TYPED_TEST(ellipsoid_typed, merged_contains_both_and_transformed_is_exact) {
                 ASSERT_TRUE(src->contains(q));
                 ASSERT_TRUE(m.contains(q)) << "merged misses a point of an input, q=" << m.quadratic_form(q);
             }
-        const double va = static_cast<double>(a.volume()), vb = static_cast<double>(b.volume()), vm = static_cast<double>(m.volume());
+        const double va = static_cast<double>(a.volume()), vb = static_cast<double>(b.volume()),
+                     vm = static_cast<double>(m.volume());
         EXPECT_GE(vm, std::max(va, vb) * (1 - 1e-5));
         if (trial % 5 == 0 || trial % 5 == 1) {  // identical inputs; b nested in a
             EXPECT_NEAR(vm, va, 1e-5 * va);
@@ -670,7 +715,8 @@ TYPED_TEST(ellipsoid_typed, merged_contains_both_and_transformed_is_exact) {
         // The inverse motion brings it back (centre).
         const E back = moved.transformed(xf.inverse());
         for (std::size_t i = 0; i < D; ++i)
-            EXPECT_NEAR(static_cast<double>(back.center[i]), static_cast<double>(a.center[i]), sizeof(T) == 4 ? 1e-2 : 1e-9);
+            EXPECT_NEAR(static_cast<double>(back.center[i]), static_cast<double>(a.center[i]),
+                        sizeof(T) == 4 ? 1e-2 : 1e-9);
     }
 }
 
@@ -687,7 +733,8 @@ TYPED_TEST(ellipsoid_typed, volume_and_surface_area_are_exact) {
     rng_t rng(seed);
     for (int trial = 0; trial < 8; ++trial) {
         E e = random_ellipsoid<T, D>(rng, trial < 2 ? 1e-3 : 0.2, 3.0, std::array<double, D>{});
-        double a[3] = {static_cast<double>(e.semi_axes[0]), static_cast<double>(e.semi_axes[1]), D == 3 ? static_cast<double>(e.semi_axes[D - 1]) : 0.0};
+        double a[3] = {static_cast<double>(e.semi_axes[0]), static_cast<double>(e.semi_axes[1]),
+                       D == 3 ? static_cast<double>(e.semi_axes[D - 1]) : 0.0};
         double v = D == 2 ? pi * a[0] * a[1] : 4 * pi / 3 * a[0] * a[1] * a[2];
         EXPECT_NEAR(static_cast<double>(e.volume()), v, rel * v);
         // Quadrature of the surface measure (midpoint rule, smooth periodic integrand).
@@ -705,11 +752,13 @@ TYPED_TEST(ellipsoid_typed, volume_and_surface_area_are_exact) {
                     const double th = 2 * pi * (i + 0.5) / nt, ph = pi * (j + 0.5) / np;
                     // |x_th x x_ph| for x = (a cos th sin ph, b sin th sin ph, c cos ph)
                     const double st = std::sin(th), ct = std::cos(th), sp = std::sin(ph), cp = std::cos(ph);
-                    const double nx = a[1] * a[2] * ct * sp * sp, ny = a[0] * a[2] * st * sp * sp, nz = a[0] * a[1] * sp * cp;
+                    const double nx = a[1] * a[2] * ct * sp * sp, ny = a[0] * a[2] * st * sp * sp,
+                                 nz = a[0] * a[1] * sp * cp;
                     area += std::sqrt(nx * nx + ny * ny + nz * nz) * (2 * pi / nt) * (pi / np);
                 }
         }
-        EXPECT_NEAR(static_cast<double>(e.surface_area()), area, (D == 2 ? 1e-9 : 1e-5) * area + rel * area) << "trial " << trial;
+        EXPECT_NEAR(static_cast<double>(e.surface_area()), area, (D == 2 ? 1e-9 : 1e-5) * area + rel * area)
+            << "trial " << trial;
     }
     if constexpr (D == 3) {
         // Spheroids (closed forms) and the flat limit.
@@ -719,7 +768,8 @@ TYPED_TEST(ellipsoid_typed, volume_and_surface_area_are_exact) {
         EXPECT_NEAR(static_cast<double>(p.surface_area()), 2 * pi * (1 + 3 / e1 * std::asin(e1)), rel * 40);
         p.semi_axes = {T(3), T(3), T(1)};  // oblate
         const double e2 = std::sqrt(1 - 1.0 / 9);
-        EXPECT_NEAR(static_cast<double>(p.surface_area()), 2 * pi * 9 * (1 + (1 - e2 * e2) / e2 * std::atanh(e2)), rel * 100);
+        EXPECT_NEAR(static_cast<double>(p.surface_area()), 2 * pi * 9 * (1 + (1 - e2 * e2) / e2 * std::atanh(e2)),
+                    rel * 100);
         p.semi_axes = {T(2), T(1), T(0)};
         EXPECT_NEAR(static_cast<double>(p.surface_area()), 2 * pi * 2, rel * 20);
         EXPECT_EQ(p.volume(), T(0));
@@ -761,10 +811,10 @@ TEST(ellipsoid_report, fit_timings) {
             const auto t2 = std::chrono::steady_clock::now();
             for (std::size_t i = 0; i < n; i += 97) ASSERT_TRUE(kh.contains(pts[i]) && pca.contains(pts[i]));
             std::cout << "  [ellipsoid<double,3> " << shape << " n=" << n << "] fit_pca "
-                      << std::chrono::duration<double>(t1 - t0).count() * 1e3 << " ms (volume " << pca.volume() << "), fit_khachiyan(1e-3) "
-                      << std::chrono::duration<double>(t2 - t1).count() * 1e3 << " ms (volume " << kh.volume() << ", rounds "
-                      << rep.rounds << ", active " << rep.active_points << ", iterations " << rep.iterations << ", certified "
-                      << rep.certified_ratio << ")\n";
+                      << std::chrono::duration<double>(t1 - t0).count() * 1e3 << " ms (volume " << pca.volume()
+                      << "), fit_khachiyan(1e-3) " << std::chrono::duration<double>(t2 - t1).count() * 1e3
+                      << " ms (volume " << kh.volume() << ", rounds " << rep.rounds << ", active " << rep.active_points
+                      << ", iterations " << rep.iterations << ", certified " << rep.certified_ratio << ")\n";
         }
     }
     // Overlap test cost.

@@ -7,6 +7,8 @@
 //   * Monte Carlo volume and Cauchy's mean-projection formula for the surface area;
 //   * the aabb for K = 6 / 4.
 
+#include "spatial/bv/kdop.hpp"
+
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -22,7 +24,6 @@
 #include <vector>
 
 #include "spatial/bv/aabb.hpp"
-#include "spatial/bv/kdop.hpp"
 #include "test_support.hpp"
 
 using namespace spatial;
@@ -51,7 +52,9 @@ void for_each_k(F&& f) {
 }
 
 using rng_t = std::mt19937_64;
-inline double unit(rng_t& r) { return static_cast<double>(r() >> 11) * 0x1.0p-53; }
+inline double unit(rng_t& r) {
+    return static_cast<double>(r() >> 11) * 0x1.0p-53;
+}
 inline double gauss(rng_t& r) {
     double s = 0;
     for (int i = 0; i < 12; ++i) s += unit(r);
@@ -96,7 +99,8 @@ std::vector<std::pair<std::string, std::vector<point<T, D>>>> hard_sets(std::uin
     make("one point", 1, [&](std::size_t, std::size_t d) { return 1.5 + static_cast<double>(d); });
     make("two points", 2, [&](std::size_t i, std::size_t d) { return static_cast<double>(i * 3 + d); });
     make("all equal", 100, [&](std::size_t, std::size_t) { return 0.25; });
-    make("collinear", 200, [&](std::size_t i, std::size_t d) { return static_cast<double>(i) * 0.01 * static_cast<double>(d + 1); });
+    make("collinear", 200,
+         [&](std::size_t i, std::size_t d) { return static_cast<double>(i) * 0.01 * static_cast<double>(d + 1); });
     make("coplanar", 200, [&](std::size_t, std::size_t d) { return d + 1 == D ? 0.5 : unit(rng); });
     make("offset 1e8", 200, [&](std::size_t, std::size_t) { return 1e8 + unit(rng) * (sizeof(T) == 4 ? 1e3 : 1.0); });
     make("spread 1e-12", 200, [&](std::size_t, std::size_t) { return 0.5 + unit(rng) * 1e-12; });
@@ -235,7 +239,8 @@ bool sat_reference(const std::vector<rvertex<D>>& a, const std::vector<rvertex<D
     // Compare p / q < r / s with q, s > 0.
     auto less = [](long long p, long long q, long long r, long long s) { return p * s < r * q; };
     for (const auto& ax : axes) {
-        auto project = [&](const std::vector<rvertex<D>>& vs, long long& minn, long long& mind, long long& maxn, long long& maxd) {
+        auto project = [&](const std::vector<rvertex<D>>& vs, long long& minn, long long& mind, long long& maxn,
+                           long long& maxd) {
             bool first = true;
             for (const auto& v : vs) {
                 long long s = 0;
@@ -277,7 +282,8 @@ kdop<T, D, K> from_integers(const std::array<long long, K / 2>& lo, const std::a
 // A random rotated point cloud on the grid; returns the exact integer slabs of its tight
 // k-DOP, optionally snapped from a float/double fit (outward to the grid).
 template <class T, std::size_t D, std::size_t K>
-void random_grid_kdop(rng_t& rng, double size, std::array<long long, K / 2>& lo, std::array<long long, K / 2>& hi, bool via_fit) {
+void random_grid_kdop(rng_t& rng, double size, std::array<long long, K / 2>& lo, std::array<long long, K / 2>& hi,
+                      bool via_fit) {
     const auto rot = random_rotation<D>(rng);
     std::array<double, D> ext, off;
     for (std::size_t d = 0; d < D; ++d) ext[d] = size * (0.2 + unit(rng)), off[d] = (unit(rng) - 0.5) * 2 * size;
@@ -440,15 +446,18 @@ TYPED_TEST(kdop_typed, six_dop_equals_the_box_and_volumes_shrink_with_more_direc
         const double abs_vol = static_cast<double>(b0.surface_area()) * vertex_err + 1e-300;
         const double abs_area = (D == 3 ? 12 * extent : 4.0) * vertex_err + 1e-300;
         if constexpr (D == 2) {
-            const auto v4 = vol(std::integral_constant<std::size_t, 4>{}), v8 = vol(std::integral_constant<std::size_t, 8>{}),
+            const auto v4 = vol(std::integral_constant<std::size_t, 4>{}),
+                       v8 = vol(std::integral_constant<std::size_t, 8>{}),
                        v16 = vol(std::integral_constant<std::size_t, 16>{});
             EXPECT_LE(v8.first, v4.first * slack + abs_vol);
             EXPECT_LE(v16.first, v8.first * slack + abs_vol);
             EXPECT_LE(v8.second, v4.second * slack + abs_area);
             EXPECT_LE(v16.second, v8.second * slack + abs_area);
         } else {
-            const auto v6 = vol(std::integral_constant<std::size_t, 6>{}), v14 = vol(std::integral_constant<std::size_t, 14>{}),
-                       v18 = vol(std::integral_constant<std::size_t, 18>{}), v26 = vol(std::integral_constant<std::size_t, 26>{});
+            const auto v6 = vol(std::integral_constant<std::size_t, 6>{}),
+                       v14 = vol(std::integral_constant<std::size_t, 14>{}),
+                       v18 = vol(std::integral_constant<std::size_t, 18>{}),
+                       v26 = vol(std::integral_constant<std::size_t, 26>{});
             for (const auto& v : {v14, v18}) {
                 EXPECT_LE(v.first, v6.first * slack + abs_vol);
                 EXPECT_GE(v.first * slack + abs_vol, v26.first);
@@ -523,7 +532,8 @@ TYPED_TEST(kdop_typed, volume_and_area_match_monte_carlo_and_cauchy) {
                 for (const auto& v : verts) {
                     double d = 0;
                     for (std::size_t c = 0; c < D; ++c)
-                        d = std::max(d, std::abs(v[c] - static_cast<double>(r.x[c]) / static_cast<double>(r.det) / grid));
+                        d = std::max(d,
+                                     std::abs(v[c] - static_cast<double>(r.x[c]) / static_cast<double>(r.det) / grid));
                     best = std::min(best, d);
                 }
                 EXPECT_LE(best, 1e-12);
@@ -535,7 +545,8 @@ TYPED_TEST(kdop_typed, volume_and_area_match_monte_carlo_and_cauchy) {
             int in = 0;
             for (int i = 0; i < n; ++i) {
                 point<T, D> p;
-                for (std::size_t d = 0; d < D; ++d) p[d] = static_cast<T>(b.lo[d] + (b.hi[d] - b.lo[d]) * static_cast<T>(unit(rng)));
+                for (std::size_t d = 0; d < D; ++d)
+                    p[d] = static_cast<T>(b.lo[d] + (b.hi[d] - b.lo[d]) * static_cast<T>(unit(rng)));
                 in += b.contains(p);
             }
             const double f = static_cast<double>(in) / n;
@@ -545,7 +556,8 @@ TYPED_TEST(kdop_typed, volume_and_area_match_monte_carlo_and_cauchy) {
             std::vector<std::array<double, D>> rv;
             for (const auto& r : ref) {
                 std::array<double, D> v;
-                for (std::size_t c = 0; c < D; ++c) v[c] = static_cast<double>(r.x[c]) / static_cast<double>(r.det) / grid;
+                for (std::size_t c = 0; c < D; ++c)
+                    v[c] = static_cast<double>(r.x[c]) / static_cast<double>(r.det) / grid;
                 rv.push_back(v);
             }
             double mean = 0;
@@ -560,20 +572,24 @@ TYPED_TEST(kdop_typed, volume_and_area_match_monte_carlo_and_cauchy) {
                     }
                     mean += (mx - mn) / m;
                 }
-                EXPECT_NEAR(static_cast<double>(b.surface_area()), 3.141592653589793 * mean, 1e-5 * static_cast<double>(b.surface_area()));
+                EXPECT_NEAR(static_cast<double>(b.surface_area()), 3.141592653589793 * mean,
+                            1e-5 * static_cast<double>(b.surface_area()));
             } else {
                 const int m = 4000;
                 for (int i = 0; i < m; ++i) {
                     const double z = 1 - (2.0 * i + 1) / m, r = std::sqrt(1 - z * z), ph = i * 2.399963229728653;
                     const std::array<double, 3> u{r * std::cos(ph), r * std::sin(ph), z};
                     // Projected area: 2D hull (monotone chain) of the projections.
-                    std::array<double, 3> e1 = std::abs(u[0]) < 0.9 ? std::array<double, 3>{0, -u[2], u[1]} : std::array<double, 3>{-u[2], 0, u[0]};
+                    std::array<double, 3> e1 = std::abs(u[0]) < 0.9 ? std::array<double, 3>{0, -u[2], u[1]}
+                                                                    : std::array<double, 3>{-u[2], 0, u[0]};
                     const double l = std::sqrt(e1[0] * e1[0] + e1[1] * e1[1] + e1[2] * e1[2]);
                     for (auto& c : e1) c /= l;
-                    const std::array<double, 3> e2{u[1] * e1[2] - u[2] * e1[1], u[2] * e1[0] - u[0] * e1[2], u[0] * e1[1] - u[1] * e1[0]};
+                    const std::array<double, 3> e2{u[1] * e1[2] - u[2] * e1[1], u[2] * e1[0] - u[0] * e1[2],
+                                                   u[0] * e1[1] - u[1] * e1[0]};
                     std::vector<std::array<double, 2>> q;
                     for (const auto& v : rv)
-                        q.push_back({v[0] * e1[0] + v[1] * e1[1] + v[2] * e1[2], v[0] * e2[0] + v[1] * e2[1] + v[2] * e2[2]});
+                        q.push_back(
+                            {v[0] * e1[0] + v[1] * e1[1] + v[2] * e1[2], v[0] * e2[0] + v[1] * e2[1] + v[2] * e2[2]});
                     std::sort(q.begin(), q.end());
                     std::vector<std::array<double, 2>> h;
                     auto cr = [](const auto& o, const auto& a, const auto& bb) {
@@ -592,7 +608,8 @@ TYPED_TEST(kdop_typed, volume_and_area_match_monte_carlo_and_cauchy) {
                     for (std::size_t k = 0; k < h.size(); ++k) area += cr(h[0], h[k], h[(k + 1) % h.size()]);
                     mean += std::abs(area) / 2 / m;
                 }
-                EXPECT_NEAR(static_cast<double>(b.surface_area()), 4 * mean, 2e-3 * static_cast<double>(b.surface_area()));
+                EXPECT_NEAR(static_cast<double>(b.surface_area()), 4 * mean,
+                            2e-3 * static_cast<double>(b.surface_area()));
             }
         }
     });
@@ -632,7 +649,8 @@ TYPED_TEST(kdop_typed, overlaps_is_conservative_and_overlaps_exact_matches_exact
             };
             std::array<long long, D> tv{};
             for (std::size_t c = 0; c < D; ++c)
-                tv[c] = (alo[c] + ahi[c]) / 2 - (blo[c] + bhi[c]) / 2 + static_cast<long long>((unit(rng) - 0.5) * grid * 1.5);
+                tv[c] = (alo[c] + ahi[c]) / 2 - (blo[c] + bhi[c]) / 2 +
+                        static_cast<long long>((unit(rng) - 0.5) * grid * 1.5);
             translate(tv);
             if (trial % 3 == 2) {
                 // Along a random integer direction w, the first step at which B leaves A
@@ -712,7 +730,8 @@ TYPED_TEST(kdop_typed, overlaps_is_conservative_and_overlaps_exact_matches_exact
                     for (std::size_t i = 0; i < A; ++i) {
                         long long d = 0;
                         for (std::size_t c = 0; c < D; ++c)
-                            d += kdop<T, D, K>::directions[i][c] * (w[c] * k + (alo[c] + ahi[c]) / 2 - (blo[c] + bhi[c]) / 2);
+                            d += kdop<T, D, K>::directions[i][c] *
+                                 (w[c] * k + (alo[c] + ahi[c]) / 2 - (blo[c] + bhi[c]) / 2);
                         l2[i] += d, h2[i] += d;
                     }
                 };
@@ -720,7 +739,8 @@ TYPED_TEST(kdop_typed, overlaps_is_conservative_and_overlaps_exact_matches_exact
                 long long lo_k = 0, hi_k = 1;
                 moved(0, l2, h2);
                 if (!intersection_reference<D, K>(alo, ahi, l2, h2)) continue;
-                for (moved(hi_k, l2, h2); intersection_reference<D, K>(alo, ahi, l2, h2); moved(hi_k, l2, h2)) lo_k = hi_k, hi_k *= 2;
+                for (moved(hi_k, l2, h2); intersection_reference<D, K>(alo, ahi, l2, h2); moved(hi_k, l2, h2))
+                    lo_k = hi_k, hi_k *= 2;
                 while (hi_k - lo_k > 1) {
                     const long long mid = (lo_k + hi_k) / 2;
                     moved(mid, l2, h2);
@@ -763,14 +783,16 @@ TYPED_TEST(kdop_typed, ray_intervals_agree_with_point_sampling_including_paralle
         const auto b = from_integers<T, D, K>(lo, hi);
         for (int trial = 0; trial < 300; ++trial) {
             point<T, D> o, d;
-            for (std::size_t c = 0; c < D; ++c) o[c] = static_cast<T>(unit(rng) * 6 - 3), d[c] = static_cast<T>(unit(rng) - 0.5);
+            for (std::size_t c = 0; c < D; ++c)
+                o[c] = static_cast<T>(unit(rng) * 6 - 3), d[c] = static_cast<T>(unit(rng) - 0.5);
             if (trial % 4 == 0)  // axis rays: zero and negative-zero components
                 for (std::size_t c = 0; c < D; ++c)
                     if (c != static_cast<std::size_t>(trial / 4) % D) d[c] = trial % 8 == 0 ? T(0) : T(-0.0);
             if (trial % 4 == 1) {  // parallel to a diagonal plane: n_j . d == 0 exactly
                 const auto& n = kdop<T, D, K>::directions[K / 2 - 1];
                 d = point<T, D>{};
-                if constexpr (D == 2) d[0] = static_cast<T>(-n[1]), d[1] = static_cast<T>(n[0]);
+                if constexpr (D == 2)
+                    d[0] = static_cast<T>(-n[1]), d[1] = static_cast<T>(n[0]);
                 else {
                     const std::array<int, 3> e{1, 2, 3};
                     d[0] = static_cast<T>(n[1] * e[2] - n[2] * e[1]);
@@ -797,7 +819,8 @@ TYPED_TEST(kdop_typed, ray_intervals_agree_with_point_sampling_including_paralle
                 EXPECT_GE(t, t0 - T(1e-3));
                 EXPECT_LE(t, t1 + T(1e-3));
             }
-            if (hit && std::isfinite(t0) && std::isfinite(t1) && t1 - t0 > T(0.05) && std::abs(t0) < 5 && std::abs(t1) < 5) {
+            if (hit && std::isfinite(t0) && std::isfinite(t1) && t1 - t0 > T(0.05) && std::abs(t0) < 5 &&
+                std::abs(t1) < 5) {
                 EXPECT_TRUE(any) << "interval with no inside point, trial " << trial;
                 point<T, D> mid;
                 for (std::size_t c = 0; c < D; ++c) mid[c] = o[c] + (t0 + t1) / 2 * d[c];
@@ -842,7 +865,8 @@ TYPED_TEST(kdop_typed, distance_lower_bound_is_valid) {
                 double best = 1e300;
                 for (const auto& x : inside) {
                     double s = 0;
-                    for (std::size_t c = 0; c < D; ++c) s += (static_cast<double>(p[c]) - x[c]) * (static_cast<double>(p[c]) - x[c]);
+                    for (std::size_t c = 0; c < D; ++c)
+                        s += (static_cast<double>(p[c]) - x[c]) * (static_cast<double>(p[c]) - x[c]);
                     best = std::min(best, s);
                 }
                 ASSERT_LE(lb, std::sqrt(best) * (1 + 1e-12) + 1e-12) << p;
@@ -889,8 +913,11 @@ TYPED_TEST(kdop_typed, merged_is_the_kdop_of_the_union_and_transformed_contains_
             for (const auto& p : all)
                 for (std::size_t c = 0; c < D; ++c) mabs = std::max(mabs, std::abs(static_cast<double>(p[c])));
             for (std::size_t j = 0; j < K / 2; ++j) {  // equal up to the fits' rounding pads (<= 2 eps |n|_1 max|x|)
-                const double tol = 16 * std::numeric_limits<double>::epsilon() * mabs +
-                                   4 * std::numeric_limits<T>::epsilon() * (std::abs(static_cast<double>(u.hi[j])) + std::abs(static_cast<double>(u.lo[j]))) + 1e-300;
+                const double tol =
+                    16 * std::numeric_limits<double>::epsilon() * mabs +
+                    4 * std::numeric_limits<T>::epsilon() *
+                        (std::abs(static_cast<double>(u.hi[j])) + std::abs(static_cast<double>(u.lo[j]))) +
+                    1e-300;
                 EXPECT_NEAR(static_cast<double>(m.lo[j]), static_cast<double>(u.lo[j]), tol);
                 EXPECT_NEAR(static_cast<double>(m.hi[j]), static_cast<double>(u.hi[j]), tol);
             }
@@ -927,8 +954,8 @@ TYPED_TEST(kdop_typed, merged_is_the_kdop_of_the_union_and_transformed_contains_
             for (std::size_t c = 0; c < D; ++c) diam += static_cast<double>(b.hi[c] - b.lo[c]);
             const double pad = 256 * std::numeric_limits<T>::epsilon() * (mabs + diam + 1);
             EXPECT_NEAR(static_cast<double>(same.volume()), v0,
-                        1e-4 * v0 + static_cast<double>(b.surface_area()) * pad * 8 + diam * std::pow(pad * 8, double(D) - 1) * 8 +
-                            std::pow(pad * 8, double(D)) * 8);
+                        1e-4 * v0 + static_cast<double>(b.surface_area()) * pad * 8 +
+                            diam * std::pow(pad * 8, double(D) - 1) * 8 + std::pow(pad * 8, double(D)) * 8);
         }
     });
 }
@@ -968,8 +995,9 @@ TEST(kdop_report, fit_and_overlap_timings) {
         const auto t4 = std::chrono::steady_clock::now();
         EXPECT_GE(c1, c2);
         const double pairs = static_cast<double>(bs.size() * bs.size());
-        std::cout << "  [kdop<double,3," << K << ">] fit n=" << n << ": " << std::chrono::duration<double>(t1 - t0).count() * 1e3
-                  << " ms; overlaps " << std::chrono::duration<double>(t3 - t2).count() / pairs * 1e9 << " ns/pair; overlaps_exact "
+        std::cout << "  [kdop<double,3," << K << ">] fit n=" << n << ": "
+                  << std::chrono::duration<double>(t1 - t0).count() * 1e3 << " ms; overlaps "
+                  << std::chrono::duration<double>(t3 - t2).count() / pairs * 1e9 << " ns/pair; overlaps_exact "
                   << std::chrono::duration<double>(t4 - t3).count() / pairs * 1e9 << " ns/pair (" << c1 << " / " << c2
                   << " positive)\n";
     });

@@ -104,9 +104,12 @@ namespace detail_kdop {
 
 template <std::size_t D, std::size_t K>
 constexpr bool supported() {
-    if constexpr (D == 2) return K == 4 || K == 8 || K == 16;
-    else if constexpr (D == 3) return K == 6 || K == 14 || K == 18 || K == 26;
-    else return false;
+    if constexpr (D == 2)
+        return K == 4 || K == 8 || K == 16;
+    else if constexpr (D == 3)
+        return K == 6 || K == 14 || K == 18 || K == 26;
+    else
+        return false;
 }
 
 // The direction table: axes first, then the diagonals (see the header comment).
@@ -216,7 +219,8 @@ constexpr double make_growth() {
     for (std::size_t s = 0; s < bases.count; ++s)
         for (std::size_t i = 0; i < D; ++i) {
             int sum = 0;
-            for (std::size_t k = 0; k < D; ++k) sum += bases.b[s].col[k][i] < 0 ? -bases.b[s].col[k][i] : bases.b[s].col[k][i];
+            for (std::size_t k = 0; k < D; ++k)
+                sum += bases.b[s].col[k][i] < 0 ? -bases.b[s].col[k][i] : bases.b[s].col[k][i];
             const int det = bases.b[s].det < 0 ? -bases.b[s].det : bases.b[s].det;
             g = std::max(g, static_cast<double>(sum) / static_cast<double>(det));
         }
@@ -277,7 +281,9 @@ constexpr circuit_table<D, K> make_circuits() {
                     add({i, j, k}, {det2(j, k), det2(k, i), det2(i, j)}, 3);
     } else {
         using v3 = std::array<int, 3>;
-        auto cross = [](const v3& a, const v3& b) { return v3{a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0]}; };
+        auto cross = [](const v3& a, const v3& b) {
+            return v3{a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0]};
+        };
         auto dot = [](const v3& a, const v3& b) { return a[0] * b[0] + a[1] * b[1] + a[2] * b[2]; };
         auto det3 = [&](std::size_t a, std::size_t b, std::size_t c) { return dot(n[a], cross(n[b], n[c])); };
         // Coplanar triples: [v2, v3] v1 + [v3, v1] v2 + [v1, v2] v3 = 0 in their plane.
@@ -286,7 +292,8 @@ constexpr circuit_table<D, K> make_circuits() {
                 for (std::size_t k = j + 1; k < A; ++k) {
                     if (det3(i, j, k) != 0) continue;
                     const v3 pl = cross(n[i], n[j]);
-                    add({i, j, k, 0}, {dot(cross(n[j], n[k]), pl), dot(cross(n[k], n[i]), pl), dot(cross(n[i], n[j]), pl), 0}, 3);
+                    add({i, j, k, 0},
+                        {dot(cross(n[j], n[k]), pl), dot(cross(n[k], n[i]), pl), dot(cross(n[i], n[j]), pl), 0}, 3);
                 }
         // Quadruples with every triple independent: sum_i (-1)^i det(others) n_i = 0.
         for (std::size_t i = 0; i < A; ++i)
@@ -327,7 +334,8 @@ struct geometry {
     // satisfies every slab within tau_unit * |n_j|_1; stops early when f returns true.
     // Candidate points may repeat (several plane triples through one vertex).
     template <class F>
-    static void for_each_vertex(const std::array<double, A>& lo, const std::array<double, A>& hi, double tau_unit, F&& f) {
+    static void for_each_vertex(const std::array<double, A>& lo, const std::array<double, A>& hi, double tau_unit,
+                                F&& f) {
         std::array<double, A> tau;
         for (std::size_t j = 0; j < A; ++j) tau[j] = tau_unit * l1[j];
         for (std::size_t s = 0; s < bases.count; ++s) {
@@ -426,7 +434,8 @@ struct kdop {
         std::array<double, axis_count> mn, mx;
         mn.fill(std::numeric_limits<double>::infinity());
         mx.fill(-std::numeric_limits<double>::infinity());
-        double m = 0, check = 0;  // check: NaN iff some coordinate is NaN or infinite
+        // check becomes NaN iff some coordinate is NaN or infinite.
+        double m = 0, check = 0;
         bool exact = std::numeric_limits<T>::digits <= 24;  // see below
         for (const auto& p : pts) {
             for (std::size_t j = 0; j < axis_count; ++j) {
@@ -623,7 +632,8 @@ struct kdop {
         // in T ((D + 1) eps_T m per coordinate, so that the moved volume contains
         // xf.apply(p) as computed in T for every p inside, as for aabb and sphere), then
         // the rounding of the slab values.
-        const double eps_t = std::max(static_cast<double>(std::numeric_limits<T>::epsilon()), std::numeric_limits<double>::epsilon());
+        const double eps_t =
+            std::max(static_cast<double>(std::numeric_limits<T>::epsilon()), std::numeric_limits<double>::epsilon());
         b.set_padded(mn, mx, m, rnorm * vertex_err + 2 * (static_cast<double>(D) + 1) * eps_t * m);
         return b;
     }
@@ -668,7 +678,8 @@ private:
     }
     static local_slabs make_local(const kdop& b) {
         std::array<double, axis_count> l, h;
-        for (std::size_t j = 0; j < axis_count; ++j) l[j] = static_cast<double>(b.lo[j]), h[j] = static_cast<double>(b.hi[j]);
+        for (std::size_t j = 0; j < axis_count; ++j)
+            l[j] = static_cast<double>(b.lo[j]), h[j] = static_cast<double>(b.hi[j]);
         return make_local(l, h);
     }
     // Vertices relative to c.r, near-duplicates (within 4 tau) merged.
@@ -690,7 +701,8 @@ private:
     // violated slabs, from the centre of the axis box; true when a point satisfies every slab
     // within tau * |n_j|_1 (the enumeration's own acceptance test). A few sweeps: overlapping
     // pairs usually finish here; otherwise the complete vertex enumeration decides.
-    static bool feasible_point_search(const std::array<double, axis_count>& l, const std::array<double, axis_count>& h, double tau) {
+    static bool feasible_point_search(const std::array<double, axis_count>& l, const std::array<double, axis_count>& h,
+                                      double tau) {
         vec x;
         for (std::size_t i = 0; i < D; ++i) x[i] = l[i] + (h[i] - l[i]) / 2;
         auto feasible = [&] {
@@ -720,10 +732,12 @@ private:
     // Sets lo/hi from exact-to-rounding extremes mn/mx of slab values of points whose
     // coordinates are at most m in magnitude, widened by the additions' rounding bound
     // (nothing for the axes) plus `extra` (max-norm error of the points), rounded outward.
-    void set_padded(const std::array<double, axis_count>& mn, const std::array<double, axis_count>& mx, double m, double extra) {
+    void set_padded(const std::array<double, axis_count>& mn, const std::array<double, axis_count>& mx, double m,
+                    double extra) {
         const double eps = std::numeric_limits<double>::epsilon();
         for (std::size_t j = 0; j < axis_count; ++j) {
-            const double err = static_cast<double>(geometry::nnz[j] - 1) * eps * geometry::l1[j] * m + geometry::l1[j] * extra;
+            const double err =
+                static_cast<double>(geometry::nnz[j] - 1) * eps * geometry::l1[j] * m + geometry::l1[j] * extra;
             double l = mn[j], h = mx[j];
             if (err > 0) {
                 l = std::nextafter(l - err, -std::numeric_limits<double>::infinity());
@@ -788,7 +802,8 @@ private:
                     std::vector<std::array<double, 2>> q;
                     for (const auto& x : v)
                         if (std::abs(geometry::dot(j, x) - b) <= 4 * tau * geometry::l1[j])
-                            q.push_back({x[0] * e1[0] + x[1] * e1[1] + x[2] * e1[2], x[0] * e2[0] + x[1] * e2[1] + x[2] * e2[2]});
+                            q.push_back({x[0] * e1[0] + x[1] * e1[1] + x[2] * e1[2],
+                                         x[0] * e2[0] + x[1] * e2[1] + x[2] * e2[2]});
                     if (q.size() < 3) continue;
                     const double fa = polygon_measures(q).first;
                     const double nr = geometry::dot(j, r);
