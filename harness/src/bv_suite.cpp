@@ -515,7 +515,7 @@ template <std::size_t K>
 volume_type<kdop3<K>> kdop_type() {
     return {"kdop" + std::to_string(K),
             {{"minmax", [](std::span<const P> p) { return kdop3<K>::fit(p); }}},
-            {{"slabs", plain_overlaps<kdop3<K>>}, {"sat_exact", exact_overlaps<kdop3<K>>}},
+            {{"slabs", plain_overlaps<kdop3<K>>}, {"exact", exact_overlaps<kdop3<K>>}},
             polytope_reference<kdop3<K>>()};
 }
 volume_type<ellipsoid3> ellipsoid_type() {
