@@ -12,7 +12,11 @@
 #include <vector>
 
 #include "spatial/core/distance.hpp"
+#include "spatial/core/object_geometry.hpp"
 #include "spatial/core/point.hpp"
+#include "spatial/objects/box.hpp"
+#include "spatial/objects/sphere.hpp"
+#include "spatial/objects/triangle.hpp"
 
 namespace spatial_test {
 
@@ -37,6 +41,106 @@ struct tagged_point {
         info.hit_time = tmp.hit_time;
         for (int i = 0; i < 3; ++i) info.hit_location.xyz[i] = tmp.hit_location[i];
         return true;
+    }
+};
+
+// A user-defined BOUNDED object that is none of the ready-made ones: an axis-aligned box with a
+// payload, exposing only what bounded_object requires (no squared_distance, overlaps_box or
+// hull points), so containers take the documented fall-backs (its bounding box answers).
+struct tagged_box {
+    using scalar_type = double;
+    using point_type = spatial::point<double, 3>;
+    static constexpr std::size_t dimension = 3;
+    double lo[3]{}, hi[3]{};
+    int tag = 0;
+    const double* get_min_bound() const { return lo; }
+    const double* get_max_bound() const { return hi; }
+    friend bool operator==(const tagged_box& a, const tagged_box& b) {
+        for (int i = 0; i < 3; ++i)
+            if (a.lo[i] != b.lo[i] || a.hi[i] != b.hi[i]) return false;
+        return a.tag == b.tag;
+    }
+    // Delegates to the library's box (a user type may reuse library pieces).
+    template <class Info>
+    bool intersect(const point_type& o, const point_type& d, double thickness, Info& info) const {
+        spatial::objects::box<double, 3> b;
+        for (int i = 0; i < 3; ++i) b.lo[i] = lo[i], b.hi[i] = hi[i];
+        return b.intersect(o, d, thickness, info);
+    }
+};
+
+// Objects placed "at" a point, of half-size h: the contract suite's way to run the same
+// scenarios on points and on objects with extent. For points, the point itself.
+template <class V>
+struct object_factory {
+    using Q = V;
+    static V at(const Q& q, double, int tag) {
+        V v = q;
+        if constexpr (std::is_same_v<V, tagged_point>) v.tag = tag;
+        return v;
+    }
+    static V with_coord(V v, std::size_t i, double x) {
+        if constexpr (std::is_same_v<V, tagged_point>) v.xyz[i] = x;
+        else v[i] = static_cast<typename V::scalar_type>(x);
+        return v;
+    }
+};
+template <class T, std::size_t D>
+struct object_factory<spatial::objects::box<T, D>> {
+    using V = spatial::objects::box<T, D>;
+    using Q = spatial::point<T, D>;
+    static V at(const Q& q, double h, int) {
+        V v;
+        for (std::size_t i = 0; i < D; ++i) v.lo[i] = static_cast<T>(q[i] - h), v.hi[i] = static_cast<T>(q[i] + h);
+        return v;
+    }
+    static V with_coord(V v, std::size_t i, double x) {
+        v.lo[i] = v.hi[i] = static_cast<T>(x);
+        return v;
+    }
+};
+template <class T, std::size_t D>
+struct object_factory<spatial::objects::sphere<T, D>> {
+    using V = spatial::objects::sphere<T, D>;
+    using Q = spatial::point<T, D>;
+    static V at(const Q& q, double h, int) { return V(q, static_cast<T>(h)); }
+    static V with_coord(const V& v, std::size_t i, double x) {
+        Q c = v.center();
+        c[i] = static_cast<T>(x);
+        return V(c, v.radius());
+    }
+};
+template <class T, std::size_t D>
+struct object_factory<spatial::objects::triangle<T, D>> {
+    using V = spatial::objects::triangle<T, D>;
+    using Q = spatial::point<T, D>;
+    // A small triangle containing q (q = a/4 + b/4 + c/2). In 3D it is tilted (normal along
+    // (-1, -1, 2)) so that axis-parallel rays through q are not in its plane.
+    static V at(const Q& q, double h, int) {
+        const double off[3][3] = {{-h, -h, -h}, {h, -h, 0}, {0, h, h / 2}};
+        Q p[3] = {q, q, q};
+        for (int k = 0; k < 3; ++k)
+            for (std::size_t i = 0; i < D; ++i) p[k][i] = static_cast<T>(q[i] + off[k][i]);
+        return V(p[0], p[1], p[2]);
+    }
+    static V with_coord(const V& v, std::size_t i, double x) {
+        Q p[3] = {v.vertex(0), v.vertex(1), v.vertex(2)};
+        for (auto& pk : p) pk[i] = static_cast<T>(x);
+        return V(p[0], p[1], p[2]);
+    }
+};
+template <>
+struct object_factory<tagged_box> {
+    using Q = spatial::point<double, 3>;
+    static tagged_box at(const Q& q, double h, int tag) {
+        tagged_box b;
+        for (int i = 0; i < 3; ++i) b.lo[i] = q[i] - h, b.hi[i] = q[i] + h;
+        b.tag = tag;
+        return b;
+    }
+    static tagged_box with_coord(tagged_box b, std::size_t i, double x) {
+        b.lo[i] = b.hi[i] = x;
+        return b;
     }
 };
 
@@ -138,7 +242,7 @@ private:
 template <class P, class It>
 std::vector<double> distances_from(const P& q, const std::vector<It>& its) {
     std::vector<double> d;
-    for (const auto& it : its) d.push_back(static_cast<double>(spatial::squared_distance(*it, q)));
+    for (const auto& it : its) d.push_back(static_cast<double>(spatial::object_squared_distance(*it, q)));
     std::sort(d.begin(), d.end());
     return d;
 }
@@ -149,7 +253,8 @@ std::vector<std::vector<double>> contents(const C& c) {
     std::vector<std::vector<double>> v;
     for (const auto& p : c) {
         std::vector<double> t;
-        for (std::size_t i = 0; i < C::dimension; ++i) t.push_back(static_cast<double>(p[i]));
+        for (std::size_t i = 0; i < C::dimension; ++i) t.push_back(static_cast<double>(spatial::object_lower(p, i)));
+        for (std::size_t i = 0; i < C::dimension; ++i) t.push_back(static_cast<double>(spatial::object_upper(p, i)));
         v.push_back(t);
     }
     std::sort(v.begin(), v.end());

@@ -1,5 +1,8 @@
 #pragma once
-// spatial::brute_force<P> — the oracle: a plain array of objects, every query a linear scan.
+// spatial::brute_force<O> — the oracle: a plain array of objects, every query a linear scan.
+// O is a point (point_object) or an object with extent (bounded_object); queries take
+// points of point_type_of<O> and ask the objects through object_geometry.hpp, the same
+// functions every structure uses, so exact answers compare bit for bit.
 //
 // It is deliberately simple so that it is obviously right; every other structure is tested
 // against it. Complexity: insert/erase(iterator) O(1); find/count/erase(value), kNN
@@ -18,40 +21,41 @@
 #include "spatial/core/intersect_info.hpp"
 #include "spatial/core/knn_result_set.hpp"
 #include "spatial/core/object_concepts.hpp"
+#include "spatial/core/object_geometry.hpp"
 #include "spatial/core/slot_storage.hpp"
 
 namespace spatial {
 
-template <point_object P>
+template <stored_object O>
 class brute_force {
 public:
-    using value_type = P;
-    using point_type = P;
-    using scalar_type = typename P::scalar_type;
+    using value_type = O;
+    using point_type = point_type_of<O>;
+    using scalar_type = typename O::scalar_type;
     using size_type = std::size_t;
-    using iterator = slot_iterator<P>;
+    using iterator = slot_iterator<O>;
     using const_iterator = iterator;
-    using info_type = intersect_info<P>;
-    static constexpr std::size_t dimension = P::dimension;
+    using info_type = intersect_info<point_type>;
+    static constexpr std::size_t dimension = O::dimension;
 
     brute_force() = default;
     template <class InputIt>
     brute_force(InputIt first, InputIt last) { insert(first, last); }
 
     // ---- insertion -------------------------------------------------------------------
-    iterator insert(const P& x) {
-        detail::require_finite(x, "brute_force::insert", "point");
+    iterator insert(const O& x) {
+        detail::require_finite_object(x, "brute_force::insert");
         return make(slots_.allocate(x, 1));
     }
     // The hint cannot help an unordered array; accepted for interface uniformity.
-    iterator insert(const_iterator, const P& x) { return insert(x); }
+    iterator insert(const_iterator, const O& x) { return insert(x); }
     template <class InputIt>
     void insert(InputIt first, InputIt last) {
-        std::vector<P> batch(first, last);  // validate all before storing any
-        for (const P& x : batch) detail::require_finite(x, "brute_force::insert(first, last)", "point");
+        std::vector<O> batch(first, last);  // validate all before storing any
+        for (const O& x : batch) detail::require_finite_object(x, "brute_force::insert(first, last)");
         slots_.require_room_for(batch.size(), "brute_force::insert(first, last)");
         slots_.reserve(slots_.capacity() + batch.size());
-        for (const P& x : batch) slots_.allocate(x, 1);
+        for (const O& x : batch) slots_.allocate(x, 1);
     }
 
     // ---- erasure ---------------------------------------------------------------------
@@ -60,8 +64,8 @@ public:
         slots_.release(s);
         return make(slots_.next_occupied(s + 1));
     }
-    size_type erase(const P& x) {
-        detail::require_finite(x, "brute_force::erase", "point");
+    size_type erase(const O& x) {
+        detail::require_finite_object(x, "brute_force::erase");
         size_type n = 0;
         for (slot_index s = slots_.next_occupied(0); s < slots_.capacity(); s = slots_.next_occupied(s + 1))
             if (slots_.value(s) == x) {
@@ -76,14 +80,14 @@ public:
     void clear() { slots_.clear(); }
 
     // ---- lookup ----------------------------------------------------------------------
-    iterator find(const P& x) {
-        detail::require_finite(x, "brute_force::find", "point");
+    iterator find(const O& x) {
+        detail::require_finite_object(x, "brute_force::find");
         for (slot_index s = slots_.next_occupied(0); s < slots_.capacity(); s = slots_.next_occupied(s + 1))
             if (slots_.value(s) == x) return make(s);
         return end();
     }
-    size_type count(const P& x) const {
-        detail::require_finite(x, "brute_force::count", "point");
+    size_type count(const O& x) const {
+        detail::require_finite_object(x, "brute_force::count");
         size_type n = 0;
         for (slot_index s = slots_.next_occupied(0); s < slots_.capacity(); s = slots_.next_occupied(s + 1))
             n += slots_.value(s) == x;
@@ -91,14 +95,14 @@ public:
     }
 
     // ---- ray cast ----------------------------------------------------------------------
-    bool intersect(const P& origin, const P& direction, info_type& info) const {
+    bool intersect(const point_type& origin, const point_type& direction, info_type& info) const {
         return intersect_object(origin, direction, ray_thickness_, info) != end();
     }
-    bool intersect(const P& origin, const P& direction, scalar_type thickness, info_type& info) const {
+    bool intersect(const point_type& origin, const point_type& direction, scalar_type thickness, info_type& info) const {
         return intersect_object(origin, direction, thickness, info) != end();
     }
     // The nearest object hit before info.hit_time, or end().
-    iterator intersect_object(const P& origin, const P& direction, scalar_type thickness,
+    iterator intersect_object(const point_type& origin, const point_type& direction, scalar_type thickness,
                               info_type& info) const {
         detail::require_finite(origin, "brute_force::intersect", "ray origin");
         detail::require_nonzero_direction(direction, "brute_force::intersect");
@@ -115,34 +119,34 @@ public:
     }
 
     // ---- nearest neighbours and ranges ---------------------------------------------------
-    std::vector<iterator> find_nearest(const P& x, size_type k) const { return find_nearest(x, k, 0); }
+    std::vector<iterator> find_nearest(const point_type& x, size_type k) const { return find_nearest(x, k, 0); }
     // eps is accepted for interface uniformity; the oracle is always exact.
-    std::vector<iterator> find_nearest(const P& x, size_type k, scalar_type eps) const {
+    std::vector<iterator> find_nearest(const point_type& x, size_type k, scalar_type eps) const {
         detail::require_finite(x, "brute_force::find_nearest", "query point");
         detail::require_nonnegative(eps, "brute_force::find_nearest", "eps");
         std::vector<iterator> out;
         if (k == 0 || empty()) return out;
         knn_result_set<scalar_type> best(std::min(k, size()));
         for (slot_index s = slots_.next_occupied(0); s < slots_.capacity(); s = slots_.next_occupied(s + 1))
-            best.add(squared_distance(slots_.value(s), x), s);
+            best.add(object_squared_distance(slots_.value(s), x), s);
         for (const auto& c : best.finish()) out.push_back(make(c.slot));
         return out;
     }
-    std::vector<iterator> find_in_ball(const P& center, scalar_type radius) const {
+    std::vector<iterator> find_in_ball(const point_type& center, scalar_type radius) const {
         detail::require_finite(center, "brute_force::find_in_ball", "center");
         detail::require_nonnegative(radius, "brute_force::find_in_ball", "radius");
         std::vector<iterator> out;
         const scalar_type r2 = radius * radius;
         for (slot_index s = slots_.next_occupied(0); s < slots_.capacity(); s = slots_.next_occupied(s + 1))
-            if (squared_distance(slots_.value(s), center) <= r2) out.push_back(make(s));
+            if (object_squared_distance(slots_.value(s), center) <= r2) out.push_back(make(s));
         return out;
     }
-    std::vector<iterator> find_in_box(const P& lo, const P& hi) const {
+    std::vector<iterator> find_in_box(const point_type& lo, const point_type& hi) const {
         detail::require_finite(lo, "brute_force::find_in_box", "box corner lo");
         detail::require_finite(hi, "brute_force::find_in_box", "box corner hi");
         std::vector<iterator> out;
         for (slot_index s = slots_.next_occupied(0); s < slots_.capacity(); s = slots_.next_occupied(s + 1))
-            if (in_closed_box(slots_.value(s), lo, hi)) out.push_back(make(s));
+            if (object_overlaps_box(slots_.value(s), lo, hi)) out.push_back(make(s));
         return out;
     }
 
@@ -156,7 +160,7 @@ public:
 private:
     iterator make(slot_index s) const { return iterator(&slots_, s); }
 
-    slot_storage<P> slots_;
+    slot_storage<O> slots_;
     scalar_type ray_thickness_ = 0;
 };
 

@@ -76,6 +76,7 @@
 #include "spatial/bv/gjk.hpp"
 #include "spatial/bv/hull_2d.hpp"
 #include "spatial/bv/predicates.hpp"
+#include "spatial/bv/rounding.hpp"
 #include "spatial/bv/quickhull_3d.hpp"
 #include "spatial/core/input_checks.hpp"
 #include "spatial/core/point.hpp"
@@ -537,11 +538,7 @@ private:
         for (std::size_t k = 0; k < D; ++k) s += dir[k] * (double(vertices_[i][k]) - double(ref_[k]));
         return s;
     }
-    static T round_up(double x) {
-        T t = static_cast<T>(x);
-        if (double(t) < x) t = std::nextafter(t, std::numeric_limits<T>::infinity());
-        return t;
-    }
+    static T round_up(double x) { return detail_rounding::round_up<T>(x); }
 
     void update_box_and_radius() {
         lo_ = hi_ = vertices_[0];

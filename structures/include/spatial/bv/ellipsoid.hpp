@@ -111,6 +111,7 @@
 #include <vector>
 
 #include "spatial/bv/bounding_volume.hpp"
+#include "spatial/bv/rounding.hpp"
 #include "spatial/bv/principal_axes.hpp"
 #include "spatial/core/input_checks.hpp"
 #include "spatial/core/point.hpp"
@@ -138,18 +139,8 @@ inline double unit_ball_volume(std::size_t d) {
     return std::pow(std::numbers::pi, static_cast<double>(d) / 2) / std::tgamma(static_cast<double>(d) / 2 + 1);
 }
 
-template <class T>
-T round_up(double v) {
-    T t = static_cast<T>(v);
-    if (static_cast<double>(t) < v) t = std::nextafter(t, std::numeric_limits<T>::infinity());
-    return t;
-}
-template <class T>
-T round_down(double v) {
-    T t = static_cast<T>(v);
-    if (static_cast<double>(t) > v) t = std::nextafter(t, -std::numeric_limits<T>::infinity());
-    return t;
-}
+using detail_rounding::round_down;  // spatial/bv/rounding.hpp
+using detail_rounding::round_up;
 
 // One-sided Jacobi SVD (Hestenes 1958) of an n x n matrix g (n <= 4), column-major in
 // g[col][row]: on return g's columns are U_k * mu_k (mutually orthogonal), mu[k] their

@@ -94,6 +94,7 @@
 #include <vector>
 
 #include "spatial/bv/bounding_volume.hpp"
+#include "spatial/bv/rounding.hpp"
 #include "spatial/core/input_checks.hpp"
 #include "spatial/core/point.hpp"
 #include "spatial/core/rigid_transform.hpp"
@@ -377,18 +378,8 @@ struct geometry {
 };
 
 // Rounding to T toward +inf / -inf.
-template <class T>
-T round_up(double v) {
-    T t = static_cast<T>(v);
-    if (static_cast<double>(t) < v) t = std::nextafter(t, std::numeric_limits<T>::infinity());
-    return t;
-}
-template <class T>
-T round_down(double v) {
-    T t = static_cast<T>(v);
-    if (static_cast<double>(t) > v) t = std::nextafter(t, -std::numeric_limits<T>::infinity());
-    return t;
-}
+using detail_rounding::round_down;  // spatial/bv/rounding.hpp
+using detail_rounding::round_up;
 
 }  // namespace detail_kdop
 

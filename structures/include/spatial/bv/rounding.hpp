@@ -1,0 +1,26 @@
+#pragma once
+// Directed rounding of a double result to the volume's scalar T: the fits compute in double
+// and must store bounds that still enclose every point after the conversion to T (float
+// rounds to nearest, which could cut a point off by half an ulp). O(1).
+
+#include <cmath>
+#include <limits>
+
+namespace spatial::detail_rounding {
+
+// The smallest T >= v.
+template <class T>
+T round_up(double v) {
+    T t = static_cast<T>(v);
+    if (static_cast<double>(t) < v) t = std::nextafter(t, std::numeric_limits<T>::infinity());
+    return t;
+}
+// The largest T <= v.
+template <class T>
+T round_down(double v) {
+    T t = static_cast<T>(v);
+    if (static_cast<double>(t) > v) t = std::nextafter(t, -std::numeric_limits<T>::infinity());
+    return t;
+}
+
+}  // namespace spatial::detail_rounding

@@ -1,0 +1,135 @@
+#pragma once
+// The geometric questions a container asks of a stored object, answered uniformly for points
+// and for bounded objects (object_concepts.hpp). One definition used by every structure AND by
+// the brute-force oracle, so exact answers compare bit for bit.
+//
+//   object_lower(o, i), object_upper(o, i)   the bounding box (a point is its own box)
+//   object_center(o, i)                      the box centre (the key of object partitioning)
+//   object_squared_distance(o, p)            exact if O has squared_distance(p), else the
+//                                            squared distance to its box (0 inside)
+//   object_overlaps_box(o, lo, hi)           closed-box test; exact if O has overlaps_box,
+//                                            else box against box
+//   object_in_ball(o, c, r)                  object_squared_distance(o, c) <= r^2
+//   require_finite_object(o, where)          rejects NaN/inf bounds (and inverted boxes)
+// All O(1) for the ready object types.
+
+#include <cmath>
+#include <cstddef>
+#include <sstream>
+#include <stdexcept>
+
+#include "spatial/core/distance.hpp"
+#include "spatial/core/input_checks.hpp"
+#include "spatial/core/object_concepts.hpp"
+
+namespace spatial {
+
+template <stored_object O>
+constexpr typename O::scalar_type object_lower(const O& o, std::size_t i) {
+    if constexpr (bounded_object<O>) return o.get_min_bound()[i];
+    else return o[i];
+}
+template <stored_object O>
+constexpr typename O::scalar_type object_upper(const O& o, std::size_t i) {
+    if constexpr (bounded_object<O>) return o.get_max_bound()[i];
+    else return o[i];
+}
+// Midpoint of the box, computed so that it never leaves [lower, upper] (no overflow for
+// huge coordinates, no rounding outside the box).
+template <stored_object O>
+constexpr typename O::scalar_type object_center(const O& o, std::size_t i) {
+    if constexpr (bounded_object<O>) {
+        const auto lo = o.get_min_bound()[i], hi = o.get_max_bound()[i];
+        const auto c = lo + (hi - lo) / 2;
+        return c < lo ? lo : (c > hi ? hi : c);
+    } else {
+        return o[i];
+    }
+}
+
+// Squared distance from p to the closed box [lo, hi] of the object (0 inside).
+template <stored_object O>
+typename O::scalar_type object_box_squared_distance(const O& o, const point_type_of<O>& p) {
+    using T = typename O::scalar_type;
+    T s = 0;
+    for (std::size_t i = 0; i < O::dimension; ++i) {
+        const T lo = object_lower(o, i), hi = object_upper(o, i);
+        const T d = p[i] < lo ? lo - p[i] : (p[i] > hi ? p[i] - hi : T(0));
+        s += d * d;
+    }
+    return s;
+}
+
+template <stored_object O>
+typename O::scalar_type object_squared_distance(const O& o, const point_type_of<O>& p) {
+    if constexpr (!bounded_object<O>) return squared_distance(o, p);
+    else if constexpr (requires { { o.squared_distance(p) } -> std::convertible_to<typename O::scalar_type>; })
+        return o.squared_distance(p);
+    else return object_box_squared_distance(o, p);
+}
+
+template <stored_object O>
+bool object_box_overlaps_box(const O& o, const point_type_of<O>& lo, const point_type_of<O>& hi) {
+    for (std::size_t i = 0; i < O::dimension; ++i)
+        if (object_upper(o, i) < lo[i] || object_lower(o, i) > hi[i]) return false;
+    return true;
+}
+
+template <stored_object O>
+bool object_overlaps_box(const O& o, const point_type_of<O>& lo, const point_type_of<O>& hi) {
+    if constexpr (!bounded_object<O>) return in_closed_box(o, lo, hi);
+    else if constexpr (requires { { o.overlaps_box(lo, hi) } -> std::same_as<bool>; })
+        return object_box_overlaps_box(o, lo, hi) && o.overlaps_box(lo, hi);
+    else return object_box_overlaps_box(o, lo, hi);
+}
+
+template <stored_object O>
+bool object_in_ball(const O& o, const point_type_of<O>& center, typename O::scalar_type radius) {
+    return object_squared_distance(o, center) <= radius * radius;
+}
+
+namespace detail {
+template <stored_object O>
+void require_finite_object(const O& o, const char* where) {
+    if constexpr (!bounded_object<O>) {
+        require_finite(o, where, "point");
+    } else {
+        for (std::size_t i = 0; i < O::dimension; ++i) {
+            const auto lo = o.get_min_bound()[i], hi = o.get_max_bound()[i];
+            if (!std::isfinite(lo) || !std::isfinite(hi) || !(lo <= hi)) {
+                std::ostringstream os;
+                os << where << ": object has a non-finite or inverted bound at coordinate " << i << ": [" << lo
+                   << ", " << hi << "] (NaN and infinity are rejected)";
+                throw std::invalid_argument(os.str());
+            }
+        }
+    }
+}
+}  // namespace detail
+
+}  // namespace spatial
+
+namespace spatial {
+
+// Calls f(point_type) for a finite set of points whose convex hull contains the object: what
+// a bounding volume is fitted to when a BVH node's volume is built from its objects. Uses the
+// object's own for_each_hull_point(f) when it has one (triangle: its vertices, box: its
+// corners), else the 2^D corners of its bounding box (always correct, looser for round shapes).
+template <stored_object O, class F>
+void object_hull_points(const O& o, F&& f) {
+    if constexpr (!bounded_object<O>) {
+        f(o);
+    } else if constexpr (requires { o.for_each_hull_point(f); }) {
+        o.for_each_hull_point(f);
+    } else {
+        using P = point_type_of<O>;
+        constexpr std::size_t D = O::dimension;
+        for (std::size_t mask = 0; mask < (std::size_t(1) << D); ++mask) {
+            P p{};
+            for (std::size_t i = 0; i < D; ++i) p[i] = (mask >> i) & 1 ? o.get_max_bound()[i] : o.get_min_bound()[i];
+            f(p);
+        }
+    }
+}
+
+}  // namespace spatial

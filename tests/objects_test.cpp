@@ -1,0 +1,491 @@
+// The ready-made objects (box, sphere, triangle): ray tests including the watertightness of
+// closed meshes, exact distances, triangle/box overlap against an independent clipping
+// oracle, and split() against sampling.
+
+#include <gtest/gtest.h>
+
+#include <array>
+#include <cmath>
+#include <limits>
+#include <map>
+#include <random>
+#include <vector>
+
+#include "spatial/brute/brute_force.hpp"
+#include "spatial/core/object_concepts.hpp"
+#include "spatial/core/object_geometry.hpp"
+#include "spatial/objects/box.hpp"
+#include "spatial/objects/sphere.hpp"
+#include "spatial/objects/triangle.hpp"
+#include "test_support.hpp"
+
+using namespace spatial;
+using objects::box;
+using objects::sphere;
+using objects::triangle;
+using P3 = point<double, 3>;
+using P2 = point<double, 2>;
+using info3 = intersect_info<P3>;
+
+static_assert(bounded_object<box<double, 3>> && bounded_object<box<float, 2>>);
+static_assert(bounded_object<sphere<double, 3>> && bounded_object<sphere<float, 2>>);
+static_assert(bounded_object<triangle<double, 3>> && bounded_object<triangle<float, 3>>);
+static_assert(bounded_object<triangle<double, 2>> && bounded_object<triangle<float, 2>>);
+static_assert(spatial_container<brute_force<triangle<double, 3>>>);
+
+namespace {
+
+P3 p3(double x, double y, double z) { return P3{{x, y, z}}; }
+P2 p2(double x, double y) { return P2{{x, y}}; }
+
+// A closed icosphere: the icosahedron subdivided `levels` times, vertices projected on the unit
+// sphere. Shared vertices are computed once, so neighbouring triangles share exact coordinates.
+template <class T>
+std::vector<triangle<T, 3>> icosphere(int levels) {
+    using V = point<T, 3>;
+    const double g = (1 + std::sqrt(5.0)) / 2;
+    std::vector<std::array<double, 3>> vs = {{-1, g, 0}, {1, g, 0}, {-1, -g, 0}, {1, -g, 0}, {0, -1, g}, {0, 1, g},
+                                             {0, -1, -g}, {0, 1, -g}, {g, 0, -1}, {g, 0, 1}, {-g, 0, -1}, {-g, 0, 1}};
+    std::vector<std::array<int, 3>> faces = {{0, 11, 5}, {0, 5, 1},  {0, 1, 7},   {0, 7, 10}, {0, 10, 11},
+                                             {1, 5, 9},  {5, 11, 4}, {11, 10, 2}, {10, 7, 6}, {7, 1, 8},
+                                             {3, 9, 4},  {3, 4, 2},  {3, 2, 6},   {3, 6, 8},  {3, 8, 9},
+                                             {4, 9, 5},  {2, 4, 11}, {6, 2, 10},  {8, 6, 7},  {9, 8, 1}};
+    for (int l = 0; l < levels; ++l) {
+        std::map<std::pair<int, int>, int> mid;
+        auto midpoint = [&](int a, int b) {
+            auto key = std::minmax(a, b);
+            if (auto it = mid.find(key); it != mid.end()) return it->second;
+            vs.push_back({(vs[a][0] + vs[b][0]) / 2, (vs[a][1] + vs[b][1]) / 2, (vs[a][2] + vs[b][2]) / 2});
+            return mid[key] = static_cast<int>(vs.size() - 1);
+        };
+        std::vector<std::array<int, 3>> next;
+        for (auto [a, b, c] : faces) {
+            const int ab = midpoint(a, b), bc = midpoint(b, c), ca = midpoint(c, a);
+            next.insert(next.end(), {{a, ab, ca}, {b, bc, ab}, {c, ca, bc}, {ab, bc, ca}});
+        }
+        faces = next;
+    }
+    std::vector<V> pts;
+    for (auto& v : vs) {
+        const double n = std::sqrt(v[0] * v[0] + v[1] * v[1] + v[2] * v[2]);
+        pts.push_back(V{{T(v[0] / n), T(v[1] / n), T(v[2] / n)}});
+    }
+    std::vector<triangle<T, 3>> tris;
+    for (auto [a, b, c] : faces) tris.emplace_back(pts[a], pts[b], pts[c]);
+    return tris;
+}
+
+template <class T>
+bool any_hit(const std::vector<triangle<T, 3>>& mesh, const point<T, 3>& o, const point<T, 3>& d) {
+    for (const auto& tri : mesh) {
+        intersect_info<point<T, 3>> info;
+        if (tri.intersect(o, d, T(0), info)) return true;
+    }
+    return false;
+}
+
+}  // namespace
+
+// ---- triangle: watertightness ------------------------------------------------------------
+
+template <class T>
+class watertight : public ::testing::Test {};
+using scalar_types = ::testing::Types<float, double>;
+TYPED_TEST_SUITE(watertight, scalar_types);
+
+TYPED_TEST(watertight, rays_from_inside_through_every_vertex_and_along_every_edge_hit_the_closed_mesh) {
+    using T = TypeParam;
+    using V = point<T, 3>;
+    const auto mesh = icosphere<T>(2);
+    const std::uint64_t seed = spatial_test::test_seed(41);
+    SCOPED_TRACE(spatial_test::replay_hint(seed));
+    std::mt19937_64 rng(seed);
+    std::uniform_real_distribution<double> unit(0, 1);
+    // Origins: the centre (rays exactly through vertices and edge points) and random inner points.
+    std::vector<V> origins = {V{{0, 0, 0}}};
+    for (int i = 0; i < 5; ++i) origins.push_back(V{{T(unit(rng) * 0.6 - 0.3), T(unit(rng) * 0.6 - 0.3), T(unit(rng) * 0.6 - 0.3)}});
+    int rays = 0;
+    for (const auto& o : origins)
+        for (const auto& tri : mesh)
+            for (int k = 0; k < 3; ++k) {
+                const V& a = tri.vertex(k);
+                const V& b = tri.vertex((k + 1) % 3);
+                const T s = T(unit(rng));
+                for (const V& target : {a, V{{a[0] + s * (b[0] - a[0]), a[1] + s * (b[1] - a[1]), a[2] + s * (b[2] - a[2])}}}) {
+                    const V d{{target[0] - o[0], target[1] - o[1], target[2] - o[2]}};
+                    ASSERT_TRUE(any_hit(mesh, o, d)) << "ray from " << o << " toward " << target << " slipped through";
+                    ++rays;
+                }
+            }
+    EXPECT_GT(rays, 5000);
+}
+
+TYPED_TEST(watertight, axis_rays_with_zero_and_negative_zero_components_hit_the_octahedron) {
+    using T = TypeParam;
+    using V = point<T, 3>;
+    // The octahedron's vertices lie on the axes: every axis ray passes exactly through a vertex
+    // shared by four triangles, and diagonal rays through shared edges.
+    const V px{{1, 0, 0}}, nx{{-1, 0, 0}}, py{{0, 1, 0}}, ny{{0, -1, 0}}, pz{{0, 0, 1}}, nz{{0, 0, -1}};
+    const std::vector<triangle<T, 3>> mesh = {{px, py, pz}, {py, nx, pz}, {nx, ny, pz}, {ny, px, pz},
+                                              {py, px, nz}, {nx, py, nz}, {ny, nx, nz}, {px, ny, nz}};
+    const T z = T(0), nzero = -T(0);
+    for (T sgn : {T(1), T(-1)})
+        for (int axis = 0; axis < 3; ++axis)
+            for (T other : {z, nzero}) {
+                V d{{other, other, other}};
+                d[axis] = sgn;
+                EXPECT_TRUE(any_hit(mesh, V{{0, 0, 0}}, d)) << "direction " << d;
+                // From outside, aimed at the vertex on the far side.
+                V o{{0, 0, 0}};
+                o[axis] = -sgn * 5;
+                EXPECT_TRUE(any_hit(mesh, o, d)) << "from " << o << " direction " << d;
+                // Through the middle of an edge: direction (1,1,0)-like with a signed zero.
+                V e{{other, other, other}};
+                e[axis] = sgn;
+                e[(axis + 1) % 3] = sgn;
+                EXPECT_TRUE(any_hit(mesh, V{{0, 0, 0}}, e)) << "edge direction " << e;
+            }
+}
+
+// ---- triangle: ray against an independent plane computation ------------------------------
+
+TEST(triangle_ray, hit_time_matches_the_plane_and_barycentric_test_on_random_rays) {
+    const std::uint64_t seed = spatial_test::test_seed(7);
+    SCOPED_TRACE(spatial_test::replay_hint(seed));
+    std::mt19937_64 rng(seed);
+    std::uniform_real_distribution<double> u(-1, 1);
+    int hits = 0, misses = 0;
+    for (int i = 0; i < 20000; ++i) {
+        const triangle<double, 3> tri(p3(u(rng), u(rng), u(rng)), p3(u(rng), u(rng), u(rng)), p3(u(rng), u(rng), u(rng)));
+        const P3 o = p3(3 * u(rng), 3 * u(rng), 3 * u(rng));
+        // Half the rays aim at a point near the triangle (barycentrics in [-0.2, 1.2]).
+        P3 d = p3(u(rng), u(rng), u(rng));
+        if (i % 2 == 0) {
+            const double a = 0.7 * u(rng) + 0.5, b = 0.7 * u(rng) + 0.5;
+            for (int k = 0; k < 3; ++k)
+                d[k] = tri.vertex(0)[k] + a * (tri.vertex(1)[k] - tri.vertex(0)[k]) +
+                       b * (tri.vertex(2)[k] - tri.vertex(0)[k]) - o[k];
+        }
+        // Oracle: Möller-Trumbore-style barycentrics by Cramer's rule in long double.
+        using L = long double;
+        const L e1[3] = {L(tri.vertex(1)[0]) - tri.vertex(0)[0], L(tri.vertex(1)[1]) - tri.vertex(0)[1], L(tri.vertex(1)[2]) - tri.vertex(0)[2]};
+        const L e2[3] = {L(tri.vertex(2)[0]) - tri.vertex(0)[0], L(tri.vertex(2)[1]) - tri.vertex(0)[1], L(tri.vertex(2)[2]) - tri.vertex(0)[2]};
+        const L s[3] = {L(o[0]) - tri.vertex(0)[0], L(o[1]) - tri.vertex(0)[1], L(o[2]) - tri.vertex(0)[2]};
+        const L dd[3] = {d[0], d[1], d[2]};
+        auto det3 = [](const L* a, const L* b, const L* c) {
+            return a[0] * (b[1] * c[2] - b[2] * c[1]) - a[1] * (b[0] * c[2] - b[2] * c[0]) + a[2] * (b[0] * c[1] - b[1] * c[0]);
+        };
+        const L nd[3] = {-dd[0], -dd[1], -dd[2]};
+        const L det = det3(nd, e1, e2);
+        if (std::abs(det) < 1e-6) continue;
+        const L t = det3(s, e1, e2) / det, b1 = det3(nd, s, e2) / det, b2 = det3(nd, e1, s) / det;
+        const L margin = 1e-9;
+        const bool inside = b1 > margin && b2 > margin && b1 + b2 < 1 - margin && t > margin;
+        const bool outside = b1 < -margin || b2 < -margin || b1 + b2 > 1 + margin || t < -margin;
+        info3 info;
+        const bool hit = tri.intersect(o, d, 0.0, info);
+        if (inside) {
+            ASSERT_TRUE(hit) << "i=" << i;
+            EXPECT_NEAR(info.hit_time, static_cast<double>(t), 1e-9 * (1 + std::abs(static_cast<double>(t))));
+            ++hits;
+        } else if (outside) {
+            ASSERT_FALSE(hit) << "i=" << i;
+            ++misses;
+        }
+    }
+    EXPECT_GT(hits, 1000);
+    EXPECT_GT(misses, 1000);
+}
+
+TEST(triangle_ray, respects_hit_time_limit_and_origin_on_the_triangle_hits_at_zero) {
+    const triangle<double, 3> tri(p3(0, 0, 0), p3(1, 0, 0), p3(0, 1, 0));
+    info3 info;
+    ASSERT_TRUE(tri.intersect(p3(0.2, 0.2, 1), p3(0, 0, -1), 0.0, info));
+    EXPECT_EQ(info.hit_time, 1.0);
+    EXPECT_EQ(info.hit_location, p3(0.2, 0.2, 0));
+    info3 limited;
+    limited.hit_time = 1.0;  // strictly before the limit only
+    EXPECT_FALSE(tri.intersect(p3(0.2, 0.2, 1), p3(0, 0, -1), 0.0, limited));
+    info3 on;
+    ASSERT_TRUE(tri.intersect(p3(0.2, 0.2, 0), p3(0, 0, 1), 0.0, on));
+    EXPECT_EQ(on.hit_time, 0.0);
+    info3 behind;
+    EXPECT_FALSE(tri.intersect(p3(0.2, 0.2, 1), p3(0, 0, 1), 0.0, behind));
+}
+
+TEST(triangle_ray, thick_ray_first_contact_is_at_distance_thickness) {
+    const triangle<double, 3> tri(p3(0, 0, 0), p3(1, 0, 0), p3(0, 1, 0));
+    // A ray parallel to the triangle's plane at height 0.5 passing over it: misses thin,
+    // touches with thickness >= 0.5.
+    info3 thin;
+    EXPECT_FALSE(tri.intersect(p3(-2, 0.25, 0.5), p3(1, 0, 0), 0.0, thin));
+    info3 thick;
+    ASSERT_TRUE(tri.intersect(p3(-2, 0.25, 0.5), p3(1, 0, 0), 0.6, thick));
+    // First contact: distance to the edge x = 0 region equals 0.6: (x^2 + 0.5^2) = 0.36 with x < 0.
+    const double expected = 2 - std::sqrt(0.36 - 0.25);
+    EXPECT_NEAR(thick.hit_time, expected, 1e-9);
+    EXPECT_NEAR(std::sqrt(tri.squared_distance(thick.hit_location)), 0.6, 1e-9);
+    info3 too_thin;
+    EXPECT_FALSE(tri.intersect(p3(-2, 0.25, 0.5), p3(1, 0, 0), 0.49, too_thin));
+}
+
+// ---- triangle: distance, overlap, split ----------------------------------------------------
+
+TEST(triangle_geometry, squared_distance_is_the_minimum_over_a_dense_sample_and_a_lower_bound_of_it) {
+    const std::uint64_t seed = spatial_test::test_seed(11);
+    SCOPED_TRACE(spatial_test::replay_hint(seed));
+    std::mt19937_64 rng(seed);
+    std::uniform_real_distribution<double> u(-1, 1);
+    for (int i = 0; i < 300; ++i) {
+        const triangle<double, 3> tri(p3(u(rng), u(rng), u(rng)), p3(u(rng), u(rng), u(rng)), p3(u(rng), u(rng), u(rng)));
+        const P3 q = p3(2 * u(rng), 2 * u(rng), 2 * u(rng));
+        double best = std::numeric_limits<double>::infinity();
+        const int n = 120;
+        for (int a = 0; a <= n; ++a)
+            for (int b = 0; a + b <= n; ++b) {
+                const double s = double(a) / n, t = double(b) / n;
+                double d2 = 0;
+                for (int k = 0; k < 3; ++k) {
+                    const double x = tri.vertex(0)[k] + s * (tri.vertex(1)[k] - tri.vertex(0)[k]) +
+                                     t * (tri.vertex(2)[k] - tri.vertex(0)[k]);
+                    d2 += (x - q[k]) * (x - q[k]);
+                }
+                best = std::min(best, d2);
+            }
+        const double d = std::sqrt(tri.squared_distance(q));
+        EXPECT_LE(d, std::sqrt(best) + 1e-12);
+        EXPECT_GE(d, std::sqrt(best) - 0.05);  // grid spacing bound for triangles of size <= 2*sqrt(3)
+    }
+    // Degenerate triangle: the distance to its segment.
+    const triangle<double, 3> seg(p3(0, 0, 0), p3(1, 0, 0), p3(2, 0, 0));
+    EXPECT_TRUE(seg.is_degenerate());
+    EXPECT_DOUBLE_EQ(seg.squared_distance(p3(1.5, 2, 0)), 4.0);
+    EXPECT_DOUBLE_EQ(seg.squared_distance(p3(3, 0, 0)), 1.0);
+}
+
+namespace {
+// Independent overlap oracle: clip the triangle polygon by the box's 2D planes
+// (Sutherland-Hodgman); non-empty result <=> overlap.
+template <std::size_t D>
+bool clip_overlaps(const triangle<double, D>& tri, const point<double, D>& lo, const point<double, D>& hi) {
+    std::vector<std::array<double, D>> poly;
+    for (int k = 0; k < 3; ++k) {
+        std::array<double, D> v;
+        for (std::size_t i = 0; i < D; ++i) v[i] = tri.vertex(k)[i];
+        poly.push_back(v);
+    }
+    for (std::size_t axis = 0; axis < D; ++axis)
+        for (int side = 0; side < 2; ++side) {
+            auto inside = [&](const std::array<double, D>& v) { return side == 0 ? v[axis] >= lo[axis] : v[axis] <= hi[axis]; };
+            const double bound = side == 0 ? lo[axis] : hi[axis];
+            std::vector<std::array<double, D>> out;
+            for (std::size_t k = 0; k < poly.size(); ++k) {
+                const auto& a = poly[k];
+                const auto& b = poly[(k + 1) % poly.size()];
+                if (inside(a)) out.push_back(a);
+                if (inside(a) != inside(b)) {
+                    const double s = (bound - a[axis]) / (b[axis] - a[axis]);
+                    std::array<double, D> c;
+                    for (std::size_t i = 0; i < D; ++i) c[i] = a[i] + s * (b[i] - a[i]);
+                    c[axis] = bound;
+                    out.push_back(c);
+                }
+            }
+            poly = out;
+            if (poly.empty()) return false;
+        }
+    return true;
+}
+}  // namespace
+
+TEST(triangle_geometry, box_overlap_agrees_with_polygon_clipping_in_2d_and_3d) {
+    const std::uint64_t seed = spatial_test::test_seed(13);
+    SCOPED_TRACE(spatial_test::replay_hint(seed));
+    std::mt19937_64 rng(seed);
+    std::uniform_real_distribution<double> u(-1, 1);
+    int yes = 0, no = 0;
+    for (int i = 0; i < 20000; ++i) {
+        const triangle<double, 3> t3(p3(u(rng), u(rng), u(rng)), p3(u(rng), u(rng), u(rng)), p3(u(rng), u(rng), u(rng)));
+        const P3 c = p3(u(rng), u(rng), u(rng));
+        const double h = 0.05 + 0.3 * (u(rng) + 1);
+        const P3 lo = p3(c[0] - h, c[1] - h * 0.7, c[2] - h * 0.4), hi = p3(c[0] + h, c[1] + h * 0.7, c[2] + h * 0.4);
+        const bool expect3 = clip_overlaps(t3, lo, hi);
+        ASSERT_EQ(t3.overlaps_box(lo, hi), expect3) << "3D case " << i;
+        (expect3 ? yes : no)++;
+        const triangle<double, 2> t2(p2(u(rng), u(rng)), p2(u(rng), u(rng)), p2(u(rng), u(rng)));
+        const P2 lo2 = p2(lo[0], lo[1]), hi2 = p2(hi[0], hi[1]);
+        ASSERT_EQ(t2.overlaps_box(lo2, hi2), clip_overlaps(t2, lo2, hi2)) << "2D case " << i;
+    }
+    EXPECT_GT(yes, 2000);
+    EXPECT_GT(no, 2000);
+}
+
+TEST(triangle_geometry, split_boxes_contain_every_sampled_point_of_their_side) {
+    const std::uint64_t seed = spatial_test::test_seed(17);
+    SCOPED_TRACE(spatial_test::replay_hint(seed));
+    std::mt19937_64 rng(seed);
+    std::uniform_real_distribution<double> u(-1, 1);
+    for (int i = 0; i < 500; ++i) {
+        const triangle<double, 3> tri(p3(u(rng), u(rng), u(rng)), p3(u(rng), u(rng), u(rng)), p3(u(rng), u(rng), u(rng)));
+        double normal[3] = {u(rng), u(rng), u(rng)};
+        if (i % 3 == 0) normal[0] = normal[1] = 0, normal[2] = i % 2 ? 1 : -1;  // axis-aligned planes too
+        const double offset = 0.5 * u(rng);
+        box<double, 3> left, right;
+        tri.split(normal, offset, left, right);
+        const int n = 40;
+        for (int a = 0; a <= n; ++a)
+            for (int b = 0; a + b <= n; ++b) {
+                P3 x;
+                for (int k = 0; k < 3; ++k)
+                    x[k] = tri.vertex(0)[k] + double(a) / n * (tri.vertex(1)[k] - tri.vertex(0)[k]) +
+                           double(b) / n * (tri.vertex(2)[k] - tri.vertex(0)[k]);
+                const double s = normal[0] * x[0] + normal[1] * x[1] + normal[2] * x[2] - offset;
+                if (s <= 0) {
+                    ASSERT_LE(left.squared_distance(x), 1e-28) << "case " << i;
+                }
+                if (s >= 0) {
+                    ASSERT_LE(right.squared_distance(x), 1e-28) << "case " << i;
+                }
+            }
+    }
+    // Entirely on one side: the other part is empty.
+    const triangle<double, 3> tri(p3(0, 0, 0), p3(1, 0, 0), p3(0, 1, 0));
+    const double nx[3] = {1, 0, 0};
+    box<double, 3> l, r;
+    tri.split(nx, 5.0, l, r);
+    EXPECT_FALSE(l.is_empty());
+    EXPECT_TRUE(r.is_empty());
+}
+
+TEST(triangle_2d, rays_enter_the_filled_triangle_and_origins_inside_hit_at_zero) {
+    const triangle<double, 2> tri(p2(0, 0), p2(2, 0), p2(0, 2));
+    intersect_info<P2> info;
+    ASSERT_TRUE(tri.intersect(p2(-1, 0.5), p2(1, 0), 0.0, info));
+    EXPECT_EQ(info.hit_time, 1.0);
+    intersect_info<P2> inside;
+    ASSERT_TRUE(tri.intersect(p2(0.5, 0.5), p2(1, -0.0), 0.0, inside));
+    EXPECT_EQ(inside.hit_time, 0.0);
+    intersect_info<P2> miss;
+    EXPECT_FALSE(tri.intersect(p2(-1, 3), p2(1, 0), 0.0, miss));
+    // Clockwise winding gives the same answers.
+    const triangle<double, 2> cw(p2(0, 0), p2(0, 2), p2(2, 0));
+    intersect_info<P2> info_cw;
+    ASSERT_TRUE(cw.intersect(p2(-1, 0.5), p2(1, 0), 0.0, info_cw));
+    EXPECT_EQ(info_cw.hit_time, 1.0);
+    // Degenerate (a segment): hit where the ray crosses it.
+    const triangle<double, 2> seg(p2(0, 0), p2(1, 1), p2(2, 2));
+    intersect_info<P2> info_seg;
+    ASSERT_TRUE(seg.intersect(p2(1, -1), p2(0, 1), 0.0, info_seg));
+    EXPECT_EQ(info_seg.hit_time, 2.0);
+    EXPECT_EQ(seg.squared_distance(p2(2, 0)), 2.0);
+}
+
+// ---- sphere ----------------------------------------------------------------------------------
+
+TEST(sphere_object, ray_hits_match_the_quadratic_and_inside_origins_hit_at_zero) {
+    const sphere<double, 3> s(p3(1, 2, 3), 0.5);
+    info3 info;
+    ASSERT_TRUE(s.intersect(p3(1, 2, -1), p3(0, 0, 1), 0.0, info));
+    EXPECT_DOUBLE_EQ(info.hit_time, 3.5);
+    info3 inside;
+    ASSERT_TRUE(s.intersect(p3(1, 2, 3.2), p3(0, -0.0, 1), 0.0, inside));
+    EXPECT_EQ(inside.hit_time, 0.0);
+    info3 behind;
+    EXPECT_FALSE(s.intersect(p3(1, 2, 4), p3(0, 0, 1), 0.0, behind));
+    info3 miss, thick;
+    EXPECT_FALSE(s.intersect(p3(1.7, 2, -1), p3(0, 0, 1), 0.0, miss));
+    ASSERT_TRUE(s.intersect(p3(1.7, 2, -1), p3(0, 0, 1), 0.25, thick));  // radius 0.75 now
+    EXPECT_NEAR(thick.hit_time, 4 - std::sqrt(0.75 * 0.75 - 0.7 * 0.7), 1e-12);
+    EXPECT_THROW((sphere<double, 3>(p3(0, 0, 0), -1)), std::invalid_argument);
+}
+
+TEST(sphere_object, a_tiny_sphere_far_from_the_origin_is_still_hit_stable_form) {
+    // b^2 - ac would cancel completely here; the closest-approach form does not.
+    const sphere<float, 3> s(point<float, 3>{{1e4f, 1e4f, 1e4f}}, 1e-2f);
+    intersect_info<point<float, 3>> info;
+    ASSERT_TRUE(s.intersect(point<float, 3>{{0, 0, 0}}, point<float, 3>{{1, 1, 1}}, 0.0f, info));
+    EXPECT_NEAR(info.hit_time, 1e4f, 1e-1f);
+}
+
+TEST(sphere_object, bounds_contain_the_ball_and_split_caps_contain_sampled_points) {
+    const std::uint64_t seed = spatial_test::test_seed(19);
+    SCOPED_TRACE(spatial_test::replay_hint(seed));
+    std::mt19937_64 rng(seed);
+    std::uniform_real_distribution<double> u(-1, 1);
+    for (int i = 0; i < 300; ++i) {
+        const sphere<double, 3> s(p3(u(rng) * 1e3, u(rng), u(rng)), 0.1 + (u(rng) + 1) / 2);
+        const int axis = i % 3;
+        double normal[3] = {0, 0, 0};
+        normal[axis] = i % 2 ? 2.0 : -0.5;
+        const double offset = normal[axis] * (s.center()[axis] + 0.8 * s.radius() * u(rng));
+        box<double, 3> left, right;
+        s.split(normal, offset, left, right);
+        for (int k = 0; k < 2000; ++k) {
+            P3 dir = p3(u(rng), u(rng), u(rng));
+            const double n = std::sqrt(dir[0] * dir[0] + dir[1] * dir[1] + dir[2] * dir[2]);
+            const double r = s.radius() * std::cbrt((u(rng) + 1) / 2);
+            P3 x;
+            for (int j = 0; j < 3; ++j) x[j] = s.center()[j] + dir[j] / n * r;
+            if (k % 10 == 0) x = [&] { P3 y = x; for (int j = 0; j < 3; ++j) y[j] = s.center()[j] + dir[j] / n * s.radius(); return y; }();
+            ASSERT_EQ(object_box_squared_distance(s, x), 0.0);
+            const double side = normal[0] * x[0] + normal[1] * x[1] + normal[2] * x[2] - offset;
+            if (side <= 0) {
+                ASSERT_EQ(left.squared_distance(x), 0.0) << "case " << i;
+            }
+            if (side >= 0) {
+                ASSERT_EQ(right.squared_distance(x), 0.0) << "case " << i;
+            }
+        }
+    }
+}
+
+// ---- box ---------------------------------------------------------------------------------------
+
+TEST(box_object, slab_test_handles_zero_and_negative_zero_directions_and_faces) {
+    const box<double, 3> b(p3(0, 0, 0), p3(1, 1, 1));
+    for (double z : {0.0, -0.0}) {
+        info3 on_face;  // grazing the face y = 1 along x
+        ASSERT_TRUE(b.intersect(p3(-1, 1, 0.5), p3(1, z, z), 0.0, on_face));
+        EXPECT_EQ(on_face.hit_time, 1.0);
+        info3 outside;
+        EXPECT_FALSE(b.intersect(p3(-1, 1.0000001, 0.5), p3(1, z, z), 0.0, outside));
+        info3 neg;
+        ASSERT_TRUE(b.intersect(p3(0.5, 0.5, 3), p3(z, z, -1), 0.0, neg));
+        EXPECT_EQ(neg.hit_time, 2.0);
+    }
+    info3 inside;
+    ASSERT_TRUE(b.intersect(p3(0.5, 0.5, 0.5), p3(1, 1, 1), 0.0, inside));
+    EXPECT_EQ(inside.hit_time, 0.0);
+    info3 thick;
+    ASSERT_TRUE(b.intersect(p3(-1, 1.2, 0.5), p3(1, 0, 0), 0.3, thick));
+    EXPECT_NEAR(thick.hit_time, 1 - std::sqrt(0.09 - 0.04), 1e-9);
+}
+
+TEST(box_object, split_is_exact_for_axis_planes_and_marks_empty_parts) {
+    const box<double, 3> b(p3(0, 0, 0), p3(2, 2, 2));
+    const double n[3] = {0, -1, 0};
+    box<double, 3> l, r;
+    b.split(n, -0.5, l, r);  // -y <= -0.5  <=>  y >= 0.5 goes left
+    EXPECT_EQ(l.lo[1], 0.5);
+    EXPECT_EQ(l.hi[1], 2.0);
+    EXPECT_EQ(r.lo[1], 0.0);
+    EXPECT_EQ(r.hi[1], 0.5);
+    b.split(n, 1.0, l, r);  // y >= -1: everything left
+    EXPECT_EQ(l, b);
+    EXPECT_TRUE(r.is_empty());
+}
+
+// ---- the oracle stores objects --------------------------------------------------------------
+
+TEST(brute_force_objects, rejects_non_finite_objects_and_keeps_its_contents) {
+    brute_force<sphere<double, 3>> c;
+    c.insert(sphere<double, 3>(p3(0, 0, 0), 1));
+    std::vector<sphere<double, 3>> batch = {sphere<double, 3>(p3(5, 0, 0), 1),
+                                            sphere<double, 3>(p3(std::nan(""), 0, 0), 1)};
+    EXPECT_THROW(c.insert(batch.begin(), batch.end()), std::invalid_argument);
+    EXPECT_EQ(c.size(), 1u);
+    // Ranges see the whole object: the ball of radius 1 at the origin reaches x = 0.9.
+    EXPECT_EQ(c.find_in_box(p3(0.9, -0.1, -0.1), p3(3, 0.1, 0.1)).size(), 1u);
+    EXPECT_EQ(c.find_in_ball(p3(1.5, 0, 0), 0.5).size(), 1u);
+    EXPECT_EQ(c.find_in_ball(p3(1.5, 0, 0), 0.49).size(), 0u);
+}
