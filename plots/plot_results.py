@@ -23,7 +23,10 @@ Output, in --out (default <repo>/plots), each PNG written atomically (temp file 
 2. Accuracy against time, <suite>_recall_vs_time_<workload>_<dim>d_<scalar>.png: for
    operation approx_knn, recall against time_per_op at the largest n, one curve per structure
    through its eps values (each point labelled with its eps).
-3. Ratios, <suite>_ratios.png, when time_ratio rows exist: bars of kd_tree's time divided by
+3. Ray casting, raycast_time_per_ray.png: one subplot per ray kind (params), log-log time per ray
+   against n (triangles), colour = structure, line style = generated mesh workload (sphere solid,
+   soup dashed; legend with the fitted exponent), real meshes as unconnected crosses at their n.
+4. Ratios, <suite>_ratios.png, when time_ratio rows exist: bars of kd_tree's time divided by
    each peer's time per (operation, params), one subplot per (workload, dim, scalar), each peer
    at the largest n it was measured at, with a line at 1.0 (log y axis when the ratios span
    more than a decade).
@@ -67,6 +70,7 @@ SUITES = {
     "ray": "ray casting (first hit)",
     "collide": "all intersecting pairs, within one container and between two",
     "bv": "bounding-volume fitting and tests",
+    "raycast": "first-hit ray casting against triangle meshes (ours, Embree, CGAL AABB_tree)",
     "scene": "scene pipelines (TOML scenes)",
 }
 
@@ -869,6 +873,75 @@ def plot_bv_tradeoff(rows, out_dir, include_unvalidated):
 # Entry point
 # --------------------------------------------------------------------------------------------
 
+# --------------------------------------------------------------------------------------------
+# Ray casting: time per ray against n, all structures and workloads in one figure
+# --------------------------------------------------------------------------------------------
+
+RAYCAST_SUITE = "raycast"
+RAYCAST_FILE = "raycast_time_per_ray.png"
+RAYCAST_LINESTYLES = {"sphere": "-", "soup": "--"}  # other generated workloads: dotted
+REAL_PREFIX = "real:"
+
+
+def raycast_series(rows, include_unvalidated=False):
+    """{params: {(structure label, workload, validated): {n: median time}}}, and the unit.
+
+    From the raycast suite's operation=ray, metric=time_per_op rows, following the validation
+    rule (unvalidated rows dropped unless include_unvalidated)."""
+    timing = [row for row in rows if row.suite == RAYCAST_SUITE and row.operation == "ray"
+              and row.metric == "time_per_op" and row.value > 0]
+    timing = split_validated(timing, include_unvalidated, "raycast timing")
+    unit = common_unit(row.unit for row in timing) if timing else None
+    if unit is None:
+        return {}, None
+    raw = collections.defaultdict(lambda: collections.defaultdict(lambda: collections.defaultdict(list)))
+    for row in timing:
+        raw[row.params][(label_of(row), row.workload, row.validated)][row.n].append(
+            convert(row.value, row.unit, unit))
+    series = {params: {key: {n: median(values) for n, values in points.items()}
+                       for key, points in by_key.items()}
+              for params, by_key in raw.items()}
+    return series, unit
+
+
+def plot_raycast(rows, out_dir, styles, include_unvalidated):
+    series, unit = raycast_series(rows, include_unvalidated)
+    if not series:
+        return []
+    panels = sorted(series)
+    entries = max(len({(label, workload) for label, workload, _ in by_key}) for by_key in series.values())
+    figure, axes = new_figure(len(panels), entries)
+    for axis, params in zip(axes, panels):
+        real_labelled = set()
+        for (label, workload, validated), points in sorted(series[params].items(),
+                                                           key=lambda item: tuple(map(str, item[0]))):
+            colour, marker = styles(label)
+            ns = sorted(points)
+            times = [points[n] for n in ns]
+            suffix = "" if validated else " [unvalidated]"
+            if workload.startswith(REAL_PREFIX):
+                text = f"{label} real meshes{suffix}" if (label, validated) not in real_labelled else None
+                real_labelled.add((label, validated))
+                axis.plot(ns, times, linestyle="none", marker="x", color=colour, label=text)
+                continue
+            exponent = fit_exponent(ns, times)
+            text = f"{label} {workload}{suffix}"
+            text += f" (n^{exponent:.2f})" if math.isfinite(exponent) else ""
+            axis.plot(ns, times, marker=marker, color=colour, label=text,
+                      linestyle=RAYCAST_LINESTYLES.get(workload, ":"),
+                      markerfacecolor=colour if validated else "none")
+        axis.set_xscale("log")
+        axis.set_yscale("log")
+        axis.set_title(params or "rays")
+        axis.set_xlabel("n (triangles)")
+        axis.set_ylabel(f"time per ray ({unit})")
+        axis.grid(True, which="major", alpha=0.5)
+        axis.grid(True, which="minor", alpha=0.15)
+        legend_below(axis)
+    finish_figure(figure, "raycast: time per ray against mesh size (median of repetitions)")
+    return [save_atomically(figure, os.path.join(out_dir, RAYCAST_FILE))]
+
+
 def main(argv=None):
     repo = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
     parser = argparse.ArgumentParser(description=__doc__.split("\n")[0])
@@ -890,6 +963,7 @@ def main(argv=None):
     written = []
     written += plot_complexity(rows, args.out, styles, args.include_unvalidated)
     written += plot_recall_vs_time(rows, args.out, styles, args.include_unvalidated)
+    written += plot_raycast(rows, args.out, styles, args.include_unvalidated)
     written += plot_ratios(rows, args.out, styles, args.include_unvalidated)
     written += plot_bv_tradeoff(rows, args.out, args.include_unvalidated)
     note(f"{len(written)} PNG(s) written to {args.out}")

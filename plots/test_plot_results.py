@@ -247,5 +247,65 @@ class BvTradeoffTest(unittest.TestCase):
         self.assertIn("bv_obb_fit_3d_double.png", names)
 
 
+class RaycastPlotTest(unittest.TestCase):
+    def setUp(self):
+        self._temp = tempfile.TemporaryDirectory()
+        self.results = os.path.join(self._temp.name, "results")
+        self.out = os.path.join(self._temp.name, "out")
+        os.makedirs(self.results)
+
+    def tearDown(self):
+        self._temp.cleanup()
+
+    @staticmethod
+    def rows():
+        rows = []
+        for params in ("rays=incoherent", "rays=coherent;camera=128x128"):
+            for workload in ("sphere", "soup"):
+                for n in NS:
+                    rows.append(row(suite="raycast", structure="embree", workload=workload, n=n,
+                                    operation="ray", params=params, value=100.0 * math.log(n)))
+                    rows.append(row(suite="raycast", structure="cgal_aabb_tree", workload=workload,
+                                    n=n, operation="ray", params=params, value=0.5 * n))
+                    # Two runs of one point: the median is drawn.
+                    rows.append(row(suite="raycast", structure="cgal_aabb_tree", workload=workload,
+                                    n=n, operation="ray", params=params, value=1.5 * n))
+                # A structure whose timings were never validated must not be drawn.
+                rows.append(row(suite="raycast", structure="broken", workload=workload, n=1000,
+                                operation="ray", params=params, value=1.0, validated="false"))
+            rows.append(row(suite="raycast", structure="embree", workload="real:bunny.obj", n=69666,
+                            operation="ray", params=params, value=0.3, unit="us"))
+        rows.append(row(suite="raycast", structure="embree", workload="sphere", n=1000,
+                        operation="build", params="", metric="build_time", value=0.01, unit="s"))
+        return rows
+
+    def test_series_follow_the_validation_rule_and_take_medians(self):
+        write_csv(self.results, "raycast.csv", self.rows())
+        with contextlib.redirect_stderr(io.StringIO()), contextlib.redirect_stdout(io.StringIO()):
+            parsed = plot_results.read_results(self.results)
+            series, unit = plot_results.raycast_series(parsed)
+        self.assertEqual(unit, "s")  # ns and us rows mixed: drawn in seconds
+        self.assertEqual(sorted(series), ["rays=coherent;camera=128x128", "rays=incoherent"])
+        keys = series["rays=incoherent"]
+        self.assertNotIn(("broken", "sphere", False), keys)
+        self.assertAlmostEqual(keys[("cgal_aabb_tree", "soup", True)][10000], 1e-9 * 10000)
+        self.assertAlmostEqual(keys[("embree", "real:bunny.obj", True)][69666], 0.3e-6)
+        # Exponents: linear for cgal here, flat-ish (log n) for embree.
+        cgal = keys[("cgal_aabb_tree", "sphere", True)]
+        self.assertAlmostEqual(plot_results.fit_exponent(sorted(cgal), [cgal[n] for n in sorted(cgal)]),
+                               1.0, delta=1e-9)
+
+    def test_raycast_figure_is_written(self):
+        write_csv(self.results, "raycast.csv", self.rows())
+        code, stdout, stderr = run_main("--results", self.results, "--out", self.out)
+        self.assertEqual(code, 0, stderr)
+        names = pngs(self.out)
+        self.assertIn(plot_results.RAYCAST_FILE, names)
+        self.assertIn("raycast_ray_raysincoherent_3d_double.png", names)  # the generic curves too
+        self.assertIn("unvalidated", stderr)
+        with open(os.path.join(self.out, plot_results.RAYCAST_FILE), "rb") as handle:
+            self.assertEqual(handle.read(8), b"\x89PNG\r\n\x1a\n")
+
+
 if __name__ == "__main__":
     unittest.main()

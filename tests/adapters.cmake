@@ -7,3 +7,11 @@ target_link_libraries(adapters_test PRIVATE spatial_adapters spatial_harness_int
 # Bounding volumes against CGAL (harness/bv_oracles.hpp; CGAL itself stays in the adapter).
 spatial_add_test(bv_oracle_test ${CMAKE_CURRENT_LIST_DIR}/bv_oracle_test.cpp)
 target_link_libraries(bv_oracle_test PRIVATE spatial_adapters spatial_harness_interface spatial::datasets)
+
+# Ray casting: mesh generators, CGAL mesh loading, Embree and CGAL AABB_tree against
+# spatial::brute_force<triangle> (harness/ray_adapters.hpp, harness/ray_validation.hpp).
+spatial_add_test(adapters_raycast_test ${CMAKE_CURRENT_LIST_DIR}/adapters_raycast_test.cpp)
+target_link_libraries(adapters_raycast_test PRIVATE spatial_adapters spatial_harness_interface spatial::datasets)
+target_compile_definitions(adapters_raycast_test PRIVATE
+  SPATIAL_DATASETS_SAMPLES_DIR="${PROJECT_SOURCE_DIR}/datasets/samples"
+  SPATIAL_DATASETS_REAL_DIR="${PROJECT_SOURCE_DIR}/datasets/real")

@@ -23,3 +23,15 @@ add_test(NAME spatialbench_bv_rejects_unknown_shape
          COMMAND $<TARGET_FILE:spatialbench> run --suite bv --preset smoke --workload nosuchshape --quiet
                  --results ${CMAKE_CURRENT_BINARY_DIR}/bv_bad_results)
 set_tests_properties(spatialbench_bv_rejects_unknown_shape PROPERTIES WILL_FAIL TRUE)
+
+# The raycast suite end to end at smoke size (generated sphere and soup; every structure
+# validated against brute force and the reference before timing; CSV + sidecar written), and
+# its rejection of an unknown mesh workload.
+add_test(NAME spatialbench_raycast_smoke_run
+         COMMAND $<TARGET_FILE:spatialbench> run --suite raycast --preset smoke --quiet
+                 --results ${CMAKE_CURRENT_BINARY_DIR}/raycast_smoke_results)
+set_tests_properties(spatialbench_raycast_smoke_run PROPERTIES TIMEOUT 300)
+add_test(NAME spatialbench_raycast_rejects_unknown_workload
+         COMMAND $<TARGET_FILE:spatialbench> run --suite raycast --preset smoke --workload teapot --quiet
+                 --results ${CMAKE_CURRENT_BINARY_DIR}/raycast_bad_results)
+set_tests_properties(spatialbench_raycast_rejects_unknown_workload PROPERTIES WILL_FAIL TRUE)

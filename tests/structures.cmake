@@ -10,3 +10,12 @@ spatial_add_test(obb_test obb_test.cpp)
 spatial_add_test(kdop_test kdop_test.cpp)
 spatial_add_test(ellipsoid_test ellipsoid_test.cpp)
 spatial_add_test(convex_hull_test convex_hull_test.cpp)
+# Bounding volume hierarchy: part 1 (aabb, sphere, kdop; hard cases), part 2 (obb, ellipsoid, hull,
+# spheres, triangles), part 3 (2D, float), the contract suite.
+spatial_add_test(bvh_test bvh_test.cpp)
+spatial_add_test(bvh_volumes_test bvh_volumes_test.cpp)
+spatial_add_test(bvh_2d_float_test bvh_2d_float_test.cpp)
+spatial_add_test(bvh_contract_test bvh_contract_test.cpp)
+# Loose/classic octree and the uniform and hashed grids (shared hard cases: octree_grid_checks.hpp).
+spatial_add_test(octree_test octree_test.cpp)
+spatial_add_test(grid_test grid_test.cpp)

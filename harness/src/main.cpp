@@ -1,5 +1,5 @@
 // spatialbench — the benchmark harness CLI.
-//   spatialbench run --suite knn|bv [--preset smoke|quick|full] [--results DIR] [--real-data DIR]
+//   spatialbench run --suite knn|bv|raycast [--preset smoke|quick|full] [--results DIR] [--real-data DIR]
 //                    [--workload W ...] [--structure S ...] [--n N ...] [--seed S] [--quiet]
 //   spatialbench list
 // Exit codes: 0 success, 1 bad usage or input, 2 validation failure (a wrong answer).
@@ -9,10 +9,13 @@
 #include <iostream>
 
 #include "datasets/generators.hpp"
+#include "datasets/mesh_generators.hpp"
 #include "datasets/shapes.hpp"
 #include "harness/adapters.hpp"
 #include "harness/bv_suite.hpp"
 #include "harness/knn_suite.hpp"
+#include "harness/ray_adapters.hpp"
+#include "harness/raycast_suite.hpp"
 #include "harness/validation.hpp"
 
 int main(int argc, char** argv) {
@@ -22,14 +25,14 @@ int main(int argc, char** argv) {
     harness::suite_options opt;
     std::string suite = "knn";
     auto* run = app.add_subcommand("run", "run a benchmark suite and write results/<suite>.csv");
-    run->add_option("--suite", suite, "suite to run")->check(CLI::IsMember({"knn", "bv"}));
+    run->add_option("--suite", suite, "suite to run")->check(CLI::IsMember({"knn", "bv", "raycast"}));
     run->add_option("--preset", opt.preset, "size preset: smoke (seconds), quick (<15 min), full (1e7)")
         ->check(CLI::IsMember({"smoke", "quick", "full"}));
     run->add_option("--results", opt.results_dir, "directory for CSV tables and run sidecars");
     std::string output_name;
     run->add_option("--output", output_name, "CSV file name inside --results (default <suite>.csv)");
-    run->add_option("--real-data", opt.real_data_dir, "directory of real point sets (.xyz, .ply) to add as workloads");
-    run->add_option("--workload", opt.workloads, "restrict to these generated workloads (bv: shapes)");
+    run->add_option("--real-data", opt.real_data_dir, "directory of real data to add as workloads: point sets (.xyz, .ply) for knn/bv, meshes (.off .ply .obj .stl) for raycast");
+    run->add_option("--workload", opt.workloads, "restrict to these generated workloads (bv: shapes; raycast: sphere, soup)");
     run->add_option("--structure", opt.structures, "restrict to these structures (kd_tree, nanoflann, ...)");
     run->add_option("--n", opt.sizes, "restrict to these sizes");
     run->add_option("--seed", opt.seed, "seed of every generated workload (logged in the run sidecar)");
@@ -42,12 +45,16 @@ int main(int argc, char** argv) {
     CLI11_PARSE(app, argc, argv);
 
     if (*list) {
-        std::cout << "suites: knn bv\nworkloads (knn):";
+        std::cout << "suites: knn bv raycast\nworkloads (knn):";
         for (auto w : datasets::point_workload_names()) std::cout << ' ' << w;
         std::cout << "\nshapes (bv):";
         for (const auto& w : datasets::shape_names()) std::cout << ' ' << w;
+        std::cout << "\nworkloads (raycast):";
+        for (auto w : datasets::mesh_workload_names) std::cout << ' ' << w;
         std::cout << "\nstructures: kd_tree brute_force";
         for (const auto& p : harness::make_peer_indices<double, 3>()) std::cout << ' ' << p->name();
+        std::cout << "\nray structures: bvh brute_force";
+        for (const auto& p : harness::make_peer_ray_indices<double>()) std::cout << ' ' << p->name();
         std::cout << '\n';
         return 0;
     }
@@ -56,6 +63,8 @@ int main(int argc, char** argv) {
     try {
         if (suite == "bv")
             harness::run_bv_suite(opt);
+        else if (suite == "raycast")
+            harness::run_raycast_suite(opt);
         else
             harness::run_knn_suite(opt);
     } catch (const harness::validation_error& e) {

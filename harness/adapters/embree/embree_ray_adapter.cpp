@@ -1,0 +1,162 @@
+// Embree 3 behind harness::ray_index<T> (see harness/ray_adapters.hpp for the contract).
+//
+// Embree (Wald et al., "Embree: A Kernel Framework for Efficient CPU Ray Tracing", ACM TOG
+// 2014) builds a BVH with SAH binning and traverses it with SIMD; it works in float only.
+// Configuration, chosen to compare like with like:
+//   * one device per index with "threads=1": our builders are single-threaded, and the
+//     machine (2 cores) is shared; queries are single rays (rtcIntersect1 / rtcOccluded1);
+//   * default build quality (RTC_BUILD_QUALITY_MEDIUM); default scene flags ("embree"), or
+//     RTC_SCENE_FLAG_ROBUST ("embree_robust": "avoid optimizations that reduce arithmetic
+//     accuracy"), whose price and effect on leaks at shared edges the suite measures;
+//   * shared buffers: Embree reads the caller's index triples in place; only the vertices
+//     are converted (to float, padded by one float because Embree loads vertices with 16-byte
+//     SIMD reads).
+
+#include <embree3/rtcore.h>
+
+#include <atomic>
+#include <cmath>
+#include <limits>
+#include <memory>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+#include "harness/ray_adapters.hpp"
+
+namespace harness {
+namespace {
+
+[[noreturn]] void embree_failure(RTCDevice device, const std::string& what) {
+    const RTCError code = device ? rtcGetDeviceError(device) : RTC_ERROR_UNKNOWN;
+    throw std::runtime_error("embree: " + what + " failed (RTCError " + std::to_string(static_cast<int>(code)) + ")");
+}
+
+// Bytes Embree holds, from its memory monitor callback (called before each allocation with
+// bytes > 0 and after each free with bytes < 0).
+bool count_bytes(void* user, ssize_t bytes, bool /*post*/) {
+    static_cast<std::atomic<long long>*>(user)->fetch_add(static_cast<long long>(bytes), std::memory_order_relaxed);
+    return true;  // never refuse an allocation
+}
+
+template <class T>
+class embree_ray_index final : public ray_index<T> {
+public:
+    using typename ray_index<T>::point_type;
+    using typename ray_index<T>::triangle_type;
+
+    explicit embree_ray_index(bool robust) : robust_(robust) {
+        device_ = rtcNewDevice("threads=1");
+        if (!device_) embree_failure(nullptr, "rtcNewDevice");
+        rtcSetDeviceMemoryMonitorFunction(device_, &count_bytes, &embree_bytes_);
+    }
+    ~embree_ray_index() override {
+        release_scene();
+        rtcReleaseDevice(device_);
+    }
+    embree_ray_index(const embree_ray_index&) = delete;
+    embree_ray_index& operator=(const embree_ray_index&) = delete;
+
+    std::string name() const override { return robust_ ? "embree_robust" : "embree"; }
+
+    void build(const datasets::triangle_mesh& mesh, std::span<const triangle_type>) override {
+        release_scene();
+        vertices_.assign(3 * mesh.vertices.size() + 1, 0.0f);
+        for (std::size_t i = 0; i < mesh.vertices.size(); ++i)
+            for (std::size_t d = 0; d < 3; ++d) vertices_[3 * i + d] = static_cast<float>(mesh.vertices[i][d]);
+        index_bytes_ = mesh.triangles.size() * sizeof(datasets::triangle_mesh::index_triple);
+        size_ = mesh.triangles.size();
+
+        scene_ = rtcNewScene(device_);
+        if (!scene_) embree_failure(device_, "rtcNewScene");
+        if (robust_) rtcSetSceneFlags(scene_, RTC_SCENE_FLAG_ROBUST);
+        if (size_ > 0) {
+            RTCGeometry geometry = rtcNewGeometry(device_, RTC_GEOMETRY_TYPE_TRIANGLE);
+            if (!geometry) embree_failure(device_, "rtcNewGeometry");
+            rtcSetSharedGeometryBuffer(geometry, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT3, vertices_.data(), 0,
+                                       3 * sizeof(float), mesh.vertices.size());
+            rtcSetSharedGeometryBuffer(geometry, RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT3, mesh.triangles.data(), 0,
+                                       sizeof(datasets::triangle_mesh::index_triple), mesh.triangles.size());
+            rtcCommitGeometry(geometry);
+            rtcAttachGeometry(scene_, geometry);
+            rtcReleaseGeometry(geometry);  // the scene holds it
+        }
+        rtcCommitScene(scene_);
+        if (rtcGetDeviceError(device_) != RTC_ERROR_NONE) embree_failure(device_, "rtcCommitScene");
+    }
+    std::size_t size() const override { return size_; }
+    std::size_t memory_bytes() const override {
+        const long long embree = embree_bytes_.load(std::memory_order_relaxed);
+        return sizeof(*this) + static_cast<std::size_t>(embree > 0 ? embree : 0) + vertices_.capacity() * sizeof(float) +
+               index_bytes_;
+    }
+
+    bool intersect(const point_type& origin, const point_type& direction, T t_max, ray_hit<T>& hit) override {
+        RTCIntersectContext context;
+        rtcInitIntersectContext(&context);
+        RTCRayHit rh;
+        set_ray(rh.ray, origin, direction, t_max);
+        rh.hit.geomID = RTC_INVALID_GEOMETRY_ID;
+        rh.hit.instID[0] = RTC_INVALID_GEOMETRY_ID;
+        rtcIntersect1(scene_, &context, &rh);
+        if (rh.hit.geomID == RTC_INVALID_GEOMETRY_ID) return false;
+        // tfar was min(t_max, float) on entry, so a hit has tfar < t_max up to rounding.
+        const T t = static_cast<T>(rh.ray.tfar);
+        if (!(t < t_max)) return false;
+        hit.t = t;
+        hit.triangle = rh.hit.primID;
+        return true;
+    }
+
+    bool occluded(const point_type& origin, const point_type& direction, T t_max) override {
+        RTCIntersectContext context;
+        rtcInitIntersectContext(&context);
+        RTCRay ray;
+        set_ray(ray, origin, direction, t_max);
+        rtcOccluded1(scene_, &context, &ray);
+        return ray.tfar == -std::numeric_limits<float>::infinity();  // Embree's "occluded" mark
+    }
+
+private:
+    static void set_ray(RTCRay& ray, const point_type& o, const point_type& d, T t_max) {
+        ray.org_x = static_cast<float>(o[0]);
+        ray.org_y = static_cast<float>(o[1]);
+        ray.org_z = static_cast<float>(o[2]);
+        ray.dir_x = static_cast<float>(d[0]);
+        ray.dir_y = static_cast<float>(d[1]);
+        ray.dir_z = static_cast<float>(d[2]);
+        ray.tnear = 0.0f;
+        // Largest float <= t_max, so Embree never reports a hit beyond the caller's bound.
+        float far = static_cast<float>(t_max);
+        if (static_cast<T>(far) > t_max) far = std::nextafter(far, -std::numeric_limits<float>::infinity());
+        ray.tfar = far;
+        ray.time = 0.0f;
+        ray.mask = ~0u;  // -1: every geometry
+        ray.id = 0;
+        ray.flags = 0;
+    }
+    void release_scene() {
+        if (scene_) rtcReleaseScene(scene_);
+        scene_ = nullptr;
+    }
+
+    bool robust_;
+    RTCDevice device_ = nullptr;
+    RTCScene scene_ = nullptr;
+    std::vector<float> vertices_;
+    std::size_t index_bytes_ = 0;
+    std::size_t size_ = 0;
+    std::atomic<long long> embree_bytes_{0};
+};
+
+}  // namespace
+
+template <class T>
+std::unique_ptr<ray_index<T>> make_embree_ray_index(bool robust) {
+    return std::make_unique<embree_ray_index<T>>(robust);
+}
+
+template std::unique_ptr<ray_index<float>> make_embree_ray_index<float>(bool);
+template std::unique_ptr<ray_index<double>> make_embree_ray_index<double>(bool);
+
+}  // namespace harness

@@ -1,0 +1,481 @@
+// The raycast suite (see raycast_suite.hpp). Flow for one mesh (generated or loaded):
+//   1. the mesh and its triangles in double; rays of both kinds from the seed, unit
+//      directions (so t is a distance);
+//   2. the oracle brute_force<triangle> answers a seeded random sample of each kind (random,
+//      not a stride, so the camera sample covers the whole image);
+//   3. each structure is built (timed, repeated; the last build stays), answers every ray once,
+//      and is validated: against the oracle on the sample, then against the reference
+//      structure on every ray (harness/ray_validation.hpp for the tolerances and the
+//      excuse of ambiguous rays);
+//   4. timed repetitions, interleaved across structures (rep 1: A, B, C; rep 2: A, B, C, ...)
+//      so that noise on the shared machine hits all alike; each must reproduce the checksum
+//      of the validated answers;
+//   5. rows are written atomically once the whole suite has passed.
+
+#include "harness/raycast_suite.hpp"
+
+#include <algorithm>
+#include <array>
+#include <cctype>
+#include <chrono>
+#include <cmath>
+#include <filesystem>
+#include <map>
+#include <memory>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include "datasets/mesh_generators.hpp"
+#include "datasets/random.hpp"
+#include "harness/csv_writer.hpp"
+#include "harness/mesh_loading.hpp"
+#include "harness/our_ray_indexes.hpp"
+#include "harness/progress.hpp"
+#include "harness/ray_adapters.hpp"
+#include "harness/ray_validation.hpp"
+#include "harness/run_info.hpp"
+#include "harness/timing.hpp"
+#include "harness/validation.hpp"
+#include "spatial/brute/brute_force.hpp"
+#include "spatial/bvh/bvh.hpp"
+#include "spatial/grid/uniform_grid.hpp"
+#include "spatial/octree/octree.hpp"
+
+namespace harness {
+namespace {
+
+using T = double;  // the suite's scalar; Embree rounds to float internally (ray_adapters.hpp)
+using point3 = spatial::point<T, 3>;
+using triangle3 = spatial::objects::triangle<T, 3>;
+
+// Our containers in the suite: ONE line each. brute_force is added separately (it is slow,
+// so it is timed on a sample of rays and only up to brute_max_n).
+void add_our_structures(std::vector<std::unique_ptr<ray_index<T>>>& out) {
+    out.push_back(std::make_unique<container_ray_index<spatial::bvh<triangle3>>>("bvh", "aabb"));
+    out.push_back(std::make_unique<container_ray_index<spatial::octree<triangle3>>>("octree"));
+    out.push_back(std::make_unique<container_ray_index<spatial::uniform_grid<triangle3>>>("uniform_grid"));
+}
+
+struct preset_config {
+    std::vector<std::size_t> sizes;  // triangles of the generated meshes
+    std::size_t incoherent_rays;
+    std::size_t camera_side;         // coherent rays: camera_side^2
+    std::size_t repetitions;         // timed repetitions (median reported), after one warm-up
+    std::size_t build_repetitions;
+    std::size_t oracle_rays;         // rays of each kind checked against brute force
+    std::size_t brute_max_n;         // brute_force timed (on oracle_rays rays) up to this n
+};
+
+preset_config preset(const std::string& name) {
+    if (name == "smoke") return {{1000, 4000}, 2048, 48, 2, 1, 48, 4000};
+    if (name == "quick") return {{1000, 10000, 100000}, 16384, 128, 5, 3, 200, 10000};
+    if (name == "full") return {{1000, 10000, 100000, 1000000}, 65536, 256, 5, 3, 128, 10000};
+    throw std::invalid_argument("unknown preset '" + name + "' (expected smoke, quick or full)");
+}
+
+// FNV-1a of a workload label: a per-workload ray stream that is the same on every standard
+// library (std::hash is implementation-defined).
+std::uint64_t fnv1a(const std::string& text) {
+    std::uint64_t h = 14695981039346656037ull;
+    for (unsigned char c : text) h = (h ^ c) * 1099511628211ull;
+    return h;
+}
+
+std::string fmt_n(std::size_t n) {
+    std::ostringstream os;
+    const double l = std::log10(static_cast<double>(n));
+    if (std::abs(l - std::round(l)) < 1e-9) os << "1e" << static_cast<int>(std::round(l));
+    else os << n;
+    return os.str();
+}
+
+struct context {
+    suite_options opt;
+    preset_config cfg;
+    std::string run_id;
+    progress prog;
+    std::vector<result_row> rows;
+    std::map<std::string, std::uint64_t> seeds;
+
+    bool wants(const std::string& s) const {
+        return opt.structures.empty() || std::find(opt.structures.begin(), opt.structures.end(), s) != opt.structures.end();
+    }
+};
+
+struct ray {
+    point3 origin, direction;  // |direction| = 1
+};
+
+struct ray_set {
+    std::string kind;    // incoherent | coherent
+    std::string params;  // CSV params column
+    std::vector<ray> rays;
+    std::vector<std::size_t> oracle_sample;  // indices checked against brute force
+};
+
+point3 unit(double x, double y, double z) {
+    const double l = std::sqrt(x * x + y * y + z * z);
+    return {{x / l, y / l, z / l}};
+}
+
+// Origins uniform on the sphere of radius 1.5 * (half diagonal) around the box centre,
+// towards points uniform in the box: a ray hits the mesh or passes near it, from any side.
+std::vector<ray> incoherent_rays(const datasets::mesh_bounds& b, std::size_t count, std::uint64_t seed) {
+    datasets::random_stream rng(datasets::derive_seed(seed, 0x7A1));
+    const auto c = b.center();
+    const double radius = 0.75 * b.diagonal();
+    std::vector<ray> out;
+    out.reserve(count);
+    for (std::size_t i = 0; i < count; ++i) {
+        const point3 u = unit(rng.gaussian(), rng.gaussian(), rng.gaussian());
+        point3 o, target;
+        for (std::size_t d = 0; d < 3; ++d) {
+            o[d] = c[d] + radius * u[d];
+            target[d] = b.lo[d] + (b.hi[d] - b.lo[d]) * rng.uniform01<double>();
+        }
+        out.push_back({o, unit(target[0] - o[0], target[1] - o[1], target[2] - o[2])});
+    }
+    return out;
+}
+
+// A pinhole camera at 2.5 half-diagonals from the centre, looking at it, whose square image
+// just contains the bounding sphere: one ray per pixel centre, row by row (coherent: nearby
+// rays traverse nearby nodes).
+std::vector<ray> camera_rays(const datasets::mesh_bounds& b, std::size_t side) {
+    const auto c = b.center();
+    const double r = b.diagonal() / 2, distance = 2.5 * r;
+    const point3 back = unit(0.35, 0.45, 0.82);  // an oblique view, not along an axis
+    point3 eye;
+    for (std::size_t d = 0; d < 3; ++d) eye[d] = c[d] + distance * back[d];
+    const point3 forward{{-back[0], -back[1], -back[2]}};
+    const point3 right = unit(forward[1] * 1.0 - forward[2] * 0.0, forward[2] * 0.0 - forward[0] * 1.0,
+                              forward[0] * 0.0 - forward[1] * 0.0);  // forward x (0, 0, 1)
+    const point3 up{{right[1] * forward[2] - right[2] * forward[1], right[2] * forward[0] - right[0] * forward[2],
+                     right[0] * forward[1] - right[1] * forward[0]}};
+    const double half = r / std::sqrt(distance * distance - r * r);  // tan of the half field of view
+    std::vector<ray> out;
+    out.reserve(side * side);
+    for (std::size_t j = 0; j < side; ++j)
+        for (std::size_t i = 0; i < side; ++i) {
+            const double x = ((static_cast<double>(i) + 0.5) / static_cast<double>(side) * 2 - 1) * half;
+            const double y = (1 - (static_cast<double>(j) + 0.5) / static_cast<double>(side) * 2) * half;
+            out.push_back({eye, unit(forward[0] + x * right[0] + y * up[0], forward[1] + x * right[1] + y * up[1],
+                                     forward[2] + x * right[2] + y * up[2])});
+        }
+    return out;
+}
+
+// `sample` distinct ray indices drawn uniformly (seeded), in increasing order: a regular
+// stride would pick one column of the camera image.
+std::vector<std::size_t> random_sample(std::size_t count, std::size_t sample, std::uint64_t seed) {
+    datasets::random_stream rng(datasets::derive_seed(seed, 0x5A3));
+    std::vector<std::size_t> all(count);
+    for (std::size_t i = 0; i < count; ++i) all[i] = i;
+    sample = std::min(sample, count);
+    for (std::size_t k = 0; k < sample; ++k) std::swap(all[k], all[k + rng.uniform_index(count - k)]);
+    all.resize(sample);
+    std::sort(all.begin(), all.end());
+    return all;
+}
+
+struct answers {
+    std::vector<ray_answer> per_ray;
+    double checksum = 0;  // sum of hit t plus the hit count, in ray order
+    std::size_t hits = 0;
+    double nodes_visited = -1;  // per ray, when the structure reports it
+};
+
+double checksum_of(const ray_answer& a) { return a.hit ? a.t + 1 : 0.0; }
+
+// One ray through the interface, as a ray_answer.
+ray_answer cast(ray_index<T>& s, const ray& r) {
+    ray_hit<T> hit;
+    if (!s.intersect(r.origin, r.direction, std::numeric_limits<T>::infinity(), hit)) return {};
+    return {true, hit.t};
+}
+
+class mesh_measurement {
+public:
+    mesh_measurement(context& ctx, std::string label, datasets::triangle_mesh mesh)
+        : ctx_(ctx), label_(std::move(label)), mesh_(std::move(mesh)) {}
+
+    void run() {
+        triangles_ = datasets::to_triangles<T>(mesh_);
+        bounds_ = datasets::bounds_of(mesh_);
+        scale_ = scene_scale(mesh_);
+        const std::uint64_t seed = datasets::derive_seed(ctx_.opt.seed, fnv1a(label_));
+        ray_set incoherent{"incoherent", "rays=incoherent", incoherent_rays(bounds_, ctx_.cfg.incoherent_rays, seed), {}};
+        const std::string side = std::to_string(ctx_.cfg.camera_side);
+        ray_set coherent{"coherent", "rays=coherent;camera=" + side + "x" + side, camera_rays(bounds_, ctx_.cfg.camera_side), {}};
+        sets_ = {std::move(incoherent), std::move(coherent)};
+        for (auto& s : sets_) s.oracle_sample = random_sample(s.rays.size(), ctx_.cfg.oracle_rays, seed);
+        ctx_.prog.say("== " + label_ + " n=" + fmt_n(triangles_.size()) + " (" + std::to_string(mesh_.vertices.size()) +
+                      " vertices)");
+
+        oracle_answers();
+        std::vector<std::unique_ptr<ray_index<T>>> structures;
+        add_our_structures(structures);
+        for (auto& p : make_peer_ray_indices<T>()) structures.push_back(std::move(p));
+        std::erase_if(structures, [&](const auto& s) { return !ctx_.wants(s->name()); });
+        const bool brute = triangles_.size() <= ctx_.cfg.brute_max_n && ctx_.wants("brute_force");
+        if (brute)
+            structures.push_back(
+                std::make_unique<container_ray_index<spatial::brute_force<triangle3>>>("brute_force"));
+        measure(structures);
+    }
+
+private:
+    std::string where(const std::string& structure, const ray_set& s) const {
+        return structure + " " + s.kind + " rays on " + label_ + " n=" + fmt_n(triangles_.size());
+    }
+
+    void oracle_answers() {
+        const spatial::brute_force<triangle3> oracle(triangles_.begin(), triangles_.end());
+        oracle_.assign(sets_.size(), {});
+        for (std::size_t k = 0; k < sets_.size(); ++k)
+            for (std::size_t i : sets_[k].oracle_sample) {
+                spatial::intersect_info<point3> info;
+                const auto& r = sets_[k].rays[i];
+                oracle_[k].push_back(oracle.intersect(r.origin, r.direction, info) ? ray_answer{true, info.hit_time}
+                                                                                    : ray_answer{});
+            }
+    }
+
+    static ray_tolerance tolerance_of(const ray_index<T>& s) {
+        return s.name().rfind("embree", 0) == 0 ? float_peer_tolerance : double_peer_tolerance;
+    }
+    static ray_tolerance looser(const ray_tolerance& a, const ray_tolerance& b) {
+        return {std::max(a.time_relative, b.time_relative), std::max(a.edge_relative, b.edge_relative)};
+    }
+
+    // Rays structure `s` answers: all of them, or the oracle sample for brute_force.
+    std::vector<std::size_t> rays_for(const ray_index<T>& s, const ray_set& set) const {
+        if (s.name() == "brute_force") return set.oracle_sample;
+        std::vector<std::size_t> all(set.rays.size());
+        for (std::size_t i = 0; i < all.size(); ++i) all[i] = i;
+        return all;
+    }
+
+    answers answer(ray_index<T>& s, const ray_set& set, const std::vector<std::size_t>& which) {
+        answers a;
+        double nodes = 0;
+        bool reports_nodes = true;
+        for (std::size_t i : which) {
+            a.per_ray.push_back(cast(s, set.rays[i]));
+            a.checksum += checksum_of(a.per_ray.back());
+            a.hits += a.per_ray.back().hit;
+            const long long v = s.last_nodes_visited();
+            if (v < 0) reports_nodes = false;
+            else nodes += static_cast<double>(v);
+        }
+        if (reports_nodes && !which.empty()) a.nodes_visited = nodes / static_cast<double>(which.size());
+        return a;
+    }
+
+    // Returns the number of excused (ambiguous) disagreements; throws on a wrong answer.
+    std::size_t validate(const ray_index<T>& s, std::size_t k, const std::vector<std::size_t>& which,
+                         const answers& got, const answers* reference, const ray_tolerance& reference_tol,
+                         const std::string& reference_name) {
+        const ray_set& set = sets_[k];
+        std::size_t excused = 0;
+        const double far = 4 * scale_;
+        auto check = [&](const ray_answer& mine, const ray_answer& want, std::size_t ray_index_in_set,
+                         const ray_tolerance& tol, const std::string& against) {
+            const auto& r = set.rays[ray_index_in_set];
+            const auto verdict = compare_ray<T>(mine, want, triangles_, r.origin, r.direction, tol, scale_, far);
+            if (verdict == ray_agreement::different) {
+                std::ostringstream os;
+                os.precision(17);
+                os << where(s.name(), set) << ", ray " << ray_index_in_set << " (origin " << r.origin << ", direction "
+                   << r.direction << "): ";
+                os << (mine.hit ? "hit at t=" + std::to_string(mine.t) : std::string("miss")) << ", but " << against
+                   << " says " << (want.hit ? "hit at t=" + std::to_string(want.t) : std::string("miss"));
+                throw validation_error(os.str());
+            }
+            return verdict == ray_agreement::excused_ambiguous;
+        };
+        // Against the oracle on its sample.
+        std::map<std::size_t, std::size_t> position;  // ray index -> position in `which`
+        for (std::size_t p = 0; p < which.size(); ++p) position[which[p]] = p;
+        for (std::size_t j = 0; j < set.oracle_sample.size(); ++j) {
+            const auto it = position.find(set.oracle_sample[j]);
+            if (it == position.end()) continue;
+            excused += check(got.per_ray[it->second], oracle_[k][j], set.oracle_sample[j], tolerance_of(s),
+                             "brute-force oracle");
+        }
+        // Against the validated reference on every ray both answered.
+        if (reference && which.size() == set.rays.size() && reference->per_ray.size() == set.rays.size())
+            for (std::size_t i = 0; i < which.size(); ++i)
+                excused += check(got.per_ray[i], reference->per_ray[i], i, looser(tolerance_of(s), reference_tol),
+                                 "validated " + reference_name);
+        return excused;
+    }
+
+    result_row row(const ray_index<T>& s, const std::string& operation, const std::string& params,
+                   const std::string& metric, double value, const std::string& unit,
+                   const timing_result* t = nullptr, double scale = 1) const {
+        result_row r;
+        r.suite = "raycast";
+        r.structure = s.name();
+        r.bv = s.bv();
+        r.workload = label_;
+        r.n = triangles_.size();
+        r.dim = 3;
+        r.scalar = "double";
+        r.operation = operation;
+        r.params = params;
+        r.metric = metric;
+        r.value = value;
+        r.unit = unit;
+        r.validated = true;
+        r.run_id = ctx_.run_id;
+        if (t) {
+            r.repetitions = t->repetitions;
+            r.min_value = t->min_seconds * scale;
+            r.max_value = t->max_seconds * scale;
+        }
+        return r;
+    }
+
+    void measure(std::vector<std::unique_ptr<ray_index<T>>>& structures) {
+        const std::size_t S = structures.size();
+        // ---- build, interleaved; the last repetition leaves every structure built ----
+        std::vector<std::vector<double>> build_samples(S);
+        for (std::size_t rep = 0; rep < ctx_.cfg.build_repetitions; ++rep)
+            for (std::size_t i = 0; i < S; ++i) {
+                const auto t0 = std::chrono::steady_clock::now();
+                structures[i]->build(mesh_, triangles_);
+                build_samples[i].push_back(seconds_since(t0));
+                if (structures[i]->size() != triangles_.size())
+                    throw validation_error(structures[i]->name() + " on " + label_ + ": size " +
+                                           std::to_string(structures[i]->size()) + " after build, expected " +
+                                           std::to_string(triangles_.size()));
+            }
+        // The reference for the every-ray check: the first structure of double precision that
+        // answers every ray (ours, else CGAL), validated against the oracle first.
+        std::size_t reference = S;
+        for (std::size_t i = 0; i < S && reference == S; ++i)
+            if (structures[i]->name() != "brute_force" && tolerance_of(*structures[i]).time_relative < 1e-6)
+                reference = i;
+        if (reference != S) std::rotate(structures.begin(), structures.begin() + static_cast<long>(reference),
+                                        structures.begin() + static_cast<long>(reference) + 1);
+        if (reference != S) std::rotate(build_samples.begin(), build_samples.begin() + static_cast<long>(reference),
+                                        build_samples.begin() + static_cast<long>(reference) + 1);
+        const bool have_reference = reference != S;
+
+        std::vector<std::string> summary(S);
+        for (std::size_t k = 0; k < sets_.size(); ++k) {
+            const ray_set& set = sets_[k];
+            std::vector<answers> validated(S);
+            std::vector<std::vector<std::size_t>> which(S);
+            std::vector<std::size_t> excused(S, 0);
+            for (std::size_t i = 0; i < S; ++i) {
+                which[i] = rays_for(*structures[i], set);
+                validated[i] = answer(*structures[i], set, which[i]);
+                const bool is_reference = have_reference && i == 0;
+                excused[i] = validate(*structures[i], k, which[i], validated[i],
+                                      is_reference || !have_reference ? nullptr : &validated[0],
+                                      have_reference ? tolerance_of(*structures[0]) : double_peer_tolerance,
+                                      have_reference ? structures[0]->name() : std::string());
+            }
+            // ---- timed repetitions, interleaved ----
+            std::vector<std::vector<double>> samples(S);
+            for (std::size_t rep = 0; rep < 1 + ctx_.cfg.repetitions; ++rep)  // the first is a warm-up
+                for (std::size_t i = 0; i < S; ++i) {
+                    auto& s = *structures[i];
+                    const auto t0 = std::chrono::steady_clock::now();
+                    double sum = 0;
+                    for (std::size_t r : which[i]) sum += checksum_of(cast(s, set.rays[r]));
+                    const double sec = seconds_since(t0);
+                    if (sum != validated[i].checksum)
+                        throw validation_error(where(s.name(), set) +
+                                               ": a timed repetition gave different answers than the validated run");
+                    if (rep > 0) samples[i].push_back(sec);
+                }
+            for (std::size_t i = 0; i < S; ++i) {
+                const auto& s = *structures[i];
+                const timing_result t = summarize(samples[i]);
+                const double per_ray_ns = 1e9 / static_cast<double>(which[i].size());
+                ctx_.rows.push_back(row(s, "ray", set.params, "time_per_op", t.median_seconds * per_ray_ns, "ns", &t,
+                                        per_ray_ns));
+                ctx_.rows.push_back(row(s, "ray", set.params, "rays", static_cast<double>(which[i].size()), "count"));
+                ctx_.rows.push_back(row(s, "ray", set.params, "hits", static_cast<double>(validated[i].hits), "count"));
+                ctx_.rows.push_back(row(s, "ray", set.params, "ambiguous_rays", static_cast<double>(excused[i]), "count"));
+                if (validated[i].nodes_visited >= 0)
+                    ctx_.rows.push_back(row(s, "ray", set.params, "nodes_visited", validated[i].nodes_visited, "count"));
+                std::ostringstream msg;
+                msg.precision(3);
+                msg << ", " << set.kind << " " << t.median_seconds * per_ray_ns / 1000 << " us/ray ("
+                    << validated[i].hits << "/" << which[i].size() << " hit";
+                if (excused[i]) msg << ", " << excused[i] << " ambiguous";
+                msg << ")";
+                summary[i] += msg.str();
+            }
+        }
+        for (std::size_t i = 0; i < S; ++i) {
+            const auto& s = *structures[i];
+            const timing_result b = summarize(build_samples[i]);
+            const double bytes = static_cast<double>(s.memory_bytes());
+            ctx_.rows.push_back(row(s, "build", "", "build_time", b.median_seconds, "s", &b));
+            ctx_.rows.push_back(row(s, "build", "", "memory_bytes", bytes, "B"));
+            ctx_.rows.push_back(
+                row(s, "build", "", "bytes_per_triangle", bytes / static_cast<double>(triangles_.size()), "B"));
+            std::ostringstream msg;
+            msg.precision(3);
+            msg << s.name() << " on " << label_ << " n=" << fmt_n(triangles_.size()) << ": build " << b.median_seconds
+                << " s, " << bytes / static_cast<double>(triangles_.size()) << " B/tri" << summary[i];
+            ctx_.prog.say(msg.str());
+        }
+    }
+
+    context& ctx_;
+    std::string label_;
+    datasets::triangle_mesh mesh_;
+    std::vector<triangle3> triangles_;
+    datasets::mesh_bounds bounds_;
+    double scale_ = 1;
+    std::vector<ray_set> sets_;
+    std::vector<std::vector<ray_answer>> oracle_;  // per ray set, per oracle sample ray
+};
+
+}  // namespace
+
+void run_raycast_suite(const suite_options& options) {
+    context ctx{options, preset(options.preset), make_run_id("raycast", options.preset), progress(options.quiet), {}, {}};
+    if (!options.sizes.empty()) ctx.cfg.sizes = options.sizes;
+    std::vector<std::string> workloads = options.workloads;
+    if (workloads.empty())
+        for (auto w : datasets::mesh_workload_names) workloads.emplace_back(w);
+    for (const auto& w : workloads) (void)datasets::generate_mesh(w, 0, 0);  // fail fast on a typo
+    ctx.seeds["data"] = options.seed;
+    ctx.seeds["rays"] = options.seed;
+    const auto t0 = std::chrono::steady_clock::now();
+    for (const auto& w : workloads)
+        for (std::size_t n : ctx.cfg.sizes) mesh_measurement(ctx, w, datasets::generate_mesh(w, n, options.seed)).run();
+
+    std::vector<std::filesystem::path> real_files;
+    if (!options.real_data_dir.empty() && std::filesystem::is_directory(options.real_data_dir))
+        for (const auto& e : std::filesystem::directory_iterator(options.real_data_dir)) {
+            std::string ext = e.path().extension().string();
+            for (char& c : ext) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+            const auto supported = supported_mesh_extensions();
+            if (std::find(supported.begin(), supported.end(), ext) != supported.end()) real_files.push_back(e.path());
+        }
+    std::sort(real_files.begin(), real_files.end());
+    for (const auto& f : real_files)
+        mesh_measurement(ctx, "real:" + f.filename().string(), load_triangle_mesh(f)).run();
+    if (!options.real_data_dir.empty() && supported_mesh_extensions().empty())
+        ctx.prog.say("real meshes skipped: loading them needs CGAL (-DSPATIAL_WITH_CGAL=ON)");
+    else if (!options.real_data_dir.empty() && real_files.empty())
+        ctx.prog.say("no meshes in " + options.real_data_dir.string() + " (run scripts/fetch_meshes.sh)");
+
+    write_csv_atomically(options.results_dir / options.output_name, ctx.rows);
+    run_info info{ctx.run_id, "raycast", options.preset, ctx.seeds, {}};
+    info.extra["real_meshes"] = std::to_string(real_files.size()) + " files";
+    write_run_sidecar(options.results_dir, info, seconds_since(t0));
+    ctx.prog.say("wrote " + (options.results_dir / options.output_name).string() + " (" +
+                 std::to_string(ctx.rows.size()) + " rows), run " + ctx.run_id);
+}
+
+}  // namespace harness

@@ -1,0 +1,150 @@
+#pragma once
+// BVH builders: given the items of one node (each an axis-aligned box and its centre), decide
+// whether the node is a leaf and, if not, partition the items in place into two non-empty
+// halves. Like madmann91/bvh's builders they see only boxes and centres, never objects or
+// bounding volumes of other types: the SAH cost below uses the objects' AABBs even when the
+// tree's node volume is a sphere, an obb, ... (the surface area of an AABB is cheap, exact and
+// monotone; documented in docs/design.md).
+//
+//   median_split  object median along the widest axis of the centroids' box: nth_element,
+//                 O(m) per node, O(n log n) per build, depth ceil(log2(n / leaf_size)).
+//   binned_sah    Wald 2007, "On fast construction of SAH-based bounding volume hierarchies"
+//                 (IEEE RT'07): the centroids' box is cut into B equal bins per axis, each
+//                 bin accumulates the AABB and count of its objects, and a sweep evaluates the
+//                 surface area heuristic (Goldsmith & Salmon 1987; MacDonald & Booth 1990)
+//                     cost(split) = C_trav + C_isect (A_L N_L + A_R N_R) / A_node
+//                 at the B - 1 bin boundaries of every axis; O(m (D + B)) per node, O(n log n)
+//                 per build for balanced splits. A node with at most leaf_size items becomes a
+//                 leaf when C_isect m is not more than the best split; a node with more items
+//                 is always split. When every centroid coincides (no axis to bin along) the
+//                 object median is used, so identical objects still give a balanced tree.
+
+#include <algorithm>
+#include <array>
+#include <cstddef>
+#include <limits>
+
+#include "spatial/core/slot_storage.hpp"
+
+namespace spatial {
+
+enum class bvh_build_method { median_split, binned_sah };
+
+namespace bvh_detail {
+
+template <class T, std::size_t D>
+struct build_item {
+    std::array<T, D> lo, hi;  // the object's AABB
+    std::array<T, D> c;       // its centre (object_center)
+    slot_index slot;
+};
+
+template <class T, std::size_t D>
+struct box_accumulator {
+    std::array<T, D> lo, hi;
+    box_accumulator() {
+        lo.fill(std::numeric_limits<T>::infinity());
+        hi.fill(-std::numeric_limits<T>::infinity());
+    }
+    void add(const std::array<T, D>& a, const std::array<T, D>& b) {
+        for (std::size_t i = 0; i < D; ++i) lo[i] = std::min(lo[i], a[i]), hi[i] = std::max(hi[i], b[i]);
+    }
+    void add(const box_accumulator& o) { add(o.lo, o.hi); }
+    // Surface area (perimeter in 2D), in double: AABB areas of 1e15-sized boxes overflow float.
+    double area() const {
+        if (!(lo[0] <= hi[0])) return 0;
+        double s = 0;
+        for (std::size_t i = 0; i < D; ++i) {
+            double face = 1;
+            for (std::size_t j = 0; j < D; ++j)
+                if (j != i) face *= static_cast<double>(hi[j]) - static_cast<double>(lo[j]);
+            s += face;
+        }
+        return D == 1 ? 1 : 2 * s;
+    }
+};
+
+// Splits [first, first + m) at the object median of the widest centroid axis. Returns m / 2.
+template <class T, std::size_t D>
+std::size_t median_split(build_item<T, D>* first, std::size_t m) {
+    box_accumulator<T, D> cb;
+    for (std::size_t i = 0; i < m; ++i) cb.add(first[i].c, first[i].c);
+    std::size_t axis = 0;
+    for (std::size_t i = 1; i < D; ++i)
+        if (cb.hi[i] - cb.lo[i] > cb.hi[axis] - cb.lo[axis]) axis = i;
+    const std::size_t half = m / 2;
+    std::nth_element(first, first + half, first + m,
+                     [axis](const build_item<T, D>& a, const build_item<T, D>& b) { return a.c[axis] < b.c[axis]; });
+    return half;
+}
+
+struct sah_costs {
+    double traversal = 1;     // C_trav: cost of visiting an inner node
+    double intersection = 1;  // C_isect: cost of testing one object
+};
+
+// Binned SAH decision for [first, first + m). Returns 0 for "make a leaf", else the size of
+// the left part after partitioning the items in place (0 < left < m).
+template <std::size_t Bins, class T, std::size_t D>
+std::size_t binned_sah_split(build_item<T, D>* first, std::size_t m, std::size_t leaf_size, sah_costs costs) {
+    static_assert(Bins >= 2, "binned SAH needs at least 2 bins");
+    box_accumulator<T, D> node_box, cb;
+    for (std::size_t i = 0; i < m; ++i) node_box.add(first[i].lo, first[i].hi), cb.add(first[i].c, first[i].c);
+    // Bin index of a centroid along `axis`: the same function for binning and partitioning.
+    auto bin_of = [&](const build_item<T, D>& it, std::size_t axis, double scale) {
+        const double x = (static_cast<double>(it.c[axis]) - static_cast<double>(cb.lo[axis])) * scale;
+        if (!(x > 0)) return std::size_t(0);  // also NaN
+        if (!(x < static_cast<double>(Bins))) return Bins - 1;
+        return static_cast<std::size_t>(x);
+    };
+    double best_cost = std::numeric_limits<double>::infinity();
+    std::size_t best_axis = D, best_boundary = 0;
+    const double parent_area = node_box.area();
+    for (std::size_t axis = 0; axis < D; ++axis) {
+        const double extent = static_cast<double>(cb.hi[axis]) - static_cast<double>(cb.lo[axis]);
+        if (!(extent > 0)) continue;
+        const double scale = static_cast<double>(Bins) / extent;
+        std::array<box_accumulator<T, D>, Bins> bins;
+        std::array<std::size_t, Bins> counts{};
+        for (std::size_t i = 0; i < m; ++i) {
+            const std::size_t b = bin_of(first[i], axis, scale);
+            bins[b].add(first[i].lo, first[i].hi);
+            ++counts[b];
+        }
+        // Sweep from the right: area and count of bins [b, Bins).
+        std::array<double, Bins> right_area{};
+        std::array<std::size_t, Bins> right_count{};
+        box_accumulator<T, D> acc;
+        std::size_t n = 0;
+        for (std::size_t b = Bins; b-- > 1;) {
+            acc.add(bins[b]);
+            n += counts[b];
+            right_area[b] = acc.area();
+            right_count[b] = n;
+        }
+        box_accumulator<T, D> left;
+        std::size_t nl = 0;
+        for (std::size_t b = 1; b < Bins; ++b) {  // boundary b: bins [0, b) | [b, Bins)
+            left.add(bins[b - 1]);
+            nl += counts[b - 1];
+            if (nl == 0 || right_count[b] == 0) continue;
+            const double c = left.area() * static_cast<double>(nl) + right_area[b] * static_cast<double>(right_count[b]);
+            if (c < best_cost) best_cost = c, best_axis = axis, best_boundary = b;
+        }
+    }
+    if (best_axis == D) {  // all centroids coincide
+        return m <= leaf_size ? 0 : median_split(first, m);
+    }
+    const double split_cost =
+        costs.traversal + costs.intersection * (parent_area > 0 ? best_cost / parent_area : static_cast<double>(m));
+    if (m <= leaf_size && costs.intersection * static_cast<double>(m) <= split_cost) return 0;
+    const double scale = static_cast<double>(Bins) / (static_cast<double>(cb.hi[best_axis]) - static_cast<double>(cb.lo[best_axis]));
+    auto* mid = std::partition(first, first + m,
+                               [&](const build_item<T, D>& it) { return bin_of(it, best_axis, scale) < best_boundary; });
+    const auto left = static_cast<std::size_t>(mid - first);
+    if (left == 0 || left == m) return median_split(first, m);  // cannot happen; safety net
+    return left;
+}
+
+}  // namespace bvh_detail
+}  // namespace spatial

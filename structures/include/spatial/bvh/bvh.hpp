@@ -1,0 +1,927 @@
+#pragma once
+// spatial::bvh<O, BV, Config> — a dynamic bounding volume hierarchy over stored objects
+// (points or bounded objects), ONE template for every bounding-volume type of bv/ (aabb,
+// sphere, obb, kdop<K>, ellipsoid, convex_hull). Rationale and complexity: docs/design.md.
+//
+// Layout
+//  * Objects live in a slot_storage (stable 32-bit handles = iterators); each slot's meta word
+//    is the index of the leaf that holds it.
+//  * Nodes live in one std::vector; the two children of an inner node are allocated as a pair
+//    (first, first + 1), so a node stores one child index and its parent. A leaf owns a block
+//    of Config::leaf_size entries of one permutation array `items_` (slot indices), filled
+//    [0, count). A node stores its volume BV and the AABB of its objects' bounds (the box is
+//    the volume itself when BV is aabb): builders, insertion costs and box queries use the
+//    box, rays, kNN and balls use the volume.
+//  * Volumes: a node's volume is BV's default fast fit (bvh/node_volume.hpp) to the hull
+//    points (object_hull_points) of all objects below it — fitted top-down by the builders;
+//    after an insertion, erase, update or refit(), a leaf is refitted from its objects and an
+//    inner node becomes BV::merged of its children (O(1) for the fixed-size types; looser than
+//    a fit for sphere/obb/ellipsoid until the next rebuild).
+//
+// Builders (Config::builder): object-median split along the widest centroid axis, or binned
+// SAH (Wald 2007), see bvh/builders.hpp. O(n log n) for balanced splits (fits included,
+// except convex_hull whose Quickhull makes it O(n log^2 n)).
+//
+// Dynamic updates
+//  * insert: greedy descent to the child whose AABB surface area grows least (Goldsmith &
+//    Salmon 1987, "Automatic creation of object hierarchies for ray tracing"), then the
+//    object joins that leaf, or a full leaf is rebuilt with the builder into a subtree; the
+//    path is refitted. O(depth) plus O(leaf_size) fits. Hinted insert starts from the hint's
+//    leaf, climbing only until a node's box contains the new object.
+//  * erase: the leaf entry is removed (swap with its last); an emptied leaf is removed and
+//    its sibling takes its parent's place; the path is refitted. O(depth).
+//  * rebuild policy: when inserts + erases since the last build exceed
+//    rebuild_factor * max(size at that build, min_rebuild_updates), the whole tree is rebuilt
+//    with the builder, so a tree grown one object at a time is rebuilt at geometrically
+//    growing sizes (O(log n) amortised per update) and quality never drifts far.
+//  * motion: update(pos, v) replaces an object and refits its leaf-to-root path; with
+//    refit_path = false many objects can be replaced and ONE refit() (bottom-up over all
+//    nodes, O(n)) restores the volumes; until then queries throw std::logic_error.
+//
+// Queries: iterative traversal with a small-buffer stack that spills to the heap
+// (bvh/traversal_stack.hpp) — never a fixed-size stack. Rays: front-to-back by the entry
+// parameter of each child's volume, pruned by the best hit so far. kNN: best-first over a
+// binary heap keyed by the volumes' distance_lower_bound, with (1+eps) pruning (Arya et al.
+// 1998). Ball: distance_lower_bound; box: node AABBs. Every node test is conservative: the
+// volume is grown by the ray thickness plus a rounding slack of 16 eps (|query|_inf +
+// |scene|_inf) (see node_volume.hpp), distance lower bounds are reduced by that slack, so an
+// object the exact test reports is never pruned. Statistics of the last query:
+// last_query_stats() (not thread-safe: concurrent const queries race on these counters only).
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <cstddef>
+#include <cstdint>
+#include <iterator>
+#include <limits>
+#include <span>
+#include <stdexcept>
+#include <string>
+#include <type_traits>
+#include <vector>
+
+#include "spatial/bv/aabb.hpp"
+#include "spatial/bv/bounding_volume.hpp"
+#include "spatial/bvh/builders.hpp"
+#include "spatial/bvh/node_volume.hpp"
+#include "spatial/bvh/traversal_stack.hpp"
+#include "spatial/core/container_concept.hpp"
+#include "spatial/core/input_checks.hpp"
+#include "spatial/core/intersect_info.hpp"
+#include "spatial/core/knn_result_set.hpp"
+#include "spatial/core/object_concepts.hpp"
+#include "spatial/core/object_geometry.hpp"
+#include "spatial/core/slot_storage.hpp"
+
+namespace spatial {
+
+// Compile-time configuration with commented defaults.
+template <std::size_t LeafSize = 4, bvh_build_method Builder = bvh_build_method::binned_sah,
+          std::size_t SahBins = 16>
+struct bvh_config {
+    // Objects per leaf (at most). 4 is the usual SAH choice for ray tracing (Wald 2007);
+    // larger leaves build faster and suit kNN over points.
+    static constexpr std::size_t leaf_size = LeafSize;
+    static constexpr bvh_build_method builder = Builder;
+    // Bins per axis of the binned SAH (Wald 2007 found 16-32 as good as a full sweep).
+    static constexpr std::size_t sah_bins = SahBins;
+    // SAH constants C_trav and C_isect (only their ratio matters).
+    static constexpr double traversal_cost = 1.0;
+    static constexpr double intersection_cost = 1.0;
+    // Full rebuild after rebuild_factor * max(size at last build, min_rebuild_updates)
+    // inserts + erases.
+    static constexpr double rebuild_factor = 1.0;
+    static constexpr std::size_t min_rebuild_updates = 32;
+};
+
+template <std::size_t LeafSize = 4>
+using bvh_median_config = bvh_config<LeafSize, bvh_build_method::median_split>;
+template <std::size_t LeafSize = 4, std::size_t Bins = 16>
+using bvh_sah_config = bvh_config<LeafSize, bvh_build_method::binned_sah, Bins>;
+
+struct bvh_stats {
+    std::size_t nodes_visited = 0;   // last query: nodes whose volume was entered
+    std::size_t objects_tested = 0;  // last query: exact object tests
+};
+
+template <stored_object O, class BV = aabb<typename O::scalar_type, O::dimension>, class Config = bvh_config<>>
+class bvh {
+public:
+    using value_type = O;
+    using point_type = point_type_of<O>;
+    using scalar_type = typename O::scalar_type;
+    using size_type = std::size_t;
+    using iterator = slot_iterator<O>;
+    using const_iterator = iterator;
+    using info_type = intersect_info<point_type>;
+    using volume_type = BV;
+    using config = Config;
+    static constexpr std::size_t dimension = O::dimension;
+    static constexpr std::size_t leaf_size = Config::leaf_size;
+    static_assert(bounding_volume<BV>, "bvh: BV must model spatial::bounding_volume");
+    static_assert(std::is_same_v<typename BV::scalar_type, scalar_type> && BV::dimension == O::dimension,
+                  "bvh: BV must have the objects' scalar type and dimension");
+    static_assert(leaf_size >= 1 && leaf_size <= 255, "bvh: leaf_size in [1, 255]");
+
+private:
+    using T = scalar_type;
+    static constexpr std::size_t D = O::dimension;
+    using box_type = aabb<T, D>;
+    using bv_point = typename BV::point_type;
+    using item = bvh_detail::build_item<T, D>;
+    using node_index = std::uint32_t;
+    static constexpr node_index no_node = std::numeric_limits<node_index>::max();
+    static constexpr node_index root = 0;
+    static constexpr bool volume_is_box = std::is_same_v<BV, box_type>;
+    struct no_box {};
+
+    struct node {
+        BV volume{};
+        [[no_unique_address]] std::conditional_t<volume_is_box, no_box, box_type> own_box{};
+        node_index parent = no_node;
+        node_index first = 0;     // inner: left child (right = first + 1); leaf: block index
+        std::uint32_t count = 0;  // leaf: objects in the block
+        bool leaf = true;
+    };
+
+public:
+    bvh() { reset_to_empty(); }
+    template <class InputIt>
+    bvh(InputIt first, InputIt last) : bvh() { insert(first, last); }
+    // Copies are independent trees.
+    bvh(const bvh&) = default;
+    bvh& operator=(const bvh&) = default;
+    // A moved-from tree is empty and usable; iterators into the source are invalidated.
+    bvh(bvh&& o) noexcept(false) : bvh() { swap_contents(o); }
+    bvh& operator=(bvh&& o) noexcept(false) {
+        if (this != &o) {
+            clear();
+            swap_contents(o);
+        }
+        return *this;
+    }
+
+    // ---- insertion -------------------------------------------------------------------
+    // O(depth + leaf_size fits) plus amortised rebuilds (see the header comment).
+    iterator insert(const O& x) {
+        detail::require_finite_object(x, "bvh::insert");
+        ensure_fresh();
+        return make(insert_from(root, x));
+    }
+    // Hinted insertion: starts at the hint's leaf and climbs until a node's box contains the
+    // object, then descends from there; saves the descent from the root when x lands near
+    // the hint (an object moved a little, a stream of nearby points).
+    iterator insert(const_iterator hint, const O& x) {
+        detail::require_finite_object(x, "bvh::insert(hint, x)");
+        ensure_fresh();
+        if (hint == end() || !slots_.occupied(hint.slot())) return make(insert_from(root, x));
+        node_index n = slots_.meta(hint.slot());
+        const item it = item_of(x, 0);
+        while (n != root && !box_contains(box_of(nodes_[n]), it)) n = nodes_[n].parent;
+        return make(insert_from(n, x));
+    }
+    // Bulk insertion, better than a loop: into an empty tree, or with a batch at least a
+    // quarter of the size, one build of everything with the builder (O((n + m) log(n + m)));
+    // a smaller batch is inserted one by one (O(m depth)) with one rebuild check at the end.
+    // Validates the whole batch and reserves storage before storing any of it.
+    template <class InputIt>
+    void insert(InputIt first, InputIt last) {
+        if constexpr (!std::random_access_iterator<InputIt>) {
+            const std::vector<O> batch(first, last);
+            insert(batch.begin(), batch.end());
+        } else {
+            for (auto it = first; it != last; ++it) detail::require_finite_object(*it, "bvh::insert(first, last)");
+            const auto m = static_cast<std::size_t>(last - first);
+            if (m == 0) return;
+            slots_.require_room_for(m, "bvh::insert(first, last)");
+            ensure_fresh();
+            slots_.reserve(slots_.capacity() + m);
+            if (slots_.size() == 0 || m * 4 >= slots_.size()) {
+                for (auto it = first; it != last; ++it) slots_.allocate(*it, 0);
+                rebuild();
+                return;
+            }
+            for (auto it = first; it != last; ++it) place(slots_.allocate(*it, 0), root);
+            updates_since_build_ += m;
+            if (needs_rebuild()) rebuild();
+        }
+    }
+
+    // ---- erasure ---------------------------------------------------------------------
+    // O(depth) plus amortised rebuilds. Returns the next element in iteration order.
+    iterator erase(const_iterator pos) {
+        ensure_fresh();
+        const slot_index s = pos.slot();
+        remove_from_leaf(s);
+        slots_.release(s);
+        ++updates_since_build_;
+        if (needs_rebuild()) rebuild();
+        return make(slots_.next_occupied(s + 1));
+    }
+    // Erases ALL elements equal to x; returns how many. Search pruned by x's bounding box.
+    size_type erase(const O& x) {
+        detail::require_finite_object(x, "bvh::erase");
+        ensure_fresh();
+        const std::vector<slot_index> hits = collect_equal(x, false);
+        for (slot_index s : hits) {
+            remove_from_leaf(s);
+            slots_.release(s);
+        }
+        updates_since_build_ += hits.size();
+        if (!hits.empty() && needs_rebuild()) rebuild();
+        return hits.size();
+    }
+    // Bulk erase, better than a loop: removing at least a quarter of the tree rebuilds the
+    // survivors once (O(n log n)); otherwise each is removed with its path refit.
+    void erase(const_iterator first, const_iterator last) {
+        std::vector<slot_index> doomed;
+        for (; first != last; ++first) doomed.push_back(first.slot());
+        if (doomed.empty()) return;
+        ensure_fresh();
+        if (doomed.size() * 4 >= slots_.size()) {
+            for (slot_index s : doomed) slots_.release(s);
+            rebuild();
+            return;
+        }
+        for (slot_index s : doomed) {
+            remove_from_leaf(s);
+            slots_.release(s);
+        }
+        updates_since_build_ += doomed.size();
+        if (needs_rebuild()) rebuild();
+    }
+    void clear() {
+        slots_.clear();
+        reset_to_empty();
+    }
+
+    // ---- motion ------------------------------------------------------------------------
+    // Replaces the object at pos by v (same iterator, which is returned). With refit_path
+    // (default) its leaf and every ancestor are refitted now, O(depth). With refit_path =
+    // false nothing is refitted: replace many objects, then call refit() once; queries throw
+    // std::logic_error until then (insert/erase call refit() themselves).
+    iterator update(const_iterator pos, const O& v, bool refit_path = true) {
+        detail::require_finite_object(v, "bvh::update");
+        if (pos == end() || !slots_.occupied(pos.slot()))
+            throw std::invalid_argument("bvh::update: the iterator does not refer to a stored element");
+        const slot_index s = pos.slot();
+        const node_index leaf = slots_.meta(s);
+        slots_.release(s);
+        const slot_index s2 = slots_.allocate(v, leaf);  // the free list is LIFO: s2 == s
+        if (s2 != s) replace_in_leaf(leaf, s, s2);
+        if (refit_path) refit_upward(leaf);
+        else stale_ = true;
+        return make(s2);
+    }
+    // Recomputes every node volume bottom-up: leaves fitted to their objects, inner nodes
+    // merged from their children. O(n) fits of leaf_size objects plus O(nodes) merges.
+    // The topology is kept (rebuild() re-optimises it).
+    void refit() {
+        std::vector<node_index> order;
+        preorder(order);
+        for (auto i = order.size(); i-- > 0;) refit_node(order[i]);
+        stale_ = false;
+    }
+    // Rebuilds the whole tree with the builder (iterators stay valid). O(n log n).
+    void rebuild() {
+        nodes_.clear();
+        items_.clear();
+        free_pairs_.clear();
+        free_blocks_.clear();
+        std::vector<item> its;
+        its.reserve(slots_.size());
+        for (slot_index s = slots_.next_occupied(0); s < slots_.capacity(); s = slots_.next_occupied(s + 1))
+            its.push_back(item_of(slots_.value(s), s));
+        nodes_.push_back(node{});
+        if (its.empty()) {
+            make_leaf(root, nullptr, 0);
+        } else {
+            build_subtree(root, its.data(), its.size());
+        }
+        size_at_build_ = slots_.size();
+        updates_since_build_ = 0;
+        stale_ = false;
+        ++full_rebuilds_;
+    }
+
+    // ---- lookup ----------------------------------------------------------------------
+    iterator find(const O& x) {
+        detail::require_finite_object(x, "bvh::find");
+        require_fresh("bvh::find");
+        const auto hits = collect_equal(x, true);
+        return hits.empty() ? end() : make(hits.front());
+    }
+    size_type count(const O& x) const {
+        detail::require_finite_object(x, "bvh::count");
+        require_fresh("bvh::count");
+        return collect_equal(x, false).size();
+    }
+
+    // ---- ray cast --------------------------------------------------------------------
+    bool intersect(const point_type& origin, const point_type& direction, info_type& info) const {
+        return intersect_object(origin, direction, ray_thickness_, info) != end();
+    }
+    bool intersect(const point_type& origin, const point_type& direction, scalar_type thickness,
+                   info_type& info) const {
+        return intersect_object(origin, direction, thickness, info) != end();
+    }
+    // The object first hit before info.hit_time (smallest hit time reported by O::intersect),
+    // or end(). Front-to-back: children are visited in order of their volumes' entry
+    // parameter, and a node whose entry lies beyond the best hit so far is skipped.
+    iterator intersect_object(const point_type& origin, const point_type& direction, scalar_type thickness,
+                              info_type& info) const {
+        detail::require_finite(origin, "bvh::intersect", "ray origin");
+        detail::require_nonzero_direction(direction, "bvh::intersect");
+        detail::require_nonnegative(thickness, "bvh::intersect", "ray thickness");
+        require_fresh("bvh::intersect");
+        stats_ = {};
+        if (slots_.size() == 0) return end();
+        const bv_point o = to_bv(origin), d = to_bv(direction);
+        const T grow = thickness * (1 + 16 * eps) + slack(origin);
+        slot_index hit = no_slot;
+        struct entry {
+            node_index n;
+            T t;
+        };
+        bvh_detail::traversal_stack<entry> stack;
+        T t0 = 0, t1 = 0;
+        if (!enter(root, o, d, grow, info.hit_time, t0, t1)) return end();
+        stack.push({root, t0});
+        while (!stack.empty()) {
+            const entry e = stack.pop();
+            if (e.t > info.hit_time) continue;
+            ++stats_.nodes_visited;
+            const node& nd = nodes_[e.n];
+            if (nd.leaf) {
+                const slot_index* b = block(nd.first);
+                for (std::uint32_t i = 0; i < nd.count; ++i) {
+                    ++stats_.objects_tested;
+                    if (slots_.value(b[i]).intersect(origin, direction, thickness, info)) hit = b[i];
+                }
+                continue;
+            }
+            T a0 = 0, a1 = 0, b0 = 0, b1 = 0;
+            const bool ha = enter(nd.first, o, d, grow, info.hit_time, a0, a1);
+            const bool hb = enter(nd.first + 1, o, d, grow, info.hit_time, b0, b1);
+            if (ha && hb) {  // push the farther first: the nearer is popped first
+                if (a0 <= b0) stack.push({nd.first + 1, b0}), stack.push({nd.first, a0});
+                else stack.push({nd.first, a0}), stack.push({nd.first + 1, b0});
+            } else if (ha) {
+                stack.push({nd.first, a0});
+            } else if (hb) {
+                stack.push({nd.first + 1, b0});
+            }
+        }
+        return hit == no_slot ? end() : make(hit);
+    }
+    scalar_type ray_thickness() const { return ray_thickness_; }
+    void set_ray_thickness(scalar_type t) {
+        detail::require_nonnegative(t, "bvh::set_ray_thickness", "thickness");
+        ray_thickness_ = t;
+    }
+
+    // ---- nearest neighbours and ranges ---------------------------------------------------
+    std::vector<iterator> find_nearest(const point_type& x, size_type k) const { return find_nearest(x, k, 0); }
+    // Best-first search (Hjaltason & Samet 1999) over the volumes' distance lower bounds.
+    // With eps > 0 a node is skipped when (1 + eps) times its lower bound reaches the current
+    // k-th distance, so the i-th reported distance is at most (1 + eps) times the true one
+    // (Arya, Mount, Netanyahu, Silverman & Wu 1998). Sorted by increasing distance.
+    std::vector<iterator> find_nearest(const point_type& x, size_type k, scalar_type eps_factor) const {
+        detail::require_finite(x, "bvh::find_nearest", "query point");
+        detail::require_nonnegative(eps_factor, "bvh::find_nearest", "eps");
+        require_fresh("bvh::find_nearest");
+        stats_ = {};
+        std::vector<iterator> out;
+        if (k == 0 || slots_.size() == 0) return out;
+        knn_result_set<T> best(std::min(k, slots_.size()));
+        const T f = (1 + eps_factor) * (1 + eps_factor);
+        const bv_point q = to_bv(x);
+        const T sl = slack(x);
+        struct entry {
+            T key;
+            node_index n;
+            bool operator<(const entry& o) const { return key > o.key; }  // min-heap
+        };
+        std::vector<entry> heap;
+        heap.push_back({0, root});
+        auto prunable = [&](T key) {
+            const T w = best.worst();
+            return key > 0 && w < std::numeric_limits<T>::infinity() && key * f >= w;
+        };
+        while (!heap.empty()) {
+            std::pop_heap(heap.begin(), heap.end());
+            const entry e = heap.back();
+            heap.pop_back();
+            if (prunable(e.key)) break;  // every remaining key is at least as large
+            ++stats_.nodes_visited;
+            const node& nd = nodes_[e.n];
+            if (nd.leaf) {
+                const slot_index* b = block(nd.first);
+                for (std::uint32_t i = 0; i < nd.count; ++i) {
+                    ++stats_.objects_tested;
+                    best.add(object_squared_distance(slots_.value(b[i]), x), b[i]);
+                }
+                continue;
+            }
+            for (node_index c = nd.first; c <= nd.first + 1; ++c) {
+                const T lb = std::max(T(0), static_cast<T>(nodes_[c].volume.distance_lower_bound(q)) - sl);
+                const T key = lb * lb;
+                if (prunable(key)) continue;
+                heap.push_back({key, c});
+                std::push_heap(heap.begin(), heap.end());
+            }
+        }
+        for (const auto& c : best.finish()) out.push_back(make(c.slot));
+        return out;
+    }
+    // All objects within distance radius of center (closed ball), in no particular order.
+    std::vector<iterator> find_in_ball(const point_type& center, scalar_type radius) const {
+        detail::require_finite(center, "bvh::find_in_ball", "center");
+        detail::require_nonnegative(radius, "bvh::find_in_ball", "radius");
+        require_fresh("bvh::find_in_ball");
+        stats_ = {};
+        std::vector<iterator> out;
+        if (slots_.size() == 0) return out;
+        const bv_point q = to_bv(center);
+        const T sl = slack(center) + radius * 16 * eps;
+        const T r2 = radius * radius;
+        visit([&](const node& nd) { return nd.volume.distance_lower_bound(q) - sl <= radius; },
+              [&](slot_index s) {
+                  if (object_squared_distance(slots_.value(s), center) <= r2) out.push_back(make(s));
+              });
+        return out;
+    }
+    // All objects overlapping the closed box [lo, hi] (object_overlaps_box). Pruned by the
+    // node AABBs for every BV type (BV::overlaps only compares two volumes of one type).
+    std::vector<iterator> find_in_box(const point_type& lo, const point_type& hi) const {
+        detail::require_finite(lo, "bvh::find_in_box", "box corner lo");
+        detail::require_finite(hi, "bvh::find_in_box", "box corner hi");
+        require_fresh("bvh::find_in_box");
+        stats_ = {};
+        std::vector<iterator> out;
+        if (slots_.size() == 0) return out;
+        visit(
+            [&](const node& nd) {
+                const box_type& b = box_of(nd);
+                for (std::size_t i = 0; i < D; ++i)
+                    if (b.hi[i] < lo[i] || b.lo[i] > hi[i]) return false;
+                return true;
+            },
+            [&](slot_index s) {
+                if (object_overlaps_box(slots_.value(s), lo, hi)) out.push_back(make(s));
+            });
+        return out;
+    }
+
+    // ---- STL basics and introspection ----------------------------------------------------
+    size_type size() const { return slots_.size(); }
+    bool empty() const { return slots_.size() == 0; }
+    iterator begin() const { return make(slots_.next_occupied(0)); }
+    iterator end() const { return make(static_cast<slot_index>(slots_.capacity())); }
+    // Includes the heap memory of convex_hull volumes (their vertices, planes, triangles).
+    std::size_t memory_bytes() const {
+        std::size_t b = sizeof(*this) + slots_.memory_bytes() + nodes_.capacity() * sizeof(node) +
+                        items_.capacity() * sizeof(slot_index) +
+                        (free_pairs_.capacity() + free_blocks_.capacity()) * sizeof(node_index);
+        if constexpr (!std::is_trivially_copyable_v<BV>)
+            for (const node& n : nodes_) b += bvh_detail::volume_heap_bytes(n.volume);
+        return b;
+    }
+
+    const bvh_stats& last_query_stats() const { return stats_; }
+    std::size_t last_query_nodes_visited() const { return stats_.nodes_visited; }
+    std::size_t full_rebuilds() const { return full_rebuilds_; }
+    std::size_t node_count() const { return nodes_.size() - 2 * free_pairs_.size(); }
+    // Height in nodes below the root (0 for a single leaf). O(nodes).
+    std::size_t height() const {
+        std::size_t h = 0;
+        std::vector<std::pair<node_index, std::size_t>> st{{root, 0}};
+        while (!st.empty()) {
+            const auto [n, d] = st.back();
+            st.pop_back();
+            h = std::max(h, d);
+            if (!nodes_[n].leaf) st.push_back({nodes_[n].first, d + 1}), st.push_back({nodes_[n].first + 1, d + 1});
+        }
+        return h;
+    }
+    static std::string volume_name() { return bvh_detail::volume_name(static_cast<const BV*>(nullptr)); }
+    // The root volume (for tests and tightness figures).
+    const BV& root_volume() const { return nodes_[root].volume; }
+
+    // Checks every structural invariant (parent links, leaf back-links, counts, every object
+    // in exactly one leaf, node boxes containing their objects' bounds, volumes containing
+    // their objects' hull points up to the rounding slack). Empty string when sound. For
+    // tests: O(n depth).
+    std::string check_invariants() const {
+        std::vector<node_index> order;
+        preorder(order);
+        std::size_t seen = 0;
+        for (node_index n : order) {
+            const node& nd = nodes_[n];
+            if (n != root && (nd.parent == no_node || (nodes_[nd.parent].first != n && nodes_[nd.parent].first + 1 != n)))
+                return "parent link broken at node " + std::to_string(n);
+            if (!nd.leaf) continue;
+            if (nd.count > leaf_size) return "leaf " + std::to_string(n) + " over capacity";
+            if (nd.count == 0 && n != root) return "empty non-root leaf " + std::to_string(n);
+            seen += nd.count;
+            for (std::uint32_t i = 0; i < nd.count; ++i) {
+                const slot_index s = block(nd.first)[i];
+                if (!slots_.occupied(s)) return "leaf holds a vacant slot";
+                if (slots_.meta(s) != n) return "slot back-link broken";
+                const O& v = slots_.value(s);
+                for (node_index a = n; a != no_node; a = nodes_[a].parent) {
+                    const box_type& b = box_of(nodes_[a]);
+                    for (std::size_t k = 0; k < D; ++k)
+                        if (object_lower(v, k) < b.lo[k] || object_upper(v, k) > b.hi[k])
+                            return "node box misses an object";
+                    bool ok = true;
+                    object_hull_points(v, [&](const auto& hp) {
+                        const bv_point p = to_bv(hp);
+                        if (!(nodes_[a].volume.distance_lower_bound(p) <= slack_of(p))) ok = false;
+                    });
+                    if (!ok) return "volume of node " + std::to_string(a) + " misses a hull point";
+                }
+            }
+        }
+        if (seen != slots_.size())
+            return "leaves hold " + std::to_string(seen) + " objects but size() is " + std::to_string(slots_.size());
+        return {};
+    }
+
+private:
+    static constexpr T eps = std::numeric_limits<T>::epsilon();
+
+    // ================= small helpers =======================================================
+    iterator make(slot_index s) const { return iterator(&slots_, s); }
+    template <class P>
+    static bv_point to_bv(const P& p) {
+        bv_point q{};
+        for (std::size_t i = 0; i < D; ++i) q[i] = static_cast<T>(p[i]);
+        return q;
+    }
+    static const box_type& box_of(const node& n) {
+        if constexpr (volume_is_box) return n.volume;
+        else return n.own_box;
+    }
+    static box_type& box_of(node& n) {
+        if constexpr (volume_is_box) return n.volume;
+        else return n.own_box;
+    }
+    static item item_of(const O& x, slot_index s) {
+        item it;
+        for (std::size_t i = 0; i < D; ++i) it.lo[i] = object_lower(x, i), it.hi[i] = object_upper(x, i), it.c[i] = object_center(x, i);
+        it.slot = s;
+        return it;
+    }
+    static bool box_contains(const box_type& b, const item& it) {
+        for (std::size_t i = 0; i < D; ++i)
+            if (it.lo[i] < b.lo[i] || it.hi[i] > b.hi[i]) return false;
+        return true;
+    }
+    const slot_index* block(node_index b) const { return items_.data() + std::size_t(b) * leaf_size; }
+    slot_index* block(node_index b) { return items_.data() + std::size_t(b) * leaf_size; }
+
+    // Rounding slack of a query at p: 16 eps (|p|_inf + |scene|_inf), plus the smallest
+    // normal number so that it is never 0. Rounding errors of the BV tests are a few eps
+    // times the magnitudes involved, which this bounds.
+    template <class P>
+    T slack(const P& p) const {
+        return slack_of(to_bv(p));
+    }
+    T slack_of(const bv_point& p) const {
+        T m = 0;
+        for (std::size_t i = 0; i < D; ++i) m = std::max(m, std::abs(p[i]));
+        const box_type& b = box_of(nodes_[root]);
+        if (!b.is_empty())
+            for (std::size_t i = 0; i < D; ++i) m = std::max({m, std::abs(b.lo[i]), std::abs(b.hi[i])});
+        return 16 * eps * (2 * m) + std::numeric_limits<T>::min();
+    }
+
+    // The child's grown ray interval clipped to [0, tmax]; false when it misses.
+    bool enter(node_index n, const bv_point& o, const bv_point& d, T grow, T tmax, T& t0, T& t1) const {
+        const node& nd = nodes_[n];
+        if (!bvh_detail::grown_ray_interval(nd.volume, box_of(nd), o, d, grow, t0, t1)) return false;
+        if (t1 < 0 || t0 > tmax) return false;
+        t0 = std::max(t0, T(0));
+        return true;
+    }
+
+    // Depth-first traversal: descend into nodes for which keep(node) holds, call leaf_fn on
+    // every slot of a kept leaf.
+    template <class Keep, class LeafFn>
+    void visit(Keep&& keep, LeafFn&& leaf_fn) const {
+        bvh_detail::traversal_stack<node_index> stack;
+        if (keep(nodes_[root])) stack.push(root);
+        while (!stack.empty()) {
+            const node& nd = nodes_[stack.pop()];
+            ++stats_.nodes_visited;
+            if (nd.leaf) {
+                const slot_index* b = block(nd.first);
+                for (std::uint32_t i = 0; i < nd.count; ++i) {
+                    ++stats_.objects_tested;
+                    leaf_fn(b[i]);
+                }
+                continue;
+            }
+            if (keep(nodes_[nd.first + 1])) stack.push(nd.first + 1);
+            if (keep(nodes_[nd.first])) stack.push(nd.first);
+        }
+    }
+
+    std::vector<slot_index> collect_equal(const O& x, bool first_only) const {
+        std::vector<slot_index> hits;
+        if (slots_.size() == 0) return hits;
+        const item it = item_of(x, 0);
+        visit(
+            [&](const node& nd) {
+                const box_type& b = box_of(nd);
+                for (std::size_t i = 0; i < D; ++i)
+                    if (b.hi[i] < it.lo[i] || b.lo[i] > it.hi[i]) return false;
+                return !(first_only && !hits.empty());
+            },
+            [&](slot_index s) {
+                if (!(first_only && !hits.empty()) && slots_.value(s) == x) hits.push_back(s);
+            });
+        return hits;
+    }
+
+    void preorder(std::vector<node_index>& order) const {
+        order.clear();
+        order.reserve(nodes_.size());
+        std::vector<node_index> st{root};
+        while (!st.empty()) {
+            const node_index n = st.back();
+            st.pop_back();
+            order.push_back(n);
+            if (!nodes_[n].leaf) st.push_back(nodes_[n].first + 1), st.push_back(nodes_[n].first);
+        }
+    }
+
+    void require_fresh(const char* where) const {
+        if (stale_)
+            throw std::logic_error(std::string(where) +
+                                   ": objects were updated with refit_path = false; call refit() first");
+    }
+    void ensure_fresh() {
+        if (stale_) refit();
+    }
+
+    // ================= storage of nodes and leaf blocks =====================================
+    void reset_to_empty() {
+        nodes_.clear();
+        items_.clear();
+        free_pairs_.clear();
+        free_blocks_.clear();
+        nodes_.push_back(node{});
+        make_leaf(root, nullptr, 0);
+        size_at_build_ = 0;
+        updates_since_build_ = 0;
+        stale_ = false;
+    }
+    void swap_contents(bvh& o) {
+        std::swap(slots_, o.slots_);
+        std::swap(nodes_, o.nodes_);
+        std::swap(items_, o.items_);
+        std::swap(free_pairs_, o.free_pairs_);
+        std::swap(free_blocks_, o.free_blocks_);
+        std::swap(size_at_build_, o.size_at_build_);
+        std::swap(updates_since_build_, o.updates_since_build_);
+        std::swap(full_rebuilds_, o.full_rebuilds_);
+        std::swap(stale_, o.stale_);
+        std::swap(ray_thickness_, o.ray_thickness_);
+    }
+    node_index alloc_block() {
+        if (!free_blocks_.empty()) {
+            const node_index b = free_blocks_.back();
+            free_blocks_.pop_back();
+            return b;
+        }
+        items_.resize(items_.size() + leaf_size, no_slot);
+        return static_cast<node_index>(items_.size() / leaf_size - 1);
+    }
+    node_index alloc_pair() {
+        if (!free_pairs_.empty()) {
+            const node_index p = free_pairs_.back();
+            free_pairs_.pop_back();
+            nodes_[p] = node{};
+            nodes_[p + 1] = node{};
+            return p;
+        }
+        if (nodes_.size() + 2 >= static_cast<std::size_t>(no_node)) throw std::length_error("bvh: too many nodes");
+        const auto p = static_cast<node_index>(nodes_.size());
+        nodes_.resize(nodes_.size() + 2);
+        return p;
+    }
+
+    // ================= building ============================================================
+    // Makes `at` a leaf holding items [first, first + m) (m <= leaf_size) and fits it.
+    void make_leaf(node_index at, const item* first, std::size_t m) {
+        const node_index b = alloc_block();
+        node& nd = nodes_[at];
+        nd.leaf = true;
+        nd.first = b;
+        nd.count = static_cast<std::uint32_t>(m);
+        for (std::size_t i = 0; i < m; ++i) {
+            block(b)[i] = first[i].slot;
+            slots_.set_meta(first[i].slot, at);
+        }
+        refit_node(at);
+    }
+    // Builds the subtree rooted at `at` over the items (in place), iteratively (an explicit
+    // task stack: a skewed SAH split sequence cannot overflow the call stack). Each inner
+    // node's volume is fitted to ALL hull points below it (tighter than merging).
+    void build_subtree(node_index at, item* first, std::size_t m) {
+        struct task {
+            node_index n;
+            std::size_t begin, count;
+        };
+        std::vector<task> tasks{{at, 0, m}};
+        while (!tasks.empty()) {
+            const task t = tasks.back();
+            tasks.pop_back();
+            item* f = first + t.begin;
+            const std::size_t left = choose_split(f, t.count);
+            if (left == 0) {
+                make_leaf(t.n, f, t.count);
+                continue;
+            }
+            const node_index c = alloc_pair();
+            node& nd = nodes_[t.n];
+            nd.leaf = false;
+            nd.first = c;
+            nd.count = 0;
+            nodes_[c].parent = t.n;
+            nodes_[c + 1].parent = t.n;
+            fit_inner_from_items(t.n, f, t.count);
+            tasks.push_back({c + 1, t.begin + left, t.count - left});
+            tasks.push_back({c, t.begin, left});
+        }
+    }
+    std::size_t choose_split(item* f, std::size_t m) const {
+        if constexpr (Config::builder == bvh_build_method::median_split) {
+            return m <= leaf_size ? 0 : bvh_detail::median_split(f, m);
+        } else {
+            return bvh_detail::binned_sah_split<Config::sah_bins>(
+                f, m, leaf_size, bvh_detail::sah_costs{Config::traversal_cost, Config::intersection_cost});
+        }
+    }
+    void fit_inner_from_items(node_index n, const item* f, std::size_t m) {
+        box_type b = box_type::empty();
+        for (std::size_t i = 0; i < m; ++i)
+            for (std::size_t k = 0; k < D; ++k) b.lo[k] = std::min(b.lo[k], f[i].lo[k]), b.hi[k] = std::max(b.hi[k], f[i].hi[k]);
+        if constexpr (volume_is_box) {
+            nodes_[n].volume = b;
+        } else {
+            nodes_[n].own_box = b;
+            scratch_.clear();
+            for (std::size_t i = 0; i < m; ++i) add_hull_points(slots_.value(f[i].slot));
+            nodes_[n].volume = bvh_detail::fit_volume<BV>(scratch_);
+        }
+    }
+    void add_hull_points(const O& v) {
+        object_hull_points(v, [&](const auto& hp) { scratch_.push_back(to_bv(hp)); });
+    }
+
+    // ================= refitting ===========================================================
+    // Leaf: box = union of the objects' bounds, volume = fit to their hull points (for the
+    // aabb volume: the box itself). Inner: box = union, volume = BV::merged of the children.
+    void refit_node(node_index n) {
+        node& nd = nodes_[n];
+        if (nd.leaf) {
+            box_type b = box_type::empty();
+            for (std::uint32_t i = 0; i < nd.count; ++i) {
+                const O& v = slots_.value(block(nd.first)[i]);
+                for (std::size_t k = 0; k < D; ++k)
+                    b.lo[k] = std::min(b.lo[k], object_lower(v, k)), b.hi[k] = std::max(b.hi[k], object_upper(v, k));
+            }
+            if constexpr (volume_is_box) {
+                nd.volume = b;
+            } else {
+                nd.own_box = b;
+                scratch_.clear();
+                for (std::uint32_t i = 0; i < nd.count; ++i) add_hull_points(slots_.value(block(nd.first)[i]));
+                nodes_[n].volume = bvh_detail::fit_volume<BV>(scratch_);
+            }
+            return;
+        }
+        const node& l = nodes_[nd.first];
+        const node& r = nodes_[nd.first + 1];
+        BV merged = l.volume.merged(r.volume);
+        box_type b = box_of(l).merged(box_of(r));
+        node& m = nodes_[n];
+        m.volume = std::move(merged);
+        if constexpr (!volume_is_box) m.own_box = b;
+    }
+    void refit_upward(node_index n) {
+        for (; n != no_node; n = nodes_[n].parent) refit_node(n);
+    }
+
+    // ================= dynamic insertion and removal =======================================
+    bool needs_rebuild() const {
+        const double base = static_cast<double>(std::max(size_at_build_, Config::min_rebuild_updates));
+        return static_cast<double>(updates_since_build_) > Config::rebuild_factor * base;
+    }
+    slot_index insert_from(node_index start, const O& x) {
+        const slot_index s = slots_.allocate(x, 0);
+        ++updates_since_build_;
+        if (needs_rebuild()) {
+            rebuild();
+            return s;
+        }
+        place(s, start);
+        return s;
+    }
+    // Goldsmith & Salmon (1987) greedy descent: into the child whose AABB surface area grows
+    // least (ties: the smaller resulting area), then into that leaf, splitting it with the
+    // builder when full; the path to the root is refitted.
+    void place(slot_index s, node_index n) {
+        const item it = item_of(slots_.value(s), s);
+        while (!nodes_[n].leaf) {
+            const node_index c = nodes_[n].first;
+            double grow[2], area[2];
+            for (int k = 0; k < 2; ++k) {
+                bvh_detail::box_accumulator<T, D> acc;
+                const box_type& b = box_of(nodes_[c + static_cast<node_index>(k)]);
+                acc.add(b.lo.coords, b.hi.coords);
+                const double before = acc.area();
+                acc.add(it.lo, it.hi);
+                area[k] = acc.area();
+                grow[k] = area[k] - before;
+            }
+            n = (grow[1] < grow[0] || (grow[1] == grow[0] && area[1] < area[0])) ? c + 1 : c;
+        }
+        node& L = nodes_[n];
+        if (L.count < leaf_size) {
+            block(L.first)[L.count++] = s;
+            slots_.set_meta(s, n);
+            refit_upward(n);
+            return;
+        }
+        std::vector<item> its;
+        its.reserve(leaf_size + 1);
+        for (std::uint32_t i = 0; i < L.count; ++i) {
+            const slot_index t = block(L.first)[i];
+            its.push_back(item_of(slots_.value(t), t));
+        }
+        its.push_back(it);
+        free_blocks_.push_back(L.first);
+        L.count = 0;
+        build_subtree(n, its.data(), its.size());
+        refit_upward(nodes_[n].parent);
+    }
+    // Removes slot s from its leaf (swap with the last entry); an emptied non-root leaf is
+    // removed and its sibling replaces the parent. Refits the path. Does not release s.
+    void remove_from_leaf(slot_index s) {
+        const node_index n = slots_.meta(s);
+        node& L = nodes_[n];
+        slot_index* b = block(L.first);
+        std::uint32_t i = 0;
+        while (i < L.count && b[i] != s) ++i;
+        if (i == L.count) return;  // not found: cannot happen for a stored slot
+        b[i] = b[--L.count];
+        if (L.count > 0 || n == root) {
+            refit_upward(n);
+            return;
+        }
+        const node_index p = L.parent;
+        const node_index pair = nodes_[p].first;
+        const node_index sib = n == pair ? pair + 1 : pair;
+        free_blocks_.push_back(L.first);
+        const node_index grand = nodes_[p].parent;
+        nodes_[p] = nodes_[sib];
+        nodes_[p].parent = grand;
+        if (nodes_[p].leaf) {
+            for (std::uint32_t k = 0; k < nodes_[p].count; ++k) slots_.set_meta(block(nodes_[p].first)[k], p);
+        } else {
+            nodes_[nodes_[p].first].parent = p;
+            nodes_[nodes_[p].first + 1].parent = p;
+        }
+        nodes_[pair] = node{};
+        nodes_[pair + 1] = node{};
+        free_pairs_.push_back(pair);
+        refit_upward(grand);
+    }
+    void replace_in_leaf(node_index leaf, slot_index from, slot_index to) {
+        slot_index* b = block(nodes_[leaf].first);
+        for (std::uint32_t i = 0; i < nodes_[leaf].count; ++i)
+            if (b[i] == from) b[i] = to;
+    }
+
+    // ================= data ================================================================
+    slot_storage<O> slots_;
+    std::vector<node> nodes_;
+    std::vector<slot_index> items_;  // leaf blocks of leaf_size slot indices
+    std::vector<node_index> free_pairs_, free_blocks_;
+    std::vector<bv_point> scratch_;  // hull points of the node being fitted (no allocation per fit)
+    std::size_t size_at_build_ = 0, updates_since_build_ = 0, full_rebuilds_ = 0;
+    bool stale_ = false;
+    scalar_type ray_thickness_ = 0;
+    mutable bvh_stats stats_;
+};
+
+}  // namespace spatial
+
+#include "spatial/core/point.hpp"
+static_assert(spatial::spatial_container<spatial::bvh<spatial::point<double, 3>>>);
+static_assert(spatial::spatial_container<spatial::bvh<spatial::point<float, 2>, spatial::sphere<float, 2>>>);

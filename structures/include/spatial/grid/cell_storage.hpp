@@ -1,0 +1,237 @@
+#pragma once
+// The two ways a grid stores its cells' slot lists, behind one small interface used by
+// grid_core.hpp:
+//  * dense_cells  — a flat array over a box of dims[0] x ... x dims[D-1] cells (uniform_grid);
+//  * hashed_cells — a hash map keyed by the integer cell coordinates, holding only non-empty
+//    cells (hashed_grid; Teschner et al. 2003, "Optimized spatial hashing for collision
+//    detection of deformable objects": hash = (x p1 xor y p2 xor z p3) with large primes).
+// Both expose: the clamp range of cell coordinates (the cell mapping clamps to it, which keeps
+// it monotone), the box of cells that may be non-empty, lookup, insertion and removal of a
+// slot in a cell, and iteration over the non-empty cells (the fallback of queries whose cell
+// box would be larger than the set of occupied cells).
+
+#include <algorithm>
+#include <array>
+#include <cstddef>
+#include <cstdint>
+#include <unordered_map>
+#include <vector>
+
+#include "spatial/core/slot_storage.hpp"
+
+namespace spatial::detail {
+
+template <std::size_t D>
+using cell_key = std::array<std::int64_t, D>;
+
+// A box of cells [lo, hi] (inclusive); empty when lo > hi on some axis.
+template <std::size_t D>
+struct cell_box {
+    cell_key<D> lo{}, hi{};
+    bool empty() const {
+        for (std::size_t i = 0; i < D; ++i)
+            if (lo[i] > hi[i]) return true;
+        return false;
+    }
+    bool contains(const cell_key<D>& c) const {
+        for (std::size_t i = 0; i < D; ++i)
+            if (c[i] < lo[i] || c[i] > hi[i]) return false;
+        return true;
+    }
+    bool overlaps(const cell_box& o) const {
+        for (std::size_t i = 0; i < D; ++i)
+            if (o.hi[i] < lo[i] || o.lo[i] > hi[i]) return false;
+        return true;
+    }
+    // Number of cells, as a double (cell boxes of a hashed grid can be astronomically large).
+    double count() const {
+        if (empty()) return 0;
+        double n = 1;
+        for (std::size_t i = 0; i < D; ++i) n *= static_cast<double>(hi[i] - lo[i]) + 1;
+        return n;
+    }
+    cell_box clipped(const cell_box& o) const {
+        cell_box r;
+        for (std::size_t i = 0; i < D; ++i) {
+            r.lo[i] = std::max(lo[i], o.lo[i]);
+            r.hi[i] = std::min(hi[i], o.hi[i]);
+        }
+        return r;
+    }
+};
+
+// Calls f(cell) for every cell of a non-empty box, last axis slowest.
+template <std::size_t D, class F>
+void for_each_cell(const cell_box<D>& b, F&& f) {
+    if (b.empty()) return;
+    cell_key<D> c = b.lo;
+    while (true) {
+        f(c);
+        std::size_t i = 0;
+        while (i < D) {
+            if (c[i] < b.hi[i]) {
+                ++c[i];
+                break;
+            }
+            c[i] = b.lo[i];
+            ++i;
+        }
+        if (i == D) return;
+    }
+}
+
+inline void remove_slot_from(std::vector<slot_index>& list, slot_index s) {
+    for (std::size_t i = 0; i < list.size(); ++i)
+        if (list[i] == s) {
+            list[i] = list.back();
+            list.pop_back();
+            return;
+        }
+}
+
+template <std::size_t D>
+class dense_cells {
+public:
+    using key = cell_key<D>;
+    // A dims[0] x ... x dims[D-1] array of empty cells (dims >= 1 each).
+    void reset(const key& dims) {
+        dims_ = dims;
+        std::size_t n = 1;
+        for (std::size_t i = 0; i < D; ++i) {
+            stride_[i] = n;
+            n *= static_cast<std::size_t>(dims[i]);
+        }
+        cells_.assign(n, {});
+    }
+    void clear() {
+        cells_.clear();
+        cells_.shrink_to_fit();
+        dims_.fill(0);
+    }
+    std::int64_t clamp_lo(std::size_t) const { return 0; }
+    std::int64_t clamp_hi(std::size_t i) const { return dims_[i] - 1; }
+    cell_box<D> bounds() const {
+        cell_box<D> b;
+        for (std::size_t i = 0; i < D; ++i) b.hi[i] = dims_[i] - 1;
+        return b;
+    }
+    const std::vector<slot_index>* find(const key& k) const {
+        for (std::size_t i = 0; i < D; ++i)
+            if (k[i] < 0 || k[i] >= dims_[i]) return nullptr;
+        return &cells_[index(k)];
+    }
+    void add(const key& k, slot_index s) { cells_[index(k)].push_back(s); }
+    void remove(const key& k, slot_index s) { remove_slot_from(cells_[index(k)], s); }
+    double occupied_cells() const { return static_cast<double>(cells_.size()); }
+    template <class F>
+    void for_each_nonempty(F&& f) const {
+        for (std::size_t n = 0; n < cells_.size(); ++n) {
+            if (cells_[n].empty()) continue;
+            key k;
+            std::size_t r = n;
+            for (std::size_t i = 0; i < D; ++i) {
+                k[i] = static_cast<std::int64_t>(r % static_cast<std::size_t>(dims_[i]));
+                r /= static_cast<std::size_t>(dims_[i]);
+            }
+            f(k, cells_[n]);
+        }
+    }
+    std::size_t memory_bytes() const {
+        std::size_t b = cells_.capacity() * sizeof(std::vector<slot_index>);
+        for (const auto& c : cells_) b += c.capacity() * sizeof(slot_index);
+        return b;
+    }
+    const key& dims() const { return dims_; }
+
+private:
+    std::size_t index(const key& k) const {
+        std::size_t n = 0;
+        for (std::size_t i = 0; i < D; ++i) n += static_cast<std::size_t>(k[i]) * stride_[i];
+        return n;
+    }
+    key dims_{};
+    std::array<std::size_t, D> stride_{};
+    std::vector<std::vector<slot_index>> cells_;
+};
+
+// Teschner et al.'s hash over D integer coordinates, followed by a multiplicative finaliser
+// (the plain xor of products maps small neighbouring coordinates to nearby values, which
+// suits a prime-sized table but not a power-of-two one).
+template <std::size_t D>
+struct teschner_hash {
+    std::size_t operator()(const cell_key<D>& k) const noexcept {
+        static constexpr std::uint64_t primes[8] = {73856093ULL,  19349663ULL,  83492791ULL,  2654435761ULL,
+                                                    2246822519ULL, 3266489917ULL, 668265263ULL, 374761393ULL};
+        std::uint64_t h = 0;
+        for (std::size_t i = 0; i < D; ++i) h ^= static_cast<std::uint64_t>(k[i]) * primes[i % 8];
+        h ^= h >> 31;
+        h *= 0x9E3779B97F4A7C15ULL;
+        h ^= h >> 29;
+        return static_cast<std::size_t>(h);
+    }
+};
+
+template <std::size_t D>
+class hashed_cells {
+public:
+    using key = cell_key<D>;
+    // Cell coordinates are clamped to +-2^50 (far beyond any useful grid; keeps every
+    // coordinate and difference exact in int64 and in double).
+    static constexpr std::int64_t limit = std::int64_t(1) << 50;
+
+    void clear() {
+        map_.clear();
+        bounds_ = empty_box();
+    }
+    std::int64_t clamp_lo(std::size_t) const { return -limit; }
+    std::int64_t clamp_hi(std::size_t) const { return limit; }
+    // Box of every cell that was non-empty since the last clear (grow-only: conservative).
+    cell_box<D> bounds() const { return bounds_; }
+    const std::vector<slot_index>* find(const key& k) const {
+        const auto it = map_.find(k);
+        return it == map_.end() ? nullptr : &it->second;
+    }
+    void add(const key& k, slot_index s) {
+        map_[k].push_back(s);
+        if (bounds_.empty()) {
+            bounds_.lo = bounds_.hi = k;
+        } else {
+            for (std::size_t i = 0; i < D; ++i) {
+                bounds_.lo[i] = std::min(bounds_.lo[i], k[i]);
+                bounds_.hi[i] = std::max(bounds_.hi[i], k[i]);
+            }
+        }
+    }
+    void remove(const key& k, slot_index s) {
+        const auto it = map_.find(k);
+        if (it == map_.end()) return;
+        remove_slot_from(it->second, s);
+        if (it->second.empty()) map_.erase(it);  // the map holds only non-empty cells
+    }
+    double occupied_cells() const { return static_cast<double>(map_.size()); }
+    template <class F>
+    void for_each_nonempty(F&& f) const {
+        for (const auto& [k, list] : map_) f(k, list);
+    }
+    void reserve(std::size_t n) { map_.reserve(n); }
+    std::size_t memory_bytes() const {
+        // Node-based map: one node (key, vector, next pointer, cached hash) per cell plus the
+        // bucket array.
+        std::size_t b = map_.bucket_count() * sizeof(void*) +
+                        map_.size() * (sizeof(key) + sizeof(std::vector<slot_index>) + 2 * sizeof(void*));
+        for (const auto& [k, list] : map_) b += list.capacity() * sizeof(slot_index);
+        return b;
+    }
+
+private:
+    std::unordered_map<key, std::vector<slot_index>, teschner_hash<D>> map_;
+    static cell_box<D> empty_box() {
+        cell_box<D> b;
+        b.lo.fill(1);
+        b.hi.fill(0);
+        return b;
+    }
+    cell_box<D> bounds_ = empty_box();
+};
+
+}  // namespace spatial::detail

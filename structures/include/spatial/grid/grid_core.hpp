@@ -1,0 +1,692 @@
+#pragma once
+// spatial::detail::grid_core — everything uniform_grid and hashed_grid share: the cell
+// mapping, insertion of objects into every cell they overlap, and the queries. The two grids
+// differ only in how cells are stored (cell_storage.hpp) and in when the cell size is chosen
+// (uniform_grid: from the data, re-gridding as it grows; hashed_grid: fixed).
+//
+// Cell mapping: cell_i(x) = floor((x_i - origin_i) / h), clamped to the storage's range. It is
+// MONOTONE in x (IEEE subtraction, division by h > 0 and floor are monotone), which is all the
+// range queries need: an object overlapping a query box has a cell range overlapping the
+// query's cell range. Geometric cell bounds (origin + j h) are used only where a distance or
+// ray parameter bound is needed, always widened by a few ulps of the magnitudes involved.
+//
+// No object is reported twice although an object with extent sits in every cell it overlaps,
+// and no per-query mark array is needed (queries stay const and thread-safe): an object is
+// handled only in ONE canonical cell of the visited set —
+//   box/ball query with cell box Q: the cell max(R.lo, Q.lo) of the object's range R;
+//   kNN ring search around cell cq: the cell clamp(cq, R.lo, R.hi) (the object's nearest
+//     cell in the Chebyshev ring order, visited exactly once);
+//   ray: the DDA visits a monotone sequence of cell boxes B_k (each the cells its thick
+//     segment [t_k, t_{k+1}] can touch). Per axis both ends of B_k move monotonically, so the
+//     steps whose box meets R form one contiguous run; the object is tested at the first step
+//     of that run (R misses B_{k-1}), in the cell max(R.lo, B_k.lo). Each cell is visited
+//     once for the same reason (a cell is a 1-cell range).
+//
+// Ray casting: the 3D-DDA of Amanatides & Woo (1987) (after Cleary, Wyvill, Birtwistle & Vatti
+// 1983 and Fujimoto et al. 1986): the next crossing on each axis is recomputed from the cell
+// index (not accumulated, so no drift), zero and negative-zero direction components never
+// step. A hit found at step k is final once its t is <= the step's exit parameter: objects span
+// cells, so a hit in an early cell can lie beyond it and a later cell may hold a nearer one.
+// kNN: expanding Chebyshev shells of cells around the query's cell, stopping when the k-th
+// distance is within the lower bound on any cell outside the shells.
+// Sparse safety: when a query's cell box would exceed the number of occupied cells (or of
+// objects), it scans the occupied cells (or tests every object once) instead, and a ray whose
+// DDA would visit more than about 2n cells tests every object instead; so no query costs more
+// than O(min(occupied cells, n)) beyond its cell walk, even in a hashed grid spanning 1e15 cells.
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <cstddef>
+#include <cstdint>
+#include <iterator>
+#include <limits>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+#include "spatial/core/input_checks.hpp"
+#include "spatial/core/intersect_info.hpp"
+#include "spatial/core/knn_result_set.hpp"
+#include "spatial/core/object_concepts.hpp"
+#include "spatial/core/object_geometry.hpp"
+#include "spatial/core/slot_storage.hpp"
+#include "spatial/grid/cell_storage.hpp"
+#include "spatial/octree/ray_cell_clip.hpp"
+
+namespace spatial::detail {
+
+// The names used in error messages ("uniform_grid::insert: ...").
+struct grid_names {
+    const char* insert;
+    const char* insert_hint;
+    const char* insert_bulk;
+    const char* erase;
+    const char* find;
+    const char* count;
+    const char* intersect;
+    const char* set_ray_thickness;
+    const char* find_nearest;
+    const char* find_in_ball;
+    const char* find_in_box;
+};
+
+// The cell size heuristic shared by both grids (docs/design.md): aim at n / objects_per_cell
+// cells over the box — h = (volume / cells)^(1/D') over the D' axes of positive extent — but
+// never below the mean object extent (so an object overlaps O(2^D) cells, not many), nor below
+// 64 ulps of the coordinates (cells must be resolvable), then enlarge h until the dense
+// array has at most 4 * target + 64 cells (thin boxes would otherwise explode on one axis).
+template <class T, std::size_t D>
+T choose_cell_size(const std::array<T, D>& lo, const std::array<T, D>& hi, double n, double mean_extent,
+                   double objects_per_cell) {
+    const double target = std::max(1.0, n / objects_per_cell);
+    double volume = 1, magnitude = 0;
+    int axes = 0;
+    std::array<double, D> e{};
+    for (std::size_t i = 0; i < D; ++i) {
+        e[i] = static_cast<double>(hi[i]) - static_cast<double>(lo[i]);
+        magnitude = std::max({magnitude, std::abs(static_cast<double>(lo[i])), std::abs(static_cast<double>(hi[i]))});
+        if (e[i] > 0) {
+            volume *= e[i];
+            ++axes;
+        }
+    }
+    double h = axes > 0 ? std::pow(volume / target, 1.0 / axes) : 0;
+    if (!std::isfinite(h)) h = std::numeric_limits<double>::max() / 4;
+    h = std::max(h, mean_extent);
+    h = std::max(h, 64 * static_cast<double>(std::numeric_limits<T>::epsilon()) * magnitude);
+    if (!(h > 0)) h = 1;  // everything at the origin: any size will do
+    h = std::max(h, static_cast<double>(std::numeric_limits<T>::min()) * 1024);
+    const double cap = 4 * target + 64;
+    for (int guard = 0; guard < 2100; ++guard) {
+        double cells = 1;
+        for (std::size_t i = 0; i < D; ++i) cells *= std::max(1.0, std::ceil(e[i] / h));
+        if (cells <= cap) break;
+        h *= 1.25;
+    }
+    h = std::min(h, static_cast<double>(std::numeric_limits<T>::max()));
+    return static_cast<T>(h);
+}
+
+template <stored_object O, class Cells, class Derived>
+class grid_core {
+public:
+    using value_type = O;
+    using point_type = point_type_of<O>;
+    using scalar_type = typename O::scalar_type;
+    using size_type = std::size_t;
+    using iterator = slot_iterator<O>;
+    using const_iterator = iterator;
+    using info_type = intersect_info<point_type>;
+    static constexpr std::size_t dimension = O::dimension;
+
+protected:
+    using T = scalar_type;
+    static constexpr std::size_t D = O::dimension;
+    using coords = std::array<T, D>;
+    using key = cell_key<D>;
+    using box = cell_box<D>;
+    static constexpr T bound_slack = 1 - 16 * std::numeric_limits<T>::epsilon();
+    static constexpr T gamma = 16 * std::numeric_limits<T>::epsilon();
+
+    struct extent {
+        coords lo, hi;
+    };
+
+public:
+    // ---- insertion -------------------------------------------------------------------
+    // O(cells the object overlaps) amortised (uniform_grid re-grids in O(n) after the
+    // count doubles or an object lands outside its box).
+    iterator insert(const O& x) { return insert_one(x, names().insert); }
+    // The hint cannot make a grid insertion cheaper (finding the cell is O(1) already).
+    iterator insert(const_iterator, const O& x) { return insert_one(x, names().insert_hint); }
+    // Bulk: validates all first, chooses the grid ONCE for the final size and box (no
+    // repeated re-gridding), then fills the cells: O(n + m) total.
+    template <class InputIt>
+    void insert(InputIt first, InputIt last) {
+        std::vector<O> batch(first, last);
+        for (const O& x : batch) require_finite_object(x, names().insert_bulk);
+        if (batch.empty()) return;
+        slots_.require_room_for(batch.size(), names().insert_bulk);
+        extent all = extent_of(batch.front());
+        double extent_sum = 0;
+        for (const O& x : batch) {
+            const extent e = extent_of(x);
+            merge(all, e);
+            extent_sum += max_extent(e);
+        }
+        derived().prepare_insert(all, batch.size(), extent_sum);
+        for (const O& x : batch) derived().check_span(extent_of(x), names().insert_bulk);
+        slots_.reserve(slots_.capacity() + batch.size());
+        for (const O& x : batch) add_to_cells(slots_.allocate(x, 0));
+    }
+
+    // ---- erasure ---------------------------------------------------------------------
+    // O(cells of the object x their occupancy). Returns the next element.
+    iterator erase(const_iterator pos) {
+        const slot_index s = pos.slot();
+        remove_from_cells(s);
+        slots_.release(s);
+        derived().after_erase();
+        return make(slots_.next_occupied(s + 1));
+    }
+    // Erases ALL elements equal to x: equal objects have equal boxes, hence the same first
+    // cell, so one cell is scanned.
+    size_type erase(const O& x) {
+        require_finite_object(x, names().erase);
+        std::vector<slot_index> hits;
+        collect_equal(x, hits, false);
+        for (slot_index s : hits) {
+            remove_from_cells(s);
+            slots_.release(s);
+        }
+        if (!hits.empty()) derived().after_erase();
+        return hits.size();
+    }
+    // Erasing at least a quarter of the elements rebuilds the cells once (O(n)); smaller
+    // ranges remove one by one with a single re-grid check at the end.
+    void erase(const_iterator first, const_iterator last) {
+        std::vector<slot_index> doomed;
+        for (; first != last; ++first) doomed.push_back(first.slot());
+        if (doomed.empty()) return;
+        if (doomed.size() * 4 >= slots_.size()) {
+            for (slot_index s : doomed) slots_.release(s);
+            derived().rebuild();
+            return;
+        }
+        for (slot_index s : doomed) {
+            remove_from_cells(s);
+            slots_.release(s);
+        }
+        derived().after_erase();
+    }
+    void clear() {
+        slots_.clear();
+        derived().reset_cells();
+        reset_data_box();
+    }
+
+    // ---- lookup ----------------------------------------------------------------------
+    iterator find(const O& x) {
+        require_finite_object(x, names().find);
+        std::vector<slot_index> hits;
+        collect_equal(x, hits, true);
+        return hits.empty() ? end() : make(hits.front());
+    }
+    size_type count(const O& x) const {
+        require_finite_object(x, names().count);
+        std::vector<slot_index> hits;
+        collect_equal(x, hits, false);
+        return hits.size();
+    }
+
+    // ---- ray cast --------------------------------------------------------------------
+    bool intersect(const point_type& origin, const point_type& direction, info_type& info) const {
+        return intersect_object(origin, direction, ray_thickness_, info) != end();
+    }
+    bool intersect(const point_type& origin, const point_type& direction, scalar_type thickness,
+                   info_type& info) const {
+        return intersect_object(origin, direction, thickness, info) != end();
+    }
+    // The object with the smallest hit time before info.hit_time, or end(). Cost: the cells
+    // the (thick) ray crosses before the first hit, O(n^(1/D)) on a uniform grid over
+    // uniform data; never more than O(occupied cells + n) (see the header comment).
+    iterator intersect_object(const point_type& origin, const point_type& direction, scalar_type thickness,
+                              info_type& info) const {
+        require_finite(origin, names().intersect, "ray origin");
+        require_nonzero_direction(direction, names().intersect);
+        require_nonnegative(thickness, names().intersect, "ray thickness");
+        if (slots_.size() == 0) return end();
+        const box R = cells_.bounds();
+        if (R.empty()) return end();
+        coords o, v;
+        for (std::size_t i = 0; i < D; ++i) {
+            o[i] = origin[i];
+            v[i] = direction[i];
+        }
+        T t_begin = 0, t_end = info.hit_time;
+        if (!clip_box<T, D>(o, v, data_lo_, data_hi_, thickness, t_begin, t_end)) return end();
+        slot_index hit = no_slot;
+        auto test = [&](slot_index s) {
+            if (slots_.value(s).intersect(origin, direction, thickness, info)) hit = s;
+        };
+        auto scan_all = [&] {
+            for (slot_index s = slots_.next_occupied(0); s < slots_.capacity(); s = slots_.next_occupied(s + 1)) test(s);
+        };
+        // Budget: the DDA is used while it is expected to touch fewer cells than a scan.
+        const double budget = 2 * static_cast<double>(slots_.size()) + 64;
+        double steps = 1, per_step = 1;
+        for (std::size_t i = 0; i < D; ++i) {
+            steps += static_cast<double>(std::abs(v[i])) * static_cast<double>(t_end - t_begin) / static_cast<double>(h_);
+            per_step *= 1 + 2 * static_cast<double>(thickness) / static_cast<double>(h_);
+        }
+        if (!(steps * per_step <= budget)) {
+            scan_all();
+            return hit == no_slot ? end() : make(hit);
+        }
+        key c;
+        for (std::size_t i = 0; i < D; ++i) c[i] = cell_of(o[i] + t_begin * v[i], i);
+        T tk = t_begin;
+        box prev;
+        bool have_prev = false;
+        double visited = 0;
+        while (true) {
+            T t_next = t_end;
+            std::size_t axis = D;
+            for (std::size_t i = 0; i < D; ++i) {
+                if (v[i] == 0) continue;  // +0 or -0: never crosses a plane of this axis
+                const std::int64_t edge = v[i] > 0 ? c[i] + 1 : c[i];
+                const T plane = origin_[i] + static_cast<T>(edge) * h_;
+                const T tb = (plane - o[i]) / v[i];
+                if (tb < t_next) {
+                    t_next = tb;
+                    axis = i;
+                }
+            }
+            if (t_next < tk) t_next = tk;
+            // The cells the thick segment [tk, t_next] can touch.
+            box B;
+            for (std::size_t i = 0; i < D; ++i) {
+                T a = o[i] + tk * v[i], b = o[i] + t_next * v[i];
+                if (a > b) std::swap(a, b);
+                B.lo[i] = cell_of(a - ray_clip_params<T>::pad(thickness, a, o[i]), i);
+                B.hi[i] = cell_of(b + ray_clip_params<T>::pad(thickness, b, o[i]), i);
+            }
+            B = B.clipped(R);
+            if (!B.empty()) {
+                visited += B.count();
+                for_each_cell(B, [&](const key& cell) {
+                    if (have_prev && prev.contains(cell)) return;
+                    const std::vector<slot_index>* list = cells_.find(cell);
+                    if (!list) return;
+                    for (slot_index s : *list) {
+                        if constexpr (bounded_object<O>) {
+                            const box Ro = range_of(extent_of(slots_.value(s)));
+                            if (have_prev && Ro.overlaps(prev)) continue;  // tested at an earlier step
+                            if (!is_first_cell(Ro, B, cell)) continue;
+                        }
+                        test(s);
+                    }
+                });
+            }
+            prev = B;
+            have_prev = true;
+            if (hit != no_slot && info.hit_time <= t_next) break;  // nothing nearer can follow
+            if (!(t_next < t_end) || axis == D) break;
+            if (visited > budget) {  // rounding made the walk longer than estimated: finish by a scan
+                scan_all();
+                break;
+            }
+            tk = t_next;
+            c[axis] += v[axis] > 0 ? 1 : -1;
+        }
+        return hit == no_slot ? end() : make(hit);
+    }
+    scalar_type ray_thickness() const { return ray_thickness_; }
+    void set_ray_thickness(scalar_type t) {
+        require_nonnegative(t, names().set_ray_thickness, "thickness");
+        ray_thickness_ = t;
+    }
+
+    // ---- nearest neighbours and ranges ---------------------------------------------------
+    std::vector<iterator> find_nearest(const point_type& x, size_type k) const { return find_nearest(x, k, 0); }
+    // Expanding Chebyshev shells of cells around x's cell; stops when (1+eps) times the lower
+    // bound on every unvisited cell is not below the k-th distance. O(k) cells of average
+    // occupancy for data spread like the grid; a query far outside the data starts at the
+    // first shell reaching the occupied cells.
+    std::vector<iterator> find_nearest(const point_type& x, size_type k, scalar_type eps) const {
+        require_finite(x, names().find_nearest, "query point");
+        require_nonnegative(eps, names().find_nearest, "eps");
+        std::vector<iterator> out;
+        if (k == 0 || slots_.size() == 0) return out;
+        const box R = cells_.bounds();
+        if (R.empty()) return out;
+        const T factor = (1 + eps) * (1 + eps);
+        knn_result_set<T> best(std::min<std::size_t>(k, slots_.size()));
+        const std::size_t wanted = std::min<std::size_t>(k, slots_.size());
+        key cq;
+        std::int64_t r0 = 0, r_max = 0;
+        for (std::size_t i = 0; i < D; ++i) {
+            cq[i] = cell_of(x[i], i);
+            r0 = std::max({r0, R.lo[i] - cq[i], cq[i] - R.hi[i]});
+            r_max = std::max({r_max, R.hi[i] - cq[i], cq[i] - R.lo[i]});
+        }
+        auto process = [&](const key& cell, slot_index s) {
+            if constexpr (bounded_object<O>) {
+                const box Ro = range_of(extent_of(slots_.value(s)));
+                for (std::size_t i = 0; i < D; ++i)
+                    if (std::clamp(cq[i], Ro.lo[i], Ro.hi[i]) != cell[i]) return;
+            }
+            best.add(object_squared_distance(slots_.value(s), x), s);
+        };
+        double walked = 0;  // cells of the shells so far: beyond the occupied cells, scan those
+        for (std::int64_t r = r0; r <= r_max; ++r) {
+            const double objects = static_cast<double>(slots_.size());
+            walked += ring_count(cq, r, R);
+            if (walked > std::min(cells_.occupied_cells(), objects) + 8) {
+                // Sparse: the shell has more cells than there are occupied cells (or objects);
+                // finish over those, each object once (only those no earlier shell reached).
+                if (objects < cells_.occupied_cells()) {
+                    for (slot_index s = slots_.next_occupied(0); s < slots_.capacity(); s = slots_.next_occupied(s + 1))
+                        if (chebyshev_to_range(cq, range_of(extent_of(slots_.value(s)))) >= r)
+                            best.add(object_squared_distance(slots_.value(s), x), s);
+                    break;
+                }
+                cells_.for_each_nonempty([&](const key& cell, const std::vector<slot_index>& list) {
+                    if (chebyshev(cell, cq) < r) return;
+                    for (slot_index s : list) process(cell, s);
+                });
+                break;
+            }
+            for_each_ring_cell(cq, r, R, [&](const key& cell) {
+                if (const std::vector<slot_index>* list = cells_.find(cell))
+                    for (slot_index s : *list) process(cell, s);
+            });
+            if (best.size() == wanted) {
+                const T lb = shell_lower_bound(x, cq, r, R);
+                if (!(lb * lb * bound_slack * factor < best.worst())) break;
+            }
+        }
+        for (const auto& cand : best.finish()) out.push_back(make(cand.slot));
+        return out;
+    }
+    // Objects with object_squared_distance <= radius^2: the cells of the ball's box.
+    std::vector<iterator> find_in_ball(const point_type& center, scalar_type radius) const {
+        require_finite(center, names().find_in_ball, "center");
+        require_nonnegative(radius, names().find_in_ball, "radius");
+        std::vector<iterator> out;
+        if (slots_.size() == 0) return out;
+        const T r2 = radius * radius;
+        box Q;
+        for (std::size_t i = 0; i < D; ++i) {
+            const T pad = radius + gamma * (std::abs(center[i]) + radius);
+            Q.lo[i] = cell_of(center[i] - pad, i);
+            Q.hi[i] = cell_of(center[i] + pad, i);
+        }
+        for_each_in_query(Q, [&](slot_index s) {
+            if (object_squared_distance(slots_.value(s), center) <= r2) out.push_back(make(s));
+        });
+        return out;
+    }
+    // Objects overlapping the closed box [lo, hi] (object_overlaps_box).
+    std::vector<iterator> find_in_box(const point_type& lo, const point_type& hi) const {
+        require_finite(lo, names().find_in_box, "box corner lo");
+        require_finite(hi, names().find_in_box, "box corner hi");
+        std::vector<iterator> out;
+        if (slots_.size() == 0) return out;
+        box Q;
+        for (std::size_t i = 0; i < D; ++i) {  // an inverted query box still matches boxes spanning it
+            const std::int64_t a = cell_of(lo[i], i), b = cell_of(hi[i], i);
+            Q.lo[i] = std::min(a, b);
+            Q.hi[i] = std::max(a, b);
+        }
+        for_each_in_query(Q, [&](slot_index s) {
+            if (object_overlaps_box(slots_.value(s), lo, hi)) out.push_back(make(s));
+        });
+        return out;
+    }
+
+    // ---- STL basics and introspection ----------------------------------------------------
+    size_type size() const { return slots_.size(); }
+    bool empty() const { return slots_.size() == 0; }
+    iterator begin() const { return make(slots_.next_occupied(0)); }
+    iterator end() const { return make(static_cast<slot_index>(slots_.capacity())); }
+    std::size_t memory_bytes() const { return sizeof(Derived) + slots_.memory_bytes() + cells_.memory_bytes(); }
+    // The cell edge (0 before the first insertion of a grid that chooses it from the data).
+    scalar_type cell_size() const { return h_; }
+
+    // Every object is listed in exactly the cells its box maps to, and nowhere else. O(n * cells).
+    std::string check_invariants() const {
+        std::size_t listed = 0, expected = 0;
+        std::string err;
+        for (slot_index s = slots_.next_occupied(0); s < slots_.capacity(); s = slots_.next_occupied(s + 1)) {
+            const box Ro = range_of(extent_of(slots_.value(s)));
+            expected += static_cast<std::size_t>(Ro.count());
+            for_each_cell(Ro, [&](const key& c) {
+                const std::vector<slot_index>* list = cells_.find(c);
+                if (!list || std::count(list->begin(), list->end(), s) != 1)
+                    err = "object " + std::to_string(s) + " missing from one of its cells";
+            });
+        }
+        cells_.for_each_nonempty([&](const key&, const std::vector<slot_index>& list) {
+            listed += list.size();
+            for (slot_index s : list)
+                if (!slots_.occupied(s)) err = "a cell lists an erased object";
+        });
+        if (err.empty() && listed != expected)
+            err = "cells list " + std::to_string(listed) + " entries, expected " + std::to_string(expected);
+        return err;
+    }
+
+protected:
+    grid_core() { reset_data_box(); }
+
+    Derived& derived() { return static_cast<Derived&>(*this); }
+    const grid_names& names() const { return Derived::names; }
+    iterator make(slot_index s) const { return iterator(&slots_, s); }
+
+    static extent extent_of(const O& x) {
+        extent e;
+        for (std::size_t i = 0; i < D; ++i) {
+            e.lo[i] = object_lower(x, i);
+            e.hi[i] = object_upper(x, i);
+        }
+        return e;
+    }
+    static void merge(extent& a, const extent& b) {
+        for (std::size_t i = 0; i < D; ++i) {
+            a.lo[i] = std::min(a.lo[i], b.lo[i]);
+            a.hi[i] = std::max(a.hi[i], b.hi[i]);
+        }
+    }
+    static double max_extent(const extent& e) {
+        double m = 0;
+        for (std::size_t i = 0; i < D; ++i) m = std::max(m, static_cast<double>(e.hi[i]) - static_cast<double>(e.lo[i]));
+        return std::isfinite(m) ? m : 0;
+    }
+
+    // Monotone cell mapping, clamped to the storage's coordinate range.
+    std::int64_t cell_of(T x, std::size_t i) const {
+        const T f = std::floor((x - origin_[i]) / h_);
+        const std::int64_t lo = cells_.clamp_lo(i), hi = cells_.clamp_hi(i);
+        if (!(f > static_cast<T>(lo))) return lo;
+        if (!(f < static_cast<T>(hi))) return hi;
+        return static_cast<std::int64_t>(f);
+    }
+    box range_of(const extent& e) const {
+        box b;
+        for (std::size_t i = 0; i < D; ++i) {
+            b.lo[i] = cell_of(e.lo[i], i);
+            b.hi[i] = cell_of(e.hi[i], i);
+        }
+        return b;
+    }
+
+    void add_to_cells(slot_index s) {
+        const extent e = extent_of(slots_.value(s));
+        for_each_cell(range_of(e), [&](const key& c) { cells_.add(c, s); });
+        for (std::size_t i = 0; i < D; ++i) {
+            data_lo_[i] = std::min(data_lo_[i], e.lo[i]);
+            data_hi_[i] = std::max(data_hi_[i], e.hi[i]);
+        }
+    }
+    void remove_from_cells(slot_index s) {
+        for_each_cell(range_of(extent_of(slots_.value(s))), [&](const key& c) { cells_.remove(c, s); });
+    }
+    // Re-lists every live object (after the storage was reset).
+    void refill_cells() {
+        reset_data_box();
+        for (slot_index s = slots_.next_occupied(0); s < slots_.capacity(); s = slots_.next_occupied(s + 1))
+            add_to_cells(s);
+    }
+    void reset_data_box() {
+        data_lo_.fill(std::numeric_limits<T>::infinity());
+        data_hi_.fill(-std::numeric_limits<T>::infinity());
+    }
+    // Refuses an object that would occupy an absurd number of cells (a hashed grid with a
+    // cell size far below the object size), before anything is stored.
+    void check_span_limit(const extent& e, const char* where) const {
+        const double n = range_of(e).count();
+        if (n > double(1 << 24))
+            throw std::length_error(std::string(where) + ": an object would occupy " + std::to_string(n) +
+                                    " cells (more than 2^24); use a larger cell size");
+    }
+
+    // Bounding box and mean size of the live objects plus an optional extra box (count m,
+    // extent sum es): the input of the cell-size heuristic.
+    void data_statistics(const extent* extra, std::size_t m, double es, extent& box_out, double& mean_extent,
+                         double& n) const {
+        bool any = extra != nullptr;
+        if (extra) box_out = *extra;
+        double sum = es;
+        for (slot_index s = slots_.next_occupied(0); s < slots_.capacity(); s = slots_.next_occupied(s + 1)) {
+            const extent e = extent_of(slots_.value(s));
+            if (!any) box_out = e;
+            any = true;
+            merge(box_out, e);
+            sum += max_extent(e);
+        }
+        n = static_cast<double>(slots_.size() + m);
+        mean_extent = n > 0 ? sum / n : 0;
+    }
+
+    slot_storage<O> slots_;
+    Cells cells_;
+    coords origin_{};
+    T h_ = 0;
+    coords data_lo_{}, data_hi_{};  // box of everything listed since the last refill (grow-only)
+    T ray_thickness_ = 0;
+
+private:
+    iterator insert_one(const O& x, const char* where) {
+        require_finite_object(x, where);
+        const extent e = extent_of(x);
+        derived().prepare_insert(e, 1, max_extent(e));
+        derived().check_span(e, where);
+        const slot_index s = slots_.allocate(x, 0);
+        add_to_cells(s);
+        return make(s);
+    }
+
+    void collect_equal(const O& x, std::vector<slot_index>& out, bool first_only) const {
+        if (slots_.size() == 0 || !(h_ > 0)) return;
+        const box Rx = range_of(extent_of(x));
+        const std::vector<slot_index>* list = cells_.find(Rx.lo);
+        if (!list) return;
+        for (slot_index s : *list)
+            if (slots_.value(s) == x) {
+                out.push_back(s);
+                if (first_only) return;
+            }
+    }
+
+    static bool is_first_cell(const box& Ro, const box& Q, const key& cell) {
+        for (std::size_t i = 0; i < D; ++i)
+            if (std::max(Ro.lo[i], Q.lo[i]) != cell[i]) return false;
+        return true;
+    }
+    // Chebyshev distance from cell a to the nearest cell of box R.
+    static std::int64_t chebyshev_to_range(const key& a, const box& R) {
+        std::int64_t m = 0;
+        for (std::size_t i = 0; i < D; ++i) m = std::max({m, R.lo[i] - a[i], a[i] - R.hi[i]});
+        return m;
+    }
+    static std::int64_t chebyshev(const key& a, const key& b) {
+        std::int64_t m = 0;
+        for (std::size_t i = 0; i < D; ++i) m = std::max(m, a[i] > b[i] ? a[i] - b[i] : b[i] - a[i]);
+        return m;
+    }
+
+    // Calls f(slot) once per object listed in the cells of Q (clipped to the occupied box),
+    // each object at its canonical cell; scans the occupied cells when Q is larger.
+    template <class F>
+    void for_each_in_query(box Q, F&& f) const {
+        Q = Q.clipped(cells_.bounds());
+        if (Q.empty()) return;
+        auto visit = [&](const key& cell, const std::vector<slot_index>& list) {
+            for (slot_index s : list) {
+                if constexpr (bounded_object<O>) {
+                    if (!is_first_cell(range_of(extent_of(slots_.value(s))), Q, cell)) continue;
+                }
+                f(s);
+            }
+        };
+        const double objects = static_cast<double>(slots_.size());
+        if (Q.count() > std::min(cells_.occupied_cells(), objects) + 8) {
+            if (objects < cells_.occupied_cells()) {  // objects span many cells: test each once
+                for (slot_index s = slots_.next_occupied(0); s < slots_.capacity(); s = slots_.next_occupied(s + 1)) f(s);
+                return;
+            }
+            cells_.for_each_nonempty([&](const key& cell, const std::vector<slot_index>& list) {
+                if (Q.contains(cell)) visit(cell, list);
+            });
+            return;
+        }
+        for_each_cell(Q, [&](const key& cell) {
+            if (const std::vector<slot_index>* list = cells_.find(cell)) visit(cell, *list);
+        });
+    }
+
+    // Cells at Chebyshev distance exactly r from cq, within R.
+    static double ring_count(const key& cq, std::int64_t r, const box& R) {
+        box outer, inner;
+        for (std::size_t i = 0; i < D; ++i) {
+            outer.lo[i] = cq[i] - r;
+            outer.hi[i] = cq[i] + r;
+            inner.lo[i] = cq[i] - r + 1;
+            inner.hi[i] = cq[i] + r - 1;
+        }
+        return outer.clipped(R).count() - (r > 0 ? inner.clipped(R).count() : 0.0);
+    }
+    template <class F>
+    static void for_each_ring_cell(const key& cq, std::int64_t r, const box& R, F&& f) {
+        key c{};
+        ring_axis(D - 1, false, cq, r, R, c, f);
+    }
+    template <class F>
+    static void ring_axis(std::size_t i, bool on_shell, const key& cq, std::int64_t r, const box& R, key& c, F& f) {
+        const std::int64_t lo = std::max(cq[i] - r, R.lo[i]), hi = std::min(cq[i] + r, R.hi[i]);
+        if (lo > hi) return;
+        if (i == 0 && !on_shell) {  // only the two faces of the last axis are on the shell
+            const std::int64_t a = cq[0] - r, b = cq[0] + r;
+            if (a >= lo && a <= hi) {
+                c[0] = a;
+                f(static_cast<const key&>(c));
+            }
+            if (b != a && b >= lo && b <= hi) {
+                c[0] = b;
+                f(static_cast<const key&>(c));
+            }
+            return;
+        }
+        for (std::int64_t v = lo; v <= hi; ++v) {
+            c[i] = v;
+            const bool on = on_shell || v == cq[i] - r || v == cq[i] + r;
+            if (i == 0) f(static_cast<const key&>(c));
+            else ring_axis(i - 1, on, cq, r, R, c, f);
+        }
+    }
+
+    // Lower bound on the distance from x to any object none of whose cells lies within
+    // Chebyshev distance r of cq: such an object lies entirely beyond a face of the shell's
+    // box on some axis (only faces with occupied cells beyond them count). Widened by the
+    // rounding of the cell mapping and of the face coordinates. +inf when no face remains.
+    T shell_lower_bound(const point_type& x, const key& cq, std::int64_t r, const box& R) const {
+        T lb = std::numeric_limits<T>::infinity();
+        for (std::size_t i = 0; i < D; ++i) {
+            if (cq[i] + r < R.hi[i]) {
+                const T face = origin_[i] + static_cast<T>(cq[i] + r + 1) * h_;
+                const T slack = 8 * std::numeric_limits<T>::epsilon() * (std::abs(x[i]) + std::abs(origin_[i]) + std::abs(face));
+                lb = std::min(lb, face - x[i] - slack);
+            }
+            if (cq[i] - r > R.lo[i]) {
+                const T face = origin_[i] + static_cast<T>(cq[i] - r) * h_;
+                const T slack = 8 * std::numeric_limits<T>::epsilon() * (std::abs(x[i]) + std::abs(origin_[i]) + std::abs(face));
+                lb = std::min(lb, x[i] - face - slack);
+            }
+        }
+        return std::max(lb, T(0));
+    }
+};
+
+}  // namespace spatial::detail

@@ -1,0 +1,37 @@
+// spatial::bvh, part 3: differential tests against brute force in 2D (every volume type that
+// supports 2D) and in float. Parts 1-2: bvh_test.cpp, bvh_volumes_test.cpp.
+
+#include <gtest/gtest.h>
+
+#include "bvh_test_support.hpp"
+
+using namespace spatial;
+using bvh_test::differential;
+
+namespace {
+
+template <class Tree>
+class bvh_2d_float : public ::testing::Test {};
+
+using part3_trees = ::testing::Types<
+    // 2D
+    bvh<point<double, 2>, kdop<double, 2, 8>>, bvh<objects::box<float, 2>, kdop<float, 2, 16>, bvh_median_config<>>,
+    bvh<point<float, 2>, obb<float, 2>>, bvh<objects::box<double, 2>, convex_hull<double, 2>>,
+    bvh<point<float, 2>, ellipsoid<float, 2>, bvh_median_config<>>, bvh<objects::triangle<double, 2>, sphere<double, 2>>,
+    // 3D float
+    bvh<objects::box<float, 3>, aabb<float, 3>>, bvh<point<float, 3>, sphere<float, 3>, bvh_median_config<>>,
+    bvh<objects::box<float, 3>, obb<float, 3>>>;
+TYPED_TEST_SUITE(bvh_2d_float, part3_trees);
+
+TYPED_TEST(bvh_2d_float, matches_brute_force_under_interleaved_updates_and_motion) {
+    for (std::uint64_t seed : {21u, 22u}) differential<TypeParam>(spatial_test::test_seed(seed * 104729), 250, 5);
+}
+TYPED_TEST(bvh_2d_float, matches_brute_force_at_offset_and_small_scales) {
+    differential<TypeParam>(spatial_test::test_seed(31), 150, 2, 1e6, 10);
+    differential<TypeParam>(spatial_test::test_seed(32), 150, 2, 0, 1e-12);
+}
+TYPED_TEST(bvh_2d_float, small_trees) {
+    for (std::size_t n : {0u, 1u, 3u}) differential<TypeParam>(spatial_test::test_seed(200 + n), n, 3);
+}
+
+}  // namespace

@@ -1,0 +1,148 @@
+// spatial::uniform_grid and spatial::hashed_grid: the shared contract suite, differential
+// tests against brute force under interleaved updates, the numerically hard cases
+// (octree_grid_checks.hpp), and grid-specific properties: amortised re-gridding, sparse
+// hashed scenes spanning 1e15 cells, no duplicate reports for objects spanning many cells.
+
+#include <gtest/gtest.h>
+
+#include <chrono>
+#include <set>
+#include <vector>
+
+#include "container_contract.hpp"
+#include "octree_grid_checks.hpp"
+#include "spatial/brute/brute_force.hpp"
+#include "spatial/grid/hashed_grid.hpp"
+#include "spatial/grid/uniform_grid.hpp"
+#include "spatial/objects/box.hpp"
+#include "spatial/objects/sphere.hpp"
+#include "spatial/objects/triangle.hpp"
+#include "test_support.hpp"
+
+using namespace spatial;
+using spatial_test::tagged_point;
+using P3 = point<double, 3>;
+using B3 = objects::box<double, 3>;
+using B2f = objects::box<float, 2>;
+
+// A hashed grid with a fixed small cell (objects span many cells; sparse fall-backs trigger).
+template <class O>
+struct fine_hashed_grid : hashed_grid<O> {
+    fine_hashed_grid() : hashed_grid<O>(typename O::scalar_type(0.1)) {}
+};
+static_assert(spatial_container<fine_hashed_grid<B3>>);
+
+using grid_point_types = ::testing::Types<uniform_grid<P3>, uniform_grid<point<float, 2>>, uniform_grid<tagged_point>,
+                                          hashed_grid<P3>, hashed_grid<point<float, 2>>, fine_hashed_grid<P3>>;
+using grid_object_types =
+    ::testing::Types<uniform_grid<B3>, uniform_grid<B2f>, uniform_grid<objects::sphere<double, 3>>,
+                     uniform_grid<objects::triangle<float, 3>>, hashed_grid<B3>, hashed_grid<B2f>,
+                     fine_hashed_grid<B3>, hashed_grid<spatial_test::tagged_box>>;
+using grid_hard_types = ::testing::Types<uniform_grid<P3>, uniform_grid<point<float, 2>>, uniform_grid<tagged_point>,
+                                         uniform_grid<B3>, uniform_grid<B2f>, hashed_grid<P3>, hashed_grid<B3>,
+                                         hashed_grid<B2f>, fine_hashed_grid<B3>>;
+
+namespace spatial_contract {
+INSTANTIATE_TYPED_TEST_SUITE_P(grid_points, container_contract, grid_point_types);
+INSTANTIATE_TYPED_TEST_SUITE_P(grid_objects, container_contract, grid_object_types);
+}  // namespace spatial_contract
+namespace og_test {
+INSTANTIATE_TYPED_TEST_SUITE_P(grid, octree_grid_hard_cases, grid_hard_types);
+}
+
+namespace {
+
+template <class C>
+class grid_differential_objects : public ::testing::Test {};
+using grid_round_objects = ::testing::Types<uniform_grid<objects::sphere<double, 3>>, hashed_grid<objects::triangle<float, 3>>>;
+TYPED_TEST_SUITE(grid_differential_objects, grid_round_objects);
+TYPED_TEST(grid_differential_objects, spheres_and_triangles_match_brute_force) {
+    spatial_test::run_all_distributions<TypeParam>(77, 300);
+}
+
+TEST(uniform_grid, re_gridding_is_amortised_for_a_sorted_outward_stream) {
+    uniform_grid<P3> g;
+    const std::size_t n = 100000;
+    for (std::size_t i = 0; i < n; ++i) g.insert(P3{{static_cast<double>(i), 0.5 * static_cast<double>(i % 7), 0.25}});
+    EXPECT_EQ(g.size(), n);
+    // Count doubling (log2 n) and box growth by a factor >= 1.25 (log_1.25 n ~ 3.1 log2 n)
+    // each: O(log n) re-grids of geometrically growing sizes, O(n) total work.
+    EXPECT_LE(g.regrid_count(), 5 * static_cast<std::size_t>(std::log2(static_cast<double>(n))) + 16);
+    EXPECT_EQ(g.check_invariants(), "");
+    double cells = 1;
+    for (auto d : g.grid_dims()) cells *= static_cast<double>(d);
+    EXPECT_LE(cells, 4.0 * static_cast<double>(n) / 2 + 64) << "the dense array stays O(n)";
+}
+
+TEST(uniform_grid, shrinking_re_grids_to_a_smaller_array) {
+    uniform_grid<P3> g;
+    spatial_test::point_source<P3> src(spatial_test::distribution::uniform, 4);
+    std::vector<P3> pts;
+    for (int i = 0; i < 20000; ++i) pts.push_back(src.next());
+    g.insert(pts.begin(), pts.end());
+    const std::size_t grids = g.regrid_count();
+    for (int i = 0; i < 19000; ++i) g.erase(g.begin());
+    EXPECT_GT(g.regrid_count(), grids);
+    EXPECT_EQ(g.check_invariants(), "");
+    EXPECT_EQ(g.size(), 1000u);
+}
+
+TEST(hashed_grid, sparse_scene_spanning_1e15_cells_answers_quickly_and_exactly) {
+    hashed_grid<P3> g(1.0);
+    brute_force<P3> b;
+    for (int i = 0; i < 50; ++i) {
+        const P3 p{{i * 1.0, 0, 0}}, q{{1e15 + i, 0, 0}};
+        g.insert(p);
+        g.insert(q);
+        b.insert(p);
+        b.insert(q);
+    }
+    EXPECT_LE(g.occupied_cells(), 100u);
+    const auto start = std::chrono::steady_clock::now();
+    const P3 mid{{5e14, 0.25, 0}};
+    EXPECT_EQ(spatial_test::distances_from(mid, g.find_nearest(mid, 3)), spatial_test::distances_from(mid, b.find_nearest(mid, 3)));
+    intersect_info<P3> a, e;
+    const P3 o{{-5, 0, 0}}, d{{1, -0.0, 0.0}};
+    ASSERT_EQ(g.intersect(o, d, a), b.intersect(o, d, e));
+    EXPECT_EQ(a.hit_time, e.hit_time);
+    intersect_info<P3> a2, e2;
+    const P3 o2{{60, 0, 0}};
+    ASSERT_EQ(g.intersect(o2, d, a2), b.intersect(o2, d, e2));  // crosses the 1e15-cell gap
+    EXPECT_EQ(a2.hit_time, e2.hit_time);
+    EXPECT_EQ(g.find_in_box(P3{{-1, -1, -1}}, P3{{2e15, 1, 1}}).size(), 100u);
+    EXPECT_EQ(g.find_in_ball(mid, 6e14).size(), 100u);
+    const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    EXPECT_LT(seconds, 1.0) << "sparse fall-backs must avoid walking empty cells";
+}
+
+TEST(hashed_grid, an_object_spanning_many_cells_is_reported_once_and_erased_from_all) {
+    hashed_grid<B3> g(0.1);
+    const B3 big(P3{{0, 0, 0}}, P3{{1.05, 1.05, 1.05}});  // 11^3 cells
+    g.insert(big);
+    g.insert(B3(P3{{0.5, 0.5, 0.5}}, P3{{0.5, 0.5, 0.5}}));
+    EXPECT_GE(g.occupied_cells(), 1331u);
+    EXPECT_EQ(g.find_in_box(P3{{-1, -1, -1}}, P3{{2, 2, 2}}).size(), 2u);
+    EXPECT_EQ(g.find_in_ball(P3{{0.5, 0.5, 0.5}}, 3).size(), 2u);
+    EXPECT_EQ(g.find_nearest(P3{{0.5, 0.5, 0.5}}, 5).size(), 2u);
+    intersect_info<P3> info;
+    const auto it = g.intersect_object(P3{{-1, 0.5, 0.5}}, P3{{1, 0, 0}}, 0, info);
+    ASSERT_TRUE(it != g.end());
+    EXPECT_EQ(*it, big);
+    EXPECT_EQ(info.hit_time, 1.0);
+    EXPECT_EQ(g.erase(big), 1u);
+    EXPECT_EQ(g.occupied_cells(), 1u);
+    EXPECT_EQ(g.check_invariants(), "");
+}
+
+TEST(hashed_grid, rejects_bad_cell_sizes_and_objects_spanning_too_many_cells) {
+    EXPECT_THROW(hashed_grid<P3>(0.0), std::invalid_argument);
+    EXPECT_THROW(hashed_grid<P3>(-1.0), std::invalid_argument);
+    EXPECT_THROW(hashed_grid<P3>(std::numeric_limits<double>::quiet_NaN()), std::invalid_argument);
+    hashed_grid<B3> g(1e-3);
+    g.insert(B3(P3{{0, 0, 0}}, P3{{0.001, 0.001, 0.001}}));
+    EXPECT_THROW(g.insert(B3(P3{{0, 0, 0}}, P3{{10, 10, 10}})), std::length_error);
+    EXPECT_EQ(g.size(), 1u);
+    EXPECT_EQ(g.check_invariants(), "");
+}
+
+}  // namespace
