@@ -38,7 +38,15 @@
 #include "harness/timing.hpp"
 #include "harness/validation.hpp"
 #include "spatial/brute/brute_force.hpp"
+#include "spatial/bv/aabb.hpp"
+#include "spatial/bv/convex_hull.hpp"
+#include "spatial/bv/ellipsoid.hpp"
+#include "spatial/bv/kdop.hpp"
+#include "spatial/bv/obb.hpp"
+#include "spatial/bv/sphere.hpp"
 #include "spatial/bvh/bvh.hpp"
+#include "spatial/grid/hashed_grid.hpp"
+#include "spatial/kdtree/kd_tree.hpp"
 #include "spatial/grid/uniform_grid.hpp"
 #include "spatial/octree/octree.hpp"
 
@@ -52,9 +60,21 @@ using triangle3 = spatial::objects::triangle<T, 3>;
 // Our containers in the suite: ONE line each. brute_force is added separately (it is slow,
 // so it is timed on a sample of rays and only up to brute_max_n).
 void add_our_structures(std::vector<std::unique_ptr<ray_index<T>>>& out) {
-    out.push_back(std::make_unique<container_ray_index<spatial::bvh<triangle3>>>("bvh", "aabb"));
-    out.push_back(std::make_unique<container_ray_index<spatial::octree<triangle3>>>("octree"));
-    out.push_back(std::make_unique<container_ray_index<spatial::uniform_grid<triangle3>>>("uniform_grid"));
+    using namespace spatial;
+    out.push_back(std::make_unique<container_ray_index<bvh<triangle3>>>("bvh", "aabb"));
+    // The same BVH with the median builder, and with every other bounding-volume type (SAH):
+    // what a tighter or cheaper node volume costs per ray and per build.
+    out.push_back(std::make_unique<container_ray_index<bvh<triangle3, aabb<T, 3>, bvh_median_config<>>>>("bvh_median", "aabb"));
+    out.push_back(std::make_unique<container_ray_index<bvh<triangle3, sphere<T, 3>>>>("bvh_sphere", "sphere"));
+    out.push_back(std::make_unique<container_ray_index<bvh<triangle3, obb<T, 3>>>>("bvh_obb", "obb"));
+    out.push_back(std::make_unique<container_ray_index<bvh<triangle3, kdop<T, 3, 14>>>>("bvh_kdop14", "kdop14"));
+    out.push_back(std::make_unique<container_ray_index<bvh<triangle3, kdop<T, 3, 26>>>>("bvh_kdop26", "kdop26"));
+    out.push_back(std::make_unique<container_ray_index<bvh<triangle3, ellipsoid<T, 3>>>>("bvh_ellipsoid", "ellipsoid"));
+    out.push_back(std::make_unique<container_ray_index<bvh<triangle3, convex_hull<T, 3>>>>("bvh_convex_hull", "convex_hull"));
+    out.push_back(std::make_unique<container_ray_index<kd_tree<triangle3>>>("kd_tree"));
+    out.push_back(std::make_unique<container_ray_index<octree<triangle3>>>("octree"));
+    out.push_back(std::make_unique<container_ray_index<uniform_grid<triangle3>>>("uniform_grid"));
+    out.push_back(std::make_unique<container_ray_index<hashed_grid<triangle3>>>("hashed_grid"));
 }
 
 struct preset_config {

@@ -1,5 +1,6 @@
 #pragma once
-// spatial::kd_tree<P, Config> — a dynamic bucket kd-tree over point objects.
+// spatial::kd_tree<O, Config> — a dynamic bucket kd-tree over stored objects: points
+// (point_object) or objects with extent (bounded_object: box, sphere, triangle, user types).
 //
 // Layout (see docs/design.md for the full rationale and complexity table):
 //  * Objects live in a slot_storage (stable 32-bit handles = iterators). A bulk build into an
@@ -22,6 +23,19 @@
 //  * Queries: kNN with incremental distance to the cell (Arya & Mount 1993), optional
 //    (1+eps)-approximation (Arya et al. 1998); ball and box range; thick-ray casting by
 //    front-to-back traversal of ray-parameter intervals.
+//  * Objects with extent: the spatial kd-tree ("skd-tree", Ooi, McDonell & Sacks-Davis 1987;
+//    the same idea as the bounding interval hierarchy of Waechter & Keller 2006). Objects are
+//    partitioned exactly like points, by the centre of their bounding box (object_center),
+//    so each object is stored ONCE: no duplicates, no straddler lists, and erase, count,
+//    iteration and "never report an object twice" cost what they cost for points. Because
+//    an object may reach beyond its leaf's cell, every node also keeps `extents_[node]`, the
+//    bounding box of the full extents of the objects below it, and every query prunes with
+//    extents instead of cells (ray: clip to the padded extent of each child, front to back;
+//    kNN and ball: distance to the extent less a rounding slack; box: extent overlap).
+//    Extents grow on insertion (upwards until a node already contains the object); erasure
+//    refits only the leaf, so inner extents may stay loose (conservative, slower, never
+//    wrong) until a rebuild of their subtree recomputes them. For points nothing changes: an
+//    extent would equal the cell, so none is stored and the point code paths are unchanged.
 
 #include <algorithm>
 #include <array>
@@ -33,6 +47,7 @@
 #include <numeric>
 #include <stdexcept>
 #include <string>
+#include <type_traits>
 #include <vector>
 
 #include "spatial/core/container_concept.hpp"
@@ -41,6 +56,7 @@
 #include "spatial/core/intersect_info.hpp"
 #include "spatial/core/knn_result_set.hpp"
 #include "spatial/core/object_concepts.hpp"
+#include "spatial/core/object_geometry.hpp"
 #include "spatial/core/slot_storage.hpp"
 #include "spatial/kdtree/splitters.hpp"
 
@@ -68,26 +84,53 @@ struct kd_tree_stats {
     std::size_t full_rebuilds = 0;
 };
 
-template <point_object P, class Config = kd_tree_config<>>
+template <stored_object O, class Config = kd_tree_config<>>
 class kd_tree {
 public:
-    using value_type = P;
-    using point_type = P;
-    using scalar_type = typename P::scalar_type;
+    using value_type = O;
+    using point_type = point_type_of<O>;
+    using scalar_type = typename O::scalar_type;
     using size_type = std::size_t;
-    using iterator = slot_iterator<P>;
+    using iterator = slot_iterator<O>;
     using const_iterator = iterator;
-    using info_type = intersect_info<P>;
+    using info_type = intersect_info<point_type>;
     using config = Config;
-    static constexpr std::size_t dimension = P::dimension;
+    static constexpr std::size_t dimension = O::dimension;
     static constexpr std::size_t leaf_capacity = Config::leaf_capacity;
     static_assert(leaf_capacity >= 2, "kd_tree: leaf_capacity must be at least 2");
     static_assert(Config::balance_alpha > 0.5 && Config::balance_alpha < 1.0, "kd_tree: alpha in (0.5, 1)");
 
 private:
     using T = scalar_type;
-    static constexpr std::size_t D = P::dimension;
+    using P = point_type;  // query points, ray origins and directions
+    static constexpr std::size_t D = O::dimension;
+    // Objects with extent (skd-tree, see the header comment): nodes also keep the bounding box
+    // of their subtree's objects. For points it would equal the cell, so it is not stored.
+    static constexpr bool has_extent = bounded_object<O>;
     using coords = std::array<T, D>;
+    // Closed box; empty when lo > hi (an empty leaf).
+    struct extent {
+        coords lo, hi;
+        static extent empty() {
+            extent e;
+            e.lo.fill(std::numeric_limits<T>::infinity());
+            e.hi.fill(-std::numeric_limits<T>::infinity());
+            return e;
+        }
+        bool is_empty() const { return !(lo[0] <= hi[0]); }
+        void grow(const extent& o) {
+            for (std::size_t i = 0; i < D; ++i) {
+                lo[i] = std::min(lo[i], o.lo[i]);
+                hi[i] = std::max(hi[i], o.hi[i]);
+            }
+        }
+        bool contains(const extent& o) const {
+            for (std::size_t i = 0; i < D; ++i)
+                if (o.lo[i] < lo[i] || o.hi[i] > hi[i]) return false;
+            return true;
+        }
+    };
+    struct no_extent {};
     using node_index = std::uint32_t;
     static constexpr node_index no_node = std::numeric_limits<node_index>::max();
     static constexpr node_index root = 0;
@@ -111,10 +154,20 @@ private:
     };
     // A point copied out for (re)building: partitioning moves these, not the slots.
     struct entry {
-        coords c;
+        coords c;             // the point, or the object's bounding-box centre (the key)
         slot_index slot;      // the point's slot (in a fresh build: its index in the batch)
         node_index bucket = 0;  // fresh build only: the leaf bucket it landed in
+        // Objects only: the bounding box, so builds compute node extents without the slots
+        // (a fresh build has not stored them yet). Takes no space for points.
+        [[no_unique_address]] std::conditional_t<has_extent, extent, no_extent> bounds{};
     };
+    struct entry_without_bounds {
+        coords c;
+        slot_index slot;
+        node_index bucket;
+    };
+    static_assert(has_extent || sizeof(entry) == sizeof(entry_without_bounds),
+                  "kd_tree: point build entries must not grow");
 
 public:
     kd_tree() { reset_to_empty(); }
@@ -136,9 +189,9 @@ public:
 
     // ---- insertion -------------------------------------------------------------------
     // O(log n) expected, O(log^2 n) amortised worst case (scapegoat subtree rebuilds).
-    iterator insert(const P& x) {
-        detail::require_finite(x, "kd_tree::insert", "point");
-        const coords c = coords_of(x);
+    iterator insert(const O& x) {
+        detail::require_finite_object(x, "kd_tree::insert");
+        const coords c = key_of(x);
         return make(insert_at(descend(root, c), x, c));
     }
 
@@ -146,9 +199,9 @@ public:
     // step O(1) via the stored restore bounds), then descends. O(1) expected when x lies in
     // the hint's leaf cell or a nearby one; a far-away hint costs a climb to the root plus
     // the plain descent (about twice a plain insert).
-    iterator insert(const_iterator hint, const P& x) {
-        detail::require_finite(x, "kd_tree::insert(hint, x)", "point");
-        const coords c = coords_of(x);
+    iterator insert(const_iterator hint, const O& x) {
+        detail::require_finite_object(x, "kd_tree::insert(hint, x)");
+        const coords c = key_of(x);
         if (hint == end() || !slots_.occupied(hint.slot())) return make(insert_at(descend(root, c), x, c));
         const bucket& b = buckets_[slots_.meta(hint.slot())];
         node_index n = b.owner;
@@ -175,10 +228,10 @@ public:
     void insert(InputIt first, InputIt last) {
         if constexpr (!std::random_access_iterator<InputIt>) {
             // Single-pass or list-like input: copy once so it can be validated first.
-            const std::vector<P> batch(first, last);
+            const std::vector<O> batch(first, last);
             insert(batch.begin(), batch.end());
         } else {
-            for (auto it = first; it != last; ++it) detail::require_finite(*it, "kd_tree::insert(first, last)", "point");
+            for (auto it = first; it != last; ++it) detail::require_finite_object(*it, "kd_tree::insert(first, last)");
             const auto m = static_cast<std::size_t>(last - first);
             if (m == 0) return;
             slots_.require_room_for(m, "kd_tree::insert(first, last)");
@@ -191,9 +244,8 @@ public:
             std::vector<entry> fresh;
             fresh.reserve(m);
             for (auto it = first; it != last; ++it) {
-                const coords c = coords_of(*it);
-                grow_bounds(c);
-                fresh.push_back({c, slots_.allocate(*it, 0)});
+                fresh.push_back(make_entry(*it, slots_.allocate(*it, 0)));
+                grow_bounds(fresh.back().c);
             }
             if (m * 2 >= old_size) {
                 rebuild_all();
@@ -215,10 +267,10 @@ public:
     }
 
     // Erases ALL elements equal to x; returns how many. O(log n + matches).
-    size_type erase(const P& x) {
-        detail::require_finite(x, "kd_tree::erase", "point");
+    size_type erase(const O& x) {
+        detail::require_finite_object(x, "kd_tree::erase");
         std::vector<slot_index> hits;
-        collect_equal(root, coords_of(x), x, hits, false);
+        collect_equal(root, key_of(x), x, hits, false);
         for (slot_index s : hits) remove_slot(s, true);
         if (!hits.empty()) after_erase();
         return hits.size();
@@ -255,6 +307,7 @@ public:
             for (std::uint32_t i = 0; i < L.count; ++i)
                 if (slots_.occupied(items[i])) items[kept++] = items[i];
             L.count = kept;
+            if constexpr (has_extent) refit_leaf(buckets_[b].owner);
         }
         for (node_index b : touched) {  // merging may free buckets later in the list
             const node_index leaf = buckets_[b].owner;
@@ -273,6 +326,7 @@ private:
     void swap_contents(kd_tree& o) {
         std::swap(slots_, o.slots_);
         std::swap(nodes_, o.nodes_);
+        std::swap(extents_, o.extents_);
         std::swap(buckets_, o.buckets_);
         std::swap(free_pairs_, o.free_pairs_);
         std::swap(free_buckets_, o.free_buckets_);
@@ -287,16 +341,16 @@ public:
 
     // ---- lookup ----------------------------------------------------------------------
     // O(log n) expected (both sides are searched where x lies on a split plane).
-    iterator find(const P& x) {
-        detail::require_finite(x, "kd_tree::find", "point");
+    iterator find(const O& x) {
+        detail::require_finite_object(x, "kd_tree::find");
         std::vector<slot_index> hits;
-        collect_equal(root, coords_of(x), x, hits, true);
+        collect_equal(root, key_of(x), x, hits, true);
         return hits.empty() ? end() : make(hits.front());
     }
-    size_type count(const P& x) const {
-        detail::require_finite(x, "kd_tree::count", "point");
+    size_type count(const O& x) const {
+        detail::require_finite_object(x, "kd_tree::count");
         std::vector<slot_index> hits;
-        collect_equal(root, coords_of(x), x, hits, false);
+        collect_equal(root, key_of(x), x, hits, false);
         return hits.size();
     }
 
@@ -321,11 +375,16 @@ public:
         if (slots_.size() == 0) return end();
         ray_query q{coords_of(origin), coords_of(direction), thickness, origin, direction, info};
         T t0 = 0, t1 = info.hit_time;
-        for (unsigned d = 0; d < D && t0 <= t1; ++d) {
-            clip_below(q, d, bounds_hi_[d] + pad(q, d, bounds_hi_[d]), t0, t1);
-            clip_above(q, d, bounds_lo_[d] - pad(q, d, bounds_lo_[d]), t0, t1);
+        if constexpr (has_extent) {
+            // Objects: every node is clipped against its subtree's padded extent.
+            if (clip_to_extent(q, extents_[root], t0, t1)) cast_objects(root, t0, t1, q);
+        } else {
+            for (unsigned d = 0; d < D && t0 <= t1; ++d) {
+                clip_below(q, d, bounds_hi_[d] + pad(q, d, bounds_hi_[d]), t0, t1);
+                clip_above(q, d, bounds_lo_[d] - pad(q, d, bounds_lo_[d]), t0, t1);
+            }
+            if (t0 <= t1) cast(root, t0, t1, q);
         }
-        if (t0 <= t1) cast(root, t0, t1, q);
         return q.hit == no_slot ? end() : make(q.hit);
     }
     scalar_type ray_thickness() const { return ray_thickness_; }
@@ -345,9 +404,7 @@ public:
         std::vector<iterator> out;
         if (k == 0 || slots_.size() == 0) return out;
         knn_result_set<T> best(std::min<std::size_t>(k, slots_.size()));
-        knn_query q{coords_of(x), (1 + eps) * (1 + eps), best};
-        coords offset{};
-        knn(root, T(0), offset, q);
+        run_knn(x, eps, best);
         for (const auto& c : best.finish()) out.push_back(make(c.slot));
         return out;
     }
@@ -360,9 +417,7 @@ public:
         result.clear();
         if (k == 0 || slots_.size() == 0) return;
         knn_result_set<T> best(std::min<std::size_t>(k, slots_.size()));
-        knn_query q{coords_of(x), (1 + eps) * (1 + eps), best};
-        coords offset{};
-        knn(root, T(0), offset, q);
+        run_knn(x, eps, best);
         result = std::move(best.finish());
     }
 
@@ -372,8 +427,15 @@ public:
         detail::require_nonnegative(radius, "kd_tree::find_in_ball", "radius");
         std::vector<iterator> out;
         if (slots_.size() == 0) return out;
-        coords offset{};
-        ball(root, T(0), offset, coords_of(center), radius * radius, out);
+        if constexpr (has_extent) {
+            // Distance to a node's extent, less the rounding slack (see knn_slack), must not
+            // exceed the radius; the slack also covers the rounding of radius * radius.
+            const T sl = knn_slack(center) + radius * gamma;
+            ball_objects(root, center, radius + sl, radius * radius, out);
+        } else {
+            coords offset{};
+            ball(root, T(0), offset, coords_of(center), radius * radius, out);
+        }
         return out;
     }
     // All points p with lo <= p <= hi componentwise (closed box). O(n^(1-1/D) + hits) for
@@ -396,6 +458,7 @@ public:
 
     std::size_t memory_bytes() const {
         return sizeof(*this) + slots_.memory_bytes() + nodes_.capacity() * sizeof(node) +
+               extents_.capacity() * sizeof(extent) +
                entry_buffer_.capacity() * sizeof(entry) +
                buckets_.capacity() * sizeof(bucket) +
                (free_pairs_.capacity() + free_buckets_.capacity()) * sizeof(node_index);
@@ -432,6 +495,46 @@ private:
         for (std::size_t i = 0; i < D; ++i) c[i] = p[i];
         return c;
     }
+    // The partitioning key of a stored value: the point itself, or the centre of an object's
+    // bounding box (object_center never rounds outside the box).
+    static coords key_of(const O& x) {
+        coords c;
+        for (std::size_t i = 0; i < D; ++i) c[i] = object_center(x, i);
+        return c;
+    }
+    static extent extent_of(const O& x) {
+        extent e;
+        for (std::size_t i = 0; i < D; ++i) e.lo[i] = object_lower(x, i), e.hi[i] = object_upper(x, i);
+        return e;
+    }
+    static entry make_entry(const O& x, slot_index s) {
+        entry e{key_of(x), s};
+        if constexpr (has_extent) e.bounds = extent_of(x);
+        return e;
+    }
+
+    // ---- objects: keeping node extents conservative ----
+    // Insertion grows the extents from the leaf upwards and stops at the first node that
+    // already contains the object's box: every ancestor's extent contains its descendants',
+    // so the nodes above contain it too. O(1) when the object fits its leaf's extent (the
+    // usual case), O(depth) at worst.
+    void grow_extents_upward(node_index n, const extent& box) {
+        while (!extents_[n].contains(box)) {
+            extents_[n].grow(box);
+            if (n == root) return;
+            n = nodes_[n].parent;
+        }
+    }
+    // Erasure tightens only the leaf (O(leaf_capacity)); its ancestors keep their extents,
+    // which stay conservative (they contain everything below, and more) until the subtree
+    // is rebuilt. Loose extents cost pruning power, never correctness.
+    void refit_leaf(node_index leaf) {
+        const node& L = nodes_[leaf];
+        const bucket& b = buckets_[L.first];
+        extent ex = extent::empty();
+        for (std::uint32_t i = 0; i < L.count; ++i) ex.grow(extent_of(slots_.value(b.items[i])));
+        extents_[leaf] = ex;
+    }
     static bool in_cell(const coords& c, const coords& lo, const coords& hi) {
         for (std::size_t i = 0; i < D; ++i)
             if (c[i] < lo[i] || c[i] > hi[i]) return false;
@@ -448,6 +551,7 @@ private:
 
     void reset_to_empty() {
         nodes_.assign(1, node{});
+        if constexpr (has_extent) extents_.assign(1, extent::empty());
         buckets_.clear();
         free_pairs_.clear();
         free_buckets_.clear();
@@ -483,6 +587,7 @@ private:
         }
         const node_index p = static_cast<node_index>(nodes_.size());
         nodes_.resize(nodes_.size() + 2);
+        if constexpr (has_extent) extents_.resize(nodes_.size(), extent::empty());
         return p;
     }
 
@@ -496,11 +601,12 @@ private:
         return n;
     }
 
-    slot_index insert_at(node_index leaf, const P& x, const coords& c) {
+    slot_index insert_at(node_index leaf, const O& x, const coords& c) {
         // Allocate the slot first: if it throws (capacity), nothing else has changed. (A
         // std::bad_alloc in the split below would leave the slot unlinked.)
         const slot_index s = slots_.allocate(x, nodes_[leaf].first);
         grow_bounds(c);
+        if constexpr (has_extent) grow_extents_upward(leaf, extent_of(x));
         node& L = nodes_[leaf];
         if (L.count < leaf_capacity) {
             buckets_[L.first].items[L.count++] = s;
@@ -511,7 +617,8 @@ private:
         const coords lo = buckets_[L.first].cell_lo, hi = buckets_[L.first].cell_hi;
         entry_buffer_.clear();
         gather(leaf, entry_buffer_);
-        entry_buffer_.push_back({c, s});
+        if constexpr (has_extent) entry_buffer_.push_back(make_entry(x, s));
+        else entry_buffer_.push_back({c, s});
         ++stats_.subtree_rebuilds;
         const std::uint16_t deepest =
             build_node(leaf, entry_buffer_.data(), entry_buffer_.size(), lo, hi, nodes_[leaf].depth, false, 0);
@@ -522,6 +629,11 @@ private:
     // Batch distribution for bulk insert: partition [e, e+n) by each split on the way down.
     void distribute(node_index n, entry* e, std::size_t count, std::uint16_t& max_depth) {
         if (count == 0) return;
+        if constexpr (has_extent) {
+            // Every node on the batch's paths grows by the objects passing through it; a leaf
+            // rebuilt below recomputes its own extent exactly.
+            for (std::size_t i = 0; i < count; ++i) extents_[n].grow(e[i].bounds);
+        }
         if (nodes_[n].is_leaf) {
             node& L = nodes_[n];
             if (L.count + count <= leaf_capacity) {
@@ -563,6 +675,7 @@ private:
                 break;
             }
         slots_.release(s);
+        if constexpr (has_extent) refit_leaf(leaf);
         if (allow_merge && L.count == 0 && leaf != root) merge_empty_leaf(leaf);
     }
 
@@ -583,6 +696,7 @@ private:
         P_.is_leaf = 1;
         P_.first = sb;
         P_.count = nodes_[sib].count;
+        if constexpr (has_extent) extents_[p] = extents_[sib];  // the empty leaf held nothing
         buckets_[eb].owner = no_node;
         free_buckets_.push_back(eb);
         free_pairs_.push_back(first);
@@ -617,8 +731,7 @@ private:
         node& nd = nodes_[n];
         if (nd.is_leaf) {
             const bucket& b = buckets_[nd.first];
-            for (std::uint32_t i = 0; i < nd.count; ++i)
-                es.push_back({coords_of(slots_.value(b.items[i])), b.items[i]});
+            for (std::uint32_t i = 0; i < nd.count; ++i) es.push_back(make_entry(slots_.value(b.items[i]), b.items[i]));
             free_buckets_.push_back(nd.first);
             --leaves_;
             return;
@@ -671,6 +784,11 @@ private:
                 if (fresh) e[i].bucket = b;  // build_fresh sets the slot metadata afterwards
                 else slots_.set_meta(s, b);
             }
+            if constexpr (has_extent) {
+                extent ex = extent::empty();
+                for (std::size_t i = 0; i < n; ++i) ex.grow(e[i].bounds);
+                extents_[at] = ex;
+            }
             ++leaves_;
             return depth;
         }
@@ -695,6 +813,10 @@ private:
         const auto d1 = build_node(first, e, sc.left, lo, lhi, static_cast<std::uint16_t>(depth + 1), fresh, base);
         const auto d2 = build_node(first + 1, e + sc.left, n - sc.left, rlo, hi,
                                    static_cast<std::uint16_t>(depth + 1), fresh, base + sc.left);
+        if constexpr (has_extent) {
+            extents_[at] = extents_[first];
+            extents_[at].grow(extents_[first + 1]);
+        }
         return std::max(d1, d2);
     }
 
@@ -707,8 +829,7 @@ private:
         leaves_ = 0;
         std::vector<entry> es(count);
         for (std::size_t i = 0; i < count; ++i) {
-            es[i].c = coords_of(batch[i]);
-            es[i].slot = static_cast<slot_index>(i);
+            es[i] = make_entry(batch[i], static_cast<slot_index>(i));
             grow_bounds(es[i].c);
         }
         coords lo, hi;
@@ -716,7 +837,7 @@ private:
         hi.fill(std::numeric_limits<T>::infinity());
         build_node(root, es.data(), es.size(), lo, hi, 0, true, 0);
         // After partitioning, position i of `es` is the i-th point in leaf order.
-        std::vector<P> ordered;
+        std::vector<O> ordered;
         ordered.reserve(count);
         for (const entry& e : es) ordered.push_back(batch[e.slot]);
         slots_.assign(std::move(ordered), 0);
@@ -734,10 +855,11 @@ private:
         bounds_lo_.fill(std::numeric_limits<T>::infinity());
         bounds_hi_.fill(-std::numeric_limits<T>::infinity());
         for (slot_index s = slots_.next_occupied(0); s < slots_.capacity(); s = slots_.next_occupied(s + 1)) {
-            es.push_back({coords_of(slots_.value(s)), s});
+            es.push_back(make_entry(slots_.value(s), s));
             grow_bounds(es.back().c);
         }
         nodes_.assign(1, node{});
+        if constexpr (has_extent) extents_.assign(1, extent::empty());
         buckets_.clear();
         free_pairs_.clear();
         free_buckets_.clear();
@@ -783,7 +905,7 @@ private:
         const node& nd = nodes_[n];
         if (nd.is_leaf) return 0;
         std::size_t here = 0;
-        for_each_slot(n, [&](slot_index s) { here += slots_.value(s)[nd.dim] == nd.split; });
+        for_each_slot(n, [&](slot_index s) { here += object_center(slots_.value(s), nd.dim) == nd.split; });
         return here + on_planes(nd.first) + on_planes(nd.first + 1);
     }
     template <class F>
@@ -864,16 +986,23 @@ private:
         if (nd.is_leaf) {
             const bucket& b = buckets_[nd.first];
             for (std::uint32_t i = 0; i < nd.count; ++i)
-                if (in_closed_box(slots_.value(b.items[i]), lo, hi)) out.push_back(make(b.items[i]));
+                if (object_overlaps_box(slots_.value(b.items[i]), lo, hi)) out.push_back(make(b.items[i]));
             return;
         }
-        if (lo[nd.dim] <= nd.split) box(nd.first, lo, hi, out);
-        if (hi[nd.dim] >= nd.split) box(nd.first + 1, lo, hi, out);
+        if constexpr (has_extent) {
+            // An object overlapping the box has a bounding box overlapping it (the exact test
+            // of object_overlaps_box runs only after the box test), so extents prune exactly.
+            for (node_index c = nd.first; c <= nd.first + 1; ++c)
+                if (extent_overlaps(extents_[c], lo, hi)) box(c, lo, hi, out);
+        } else {
+            if (lo[nd.dim] <= nd.split) box(nd.first, lo, hi, out);
+            if (hi[nd.dim] >= nd.split) box(nd.first + 1, lo, hi, out);
+        }
     }
 
     // Equal objects have equal coordinates, so only cells containing x are searched; on a
     // split plane both sides may hold copies.
-    void collect_equal(node_index n, const coords& c, const P& x, std::vector<slot_index>& out,
+    void collect_equal(node_index n, const coords& c, const O& x, std::vector<slot_index>& out,
                        bool first_only) const {
         const node& nd = nodes_[n];
         if (nd.is_leaf) {
@@ -956,6 +1085,142 @@ private:
         }
     }
 
+    // ---- objects: queries pruned by node extents (skd-tree) ----
+    static bool extent_overlaps(const extent& ex, const P& lo, const P& hi) {
+        for (std::size_t i = 0; i < D; ++i)
+            if (ex.hi[i] < lo[i] || ex.lo[i] > hi[i]) return false;  // also false when empty
+        return true;
+    }
+    // Squared distance from x to a closed box (+inf when the box is empty).
+    static T extent_squared_distance(const extent& ex, const P& x) {
+        T s = 0;
+        for (std::size_t i = 0; i < D; ++i) {
+            const T d = x[i] < ex.lo[i] ? ex.lo[i] - x[i] : (x[i] > ex.hi[i] ? x[i] - ex.hi[i] : T(0));
+            s += d * d;
+        }
+        return s;
+    }
+    // Rounding slack for distance lower bounds at query x: an object's own distance routine
+    // (a triangle's Voronoi-region projection, a sphere's |x - c| - r) may round below the
+    // distance to its bounding box. Its error is a few eps times the magnitudes involved, so
+    // 16 eps (|x|_inf + |scene|_inf), the bound the bvh uses too, keeps every lower bound
+    // conservative (PBRT 3e sec. 3.9 style error bounds).
+    T knn_slack(const P& x) const {
+        T m = 0;
+        for (std::size_t i = 0; i < D; ++i) m = std::max(m, std::abs(x[i]));
+        const extent& r = extents_[root];
+        if (!r.is_empty())
+            for (std::size_t i = 0; i < D; ++i) m = std::max({m, std::abs(r.lo[i]), std::abs(r.hi[i])});
+        return gamma * (2 * m) + std::numeric_limits<T>::min();
+    }
+    // Lower bound on the squared distance from x to anything below node n.
+    T extent_lower_bound(node_index n, const P& x, T slack) const {
+        const T d2 = extent_squared_distance(extents_[n], x);
+        if (d2 == 0) return 0;
+        const T d = std::sqrt(d2) - slack;
+        return d > 0 ? d * d : T(0);
+    }
+
+    void run_knn(const P& x, scalar_type eps, knn_result_set<T>& best) const {
+        if constexpr (has_extent) {
+            knn_object_query q{x, (1 + eps) * (1 + eps), knn_slack(x), best};
+            knn_objects(root, q);
+        } else {
+            knn_query q{coords_of(x), (1 + eps) * (1 + eps), best};
+            coords offset{};
+            knn(root, T(0), offset, q);
+        }
+    }
+    struct knn_object_query {
+        const P& x;
+        T eps_factor;  // (1 + eps)^2
+        T slack;
+        knn_result_set<T>& best;
+    };
+    // Depth-first, nearer extent first; a child is entered only while its extent's distance
+    // times (1 + eps) is below the current k-th distance (Arya et al. 1998, on extents instead
+    // of cells). The objects' distances are exact, so with eps = 0 the answer is exact.
+    void knn_objects(node_index n, knn_object_query& q) const {
+        const node& nd = nodes_[n];
+        if constexpr (Config::collect_stats) ++stats_.nodes_visited;
+        if (nd.is_leaf) {
+            const bucket& b = buckets_[nd.first];
+            for (std::uint32_t i = 0; i < nd.count; ++i) {
+                const slot_index s = b.items[i];
+                if constexpr (Config::collect_stats) ++stats_.points_tested;
+                const T d2 = object_squared_distance(slots_.value(s), q.x);
+                if (d2 < q.best.worst()) q.best.add(d2, s);
+            }
+            return;
+        }
+        const T la = extent_lower_bound(nd.first, q.x, q.slack), lb = extent_lower_bound(nd.first + 1, q.x, q.slack);
+        const bool left_first = la <= lb;
+        const node_index near = left_first ? nd.first : nd.first + 1;
+        const T near_bound = left_first ? la : lb, far_bound = left_first ? lb : la;
+        if (near_bound * q.eps_factor < q.best.worst()) knn_objects(near, q);
+        if (far_bound * q.eps_factor < q.best.worst()) knn_objects(near == nd.first ? nd.first + 1 : nd.first, q);
+    }
+
+    // reach: the radius plus the rounding slack, compared with extent distances.
+    void ball_objects(node_index n, const P& center, T reach, T r2, std::vector<iterator>& out) const {
+        const node& nd = nodes_[n];
+        if constexpr (Config::collect_stats) ++stats_.nodes_visited;
+        if (nd.is_leaf) {
+            const bucket& b = buckets_[nd.first];
+            for (std::uint32_t i = 0; i < nd.count; ++i)
+                if (object_squared_distance(slots_.value(b.items[i]), center) <= r2) out.push_back(make(b.items[i]));
+            return;
+        }
+        for (node_index c = nd.first; c <= nd.first + 1; ++c) {
+            const T d2 = extent_squared_distance(extents_[c], center);
+            if (d2 == 0 || std::sqrt(d2) <= reach) ball_objects(c, center, reach, r2, out);
+        }
+    }
+
+    // Restrict [t0, t1] to the parameters where the thick ray can touch the (padded) box;
+    // false when nothing is left. Same padding argument as the cell planes (sec. 5.10): an
+    // object hit at t* has its contact point within r of its bounding box, hence of ex.
+    static bool clip_to_extent(const ray_query& q, const extent& ex, T& t0, T& t1) {
+        if (ex.is_empty()) return false;
+        for (unsigned d = 0; d < D && t0 <= t1; ++d) {
+            clip_below(q, d, ex.hi[d] + pad(q, d, ex.hi[d]), t0, t1);
+            clip_above(q, d, ex.lo[d] - pad(q, d, ex.lo[d]), t0, t1);
+        }
+        return t0 <= t1;
+    }
+    // [t0, t1]: the ray interval already clipped to n's extent. Children are clipped to their
+    // own extents and visited in order of entry; a child entered at or after the best hit so
+    // far cannot hold a strictly earlier one and is skipped.
+    void cast_objects(node_index n, T t0, T t1, ray_query& q) const {
+        if (!(t0 < q.info.hit_time)) return;
+        const node& nd = nodes_[n];
+        if constexpr (Config::collect_stats) ++stats_.nodes_visited;
+        if (nd.is_leaf) {
+            const bucket& b = buckets_[nd.first];
+            for (std::uint32_t i = 0; i < nd.count; ++i) {
+                if constexpr (Config::collect_stats) ++stats_.points_tested;
+                if (slots_.value(b.items[i]).intersect(q.origin, q.direction, q.r, q.info)) q.hit = b.items[i];
+            }
+            return;
+        }
+        T a0 = t0, a1 = t1, b0 = t0, b1 = t1;
+        const bool hit_a = clip_to_extent(q, extents_[nd.first], a0, a1);
+        const bool hit_b = clip_to_extent(q, extents_[nd.first + 1], b0, b1);
+        if (hit_a && hit_b) {
+            if (a0 <= b0) {
+                cast_objects(nd.first, a0, a1, q);
+                cast_objects(nd.first + 1, b0, b1, q);
+            } else {
+                cast_objects(nd.first + 1, b0, b1, q);
+                cast_objects(nd.first, a0, a1, q);
+            }
+        } else if (hit_a) {
+            cast_objects(nd.first, a0, a1, q);
+        } else if (hit_b) {
+            cast_objects(nd.first + 1, b0, b1, q);
+        }
+    }
+
     // ---- invariant checking ----
     void check_node(node_index n, const coords& lo, const coords& hi, std::uint16_t depth, std::size_t& seen,
                     std::string& err) const {
@@ -969,12 +1234,21 @@ private:
             for (std::uint32_t i = 0; i < nd.count; ++i) {
                 const slot_index s = b.items[i];
                 if (!slots_.occupied(s) || slots_.meta(s) != nd.first) err = "slot back-link broken";
-                else if (!in_cell(coords_of(slots_.value(s)), lo, hi)) err = "point outside its leaf cell";
+                else if (!in_cell(key_of(slots_.value(s)), lo, hi)) err = "point outside its leaf cell";
+                else if constexpr (has_extent) {
+                    if (!extents_[n].contains(extent_of(slots_.value(s))))
+                        err = "object outside its leaf's extent at node " + std::to_string(n);
+                }
             }
             seen += nd.count;
             return;
         }
         if (nodes_[nd.first].parent != n || nodes_[nd.first + 1].parent != n) err = "parent link broken";
+        if constexpr (has_extent) {
+            for (node_index c = nd.first; c <= nd.first + 1; ++c)
+                if (!extents_[c].is_empty() && !extents_[n].contains(extents_[c]))
+                    err = "extent of node " + std::to_string(c) + " not inside its parent's";
+        }
         if (nodes_[nd.first].restore != hi[nd.dim] || nodes_[nd.first + 1].restore != lo[nd.dim])
             err = "restore bound broken below node " + std::to_string(n);
         coords lhi = hi, rlo = lo;
@@ -985,17 +1259,20 @@ private:
     }
 
     // ================= data ================================================================
-    slot_storage<P> slots_;
+    slot_storage<O> slots_;
     std::vector<node> nodes_;
     std::vector<bucket> buckets_;
     std::vector<node_index> free_pairs_;
     std::vector<node_index> free_buckets_;
     std::size_t leaves_ = 0;
-    coords bounds_lo_{}, bounds_hi_{};  // bounding box of everything inserted since rebuild
+    coords bounds_lo_{}, bounds_hi_{};  // box of all keys inserted since rebuild (points: the root clip of ray casts; objects clip with extents_)
     std::size_t size_at_rebuild_ = 0;
     std::vector<entry> entry_buffer_;  // reused by leaf splits (no allocation per split)
     scalar_type ray_thickness_ = 0;
     mutable kd_tree_stats stats_;
+    // Objects only (empty for points; last, so the point layout above is unchanged): per
+    // node, indexed like nodes_, the bounding box of its subtree's objects.
+    std::vector<extent> extents_;
 };
 
 }  // namespace spatial
