@@ -71,6 +71,7 @@ SUITES = {
     "collide": "all intersecting pairs, within one container and between two",
     "bv": "bounding-volume fitting and tests",
     "raycast": "first-hit ray casting against triangle meshes (ours, Embree, CGAL AABB_tree)",
+    "structures": "the knn suite's static queries on every structure of the library, with the peers",
     "scene": "scene pipelines (TOML scenes)",
 }
 

@@ -1,6 +1,6 @@
 #!/usr/bin/env bash
 # The main job: install dependencies, fetch real data, build Release, run the benchmark
-# suites knn, bv and raycast (default: the quick preset, < 15 min on 2 cores), write
+# suites knn, structures, bv and raycast (default: the quick preset, < 15 min on 2 cores), write
 # results/*.csv and draw plots/*.png.   Usage: scripts/main.sh [smoke|quick|full]
 set -euo pipefail
 cd "$(dirname "$0")/.."
@@ -16,7 +16,7 @@ cmake --build --preset release --target spatialbench -j"$(nproc)"
 real_dir=datasets/real
 mesh_dir=datasets/real/meshes
 [[ "$preset" == smoke ]] && real_dir="" && mesh_dir=""   # smoke stays seconds long
-for suite in knn bv raycast; do
+for suite in knn structures bv raycast; do
   data_dir="$real_dir"
   [[ "$suite" == raycast ]] && data_dir="$mesh_dir"
   ./build/release/harness/spatialbench run --suite "$suite" --preset "$preset" --results results \

@@ -35,3 +35,10 @@ add_test(NAME spatialbench_raycast_rejects_unknown_workload
          COMMAND $<TARGET_FILE:spatialbench> run --suite raycast --preset smoke --workload teapot --quiet
                  --results ${CMAKE_CURRENT_BINARY_DIR}/raycast_bad_results)
 set_tests_properties(spatialbench_raycast_rejects_unknown_workload PROPERTIES WILL_FAIL TRUE)
+
+# The structures suite end to end at smoke size: every structure of the library (kd_tree, bvh,
+# octree, uniform and hashed grids) next to the peers, each validated before timing.
+add_test(NAME spatialbench_structures_smoke_run
+         COMMAND $<TARGET_FILE:spatialbench> run --suite structures --preset smoke --quiet
+                 --results ${CMAKE_CURRENT_BINARY_DIR}/structures_smoke_results)
+set_tests_properties(spatialbench_structures_smoke_run PROPERTIES TIMEOUT 300)

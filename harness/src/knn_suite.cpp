@@ -28,6 +28,10 @@
 #include "harness/run_info.hpp"
 #include "harness/timing.hpp"
 #include "harness/validation.hpp"
+#include "spatial/bvh/bvh.hpp"
+#include "spatial/grid/hashed_grid.hpp"
+#include "spatial/grid/uniform_grid.hpp"
+#include "spatial/octree/octree.hpp"
 
 namespace harness {
 namespace {
@@ -105,7 +109,7 @@ result_row make_row(const context& ctx, const workload_case<T, D>& wc, const std
                     const std::string& operation, const std::string& params, const std::string& metric, double value,
                     const std::string& unit, const timing_result* t = nullptr, double scale = 1) {
     result_row r;
-    r.suite = "knn";
+    r.suite = ctx.opt.suite_name;
     r.structure = structure;
     r.workload = wc.label;
     r.n = wc.points.size();
@@ -199,6 +203,7 @@ public:
 
         std::vector<std::unique_ptr<point_index<T, D>>> structures;
         if (ctx_.wants_structure("kd_tree")) structures.push_back(std::make_unique<kd_tree_index<T, D>>("kd_tree"));
+        if (ctx_.opt.all_structures) add_all_structures(structures);
         for (auto& p : make_peer_indices<T, D>())
             if (p->name() != "nanoflann_dynamic" && ctx_.wants_structure(p->name())) structures.push_back(std::move(p));
         if (n <= ctx_.cfg.brute_max_n && ctx_.wants_structure("brute_force"))
@@ -209,6 +214,19 @@ public:
     }
 
 private:
+    // Every other structure of the library over points, for the structures suite (default
+    // configurations; the octree in its classic form, the better one for points, §13).
+    void add_all_structures(std::vector<std::unique_ptr<point_index<T, D>>>& out) const {
+        using P = spatial::point<T, D>;
+        if (ctx_.wants_structure("bvh")) out.push_back(std::make_unique<container_index<spatial::bvh<P>, T, D>>("bvh"));
+        if (ctx_.wants_structure("octree"))
+            out.push_back(std::make_unique<container_index<spatial::octree<P, spatial::classic_octree_config>, T, D>>("octree"));
+        if (ctx_.wants_structure("uniform_grid"))
+            out.push_back(std::make_unique<container_index<spatial::uniform_grid<P>, T, D>>("uniform_grid"));
+        if (ctx_.wants_structure("hashed_grid"))
+            out.push_back(std::make_unique<container_index<spatial::hashed_grid<P>, T, D>>("hashed_grid"));
+    }
+
     std::string tag(const std::string& structure, const std::string& op) const {
         return structure + " " + op + " on " + wc_.label + " n=" + fmt_n(wc_.points.size()) + " " +
                std::to_string(D) + "d " + scalar_name<T>();
@@ -734,7 +752,10 @@ void run_real(context& ctx, const std::filesystem::path& file) {
 }  // namespace
 
 void run_knn_suite(const suite_options& options) {
-    context ctx{options, preset(options.preset), make_run_id("knn", options.preset), progress(options.quiet), {}, {}};
+    context ctx{options, preset(options.preset), make_run_id(options.suite_name, options.preset), progress(options.quiet), {}, {}};
+    // The structures suite stops at 1e5 in the quick preset (every structure, ~8 of them, is
+    // built and queried at every size; the knn suite covers 1e6 for the kd-tree and the peers).
+    if (options.all_structures && options.preset == "quick") std::erase(ctx.cfg.sizes, std::size_t{1000000});
     if (!options.sizes.empty()) ctx.cfg.sizes = options.sizes;
     if (!options.workloads.empty()) ctx.cfg.workloads = options.workloads;
     for (const auto& w : ctx.cfg.workloads) (void)datasets::parse_point_workload(w);  // fail fast on a typo
@@ -761,7 +782,7 @@ void run_knn_suite(const suite_options& options) {
         ctx.prog.say("no real point sets in " + options.real_data_dir.string() + " (run datasets/fetch_real_data.sh)");
 
     write_csv_atomically(options.results_dir / options.output_name, ctx.rows);
-    run_info info{ctx.run_id, "knn", options.preset, ctx.seeds, {}};
+    run_info info{ctx.run_id, options.suite_name, options.preset, ctx.seeds, {}};
     info.extra["real_data"] = std::to_string(real_files.size()) + " files";
     write_run_sidecar(options.results_dir, info, seconds_since(t0));
     ctx.prog.say("wrote " + (options.results_dir / options.output_name).string() + " (" + std::to_string(ctx.rows.size()) +

@@ -25,7 +25,7 @@ int main(int argc, char** argv) {
     harness::suite_options opt;
     std::string suite = "knn";
     auto* run = app.add_subcommand("run", "run a benchmark suite and write results/<suite>.csv");
-    run->add_option("--suite", suite, "suite to run")->check(CLI::IsMember({"knn", "bv", "raycast"}));
+    run->add_option("--suite", suite, "suite to run")->check(CLI::IsMember({"knn", "bv", "raycast", "structures"}));
     run->add_option("--preset", opt.preset, "size preset: smoke (seconds), quick (<15 min), full (1e7)")
         ->check(CLI::IsMember({"smoke", "quick", "full"}));
     run->add_option("--results", opt.results_dir, "directory for CSV tables and run sidecars");
@@ -45,7 +45,7 @@ int main(int argc, char** argv) {
     CLI11_PARSE(app, argc, argv);
 
     if (*list) {
-        std::cout << "suites: knn bv raycast\nworkloads (knn):";
+        std::cout << "suites: knn bv raycast structures\nworkloads (knn, structures):";
         for (auto w : datasets::point_workload_names()) std::cout << ' ' << w;
         std::cout << "\nshapes (bv):";
         for (const auto& w : datasets::shape_names()) std::cout << ' ' << w;
@@ -59,6 +59,11 @@ int main(int argc, char** argv) {
         return 0;
     }
     opt.dynamic = !no_dynamic;
+    opt.suite_name = suite;
+    if (suite == "structures") {
+        opt.all_structures = true;
+        opt.dynamic = false;  // static queries on every structure; dynamic workloads: knn suite
+    }
     opt.output_name = output_name.empty() ? suite + ".csv" : output_name;
     try {
         if (suite == "bv")

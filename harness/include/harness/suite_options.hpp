@@ -19,6 +19,10 @@ struct suite_options {
     bool quiet = false;
     bool dynamic = true;  // run the insert/erase workloads
     std::string output_name = "knn.csv";  // the CLI sets <suite>.csv unless --output is given
+    // The `structures` suite is the knn suite's static part run on EVERY structure of the
+    // library (kd_tree, bvh, octree, uniform and hashed grids) next to the peers.
+    std::string suite_name = "knn";
+    bool all_structures = false;
 };
 
 }  // namespace harness
