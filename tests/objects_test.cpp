@@ -489,3 +489,83 @@ TEST(brute_force_objects, rejects_non_finite_objects_and_keeps_its_contents) {
     EXPECT_EQ(c.find_in_ball(p3(1.5, 0, 0), 0.5).size(), 1u);
     EXPECT_EQ(c.find_in_ball(p3(1.5, 0, 0), 0.49).size(), 0u);
 }
+
+#include <cstring>  // std::memcmp: bit-level comparison of hit times
+
+// triangle::prepared_ray (the per-ray part of the watertight test, computed once for many
+// triangles, as spatial::bvh does) must give bit-identical answers to the plain call: the
+// same hit/miss, hit_time and hit_location, for thin and thick rays, with directions that
+// have +0 / -0 components (axis-parallel rays, rays in a coordinate plane), rays through
+// shared vertices and edges, and one prepared ray reused across many triangles.
+template <class T>
+static void check_prepared_ray_matches_plain(std::uint64_t seed) {
+    using P = point<T, 3>;
+    using tri = triangle<T, 3>;
+    std::mt19937_64 rng(seed);
+    std::uniform_real_distribution<T> u(T(-1), T(1));
+    std::uniform_int_distribution<int> pick(0, 5);
+    // A small grid of vertices (integers/4) so that many rays pass exactly through
+    // vertices and edges, plus random ones.
+    auto grid_point = [&] {
+        P p;
+        for (std::size_t i = 0; i < 3; ++i) p[i] = static_cast<T>(std::uniform_int_distribution<int>(-4, 4)(rng)) / 4;
+        return p;
+    };
+    auto random_point = [&] { return P{{u(rng), u(rng), u(rng)}}; };
+    std::vector<tri> tris;
+    for (int k = 0; k < 60; ++k)
+        tris.emplace_back(k % 2 ? grid_point() : random_point(), grid_point(), k % 3 ? random_point() : grid_point());
+    std::size_t hits = 0, zero_components = 0;
+    for (int r = 0; r < 1500; ++r) {
+        P o = r % 4 == 0 ? grid_point() : random_point();
+        for (std::size_t i = 0; i < 3; ++i) o[i] *= 3;
+        P d = random_point();
+        const int mode = pick(rng);  // zero out components, with either sign
+        if (mode >= 1) {
+            const std::size_t i = static_cast<std::size_t>(mode - 1) % 3;
+            d[i] = mode % 2 ? T(0) : -T(0);
+            if (mode >= 4) d[(i + 1) % 3] = mode % 2 ? -T(0) : T(0);
+        }
+        if (d[0] == 0 && d[1] == 0 && d[2] == 0) d[2] = 1;
+        if (r % 7 == 0) {  // aim at a vertex or an edge midpoint of some triangle
+            const tri& t = tris[static_cast<std::size_t>(r) % tris.size()];
+            for (std::size_t i = 0; i < 3; ++i) d[i] = (t.vertex(0)[i] + t.vertex(r % 2 ? 0 : 1)[i]) / 2 - o[i];
+            if (d[0] == 0 && d[1] == 0 && d[2] == 0) d[0] = 1;
+        }
+        for (std::size_t i = 0; i < 3; ++i) zero_components += d[i] == 0;
+        const T thickness = r % 5 == 0 ? T(0.05) : T(0);
+        const typename tri::prepared_ray prepared(o, d);
+        ASSERT_EQ(prepared.origin(), o);
+        ASSERT_EQ(prepared.direction(), d);
+        intersect_info<P> plain_best, prepared_best;
+        for (const tri& t : tris) {
+            intersect_info<P> a, b;
+            const bool ha = t.intersect(o, d, thickness, a);
+            const bool hb = t.intersect(prepared, thickness, b);
+            ASSERT_EQ(ha, hb) << "ray " << r;
+            // Bit-identical (== would accept -0 for +0): compare the representations.
+            ASSERT_EQ(std::memcmp(&a.hit_time, &b.hit_time, sizeof(T)), 0) << "ray " << r;
+            for (std::size_t i = 0; i < 3; ++i)
+                ASSERT_EQ(std::memcmp(&a.hit_location[i], &b.hit_location[i], sizeof(T)), 0) << "ray " << r;
+            hits += ha;
+            // Running "first hit" accumulation, as a container does.
+            t.intersect(o, d, thickness, plain_best);
+            t.intersect(prepared, thickness, prepared_best);
+            ASSERT_EQ(std::memcmp(&plain_best.hit_time, &prepared_best.hit_time, sizeof(T)), 0) << "ray " << r;
+        }
+    }
+    EXPECT_GT(hits, 1000u);            // the test exercises hits, not only misses
+    EXPECT_GT(zero_components, 500u);  // and directions with zero components
+}
+
+TEST(TrianglePreparedRay, BitIdenticalToPlainIntersectDouble) {
+    const std::uint64_t seed = spatial_test::test_seed(2013);
+    SCOPED_TRACE(spatial_test::replay_hint(seed));
+    check_prepared_ray_matches_plain<double>(seed);
+}
+
+TEST(TrianglePreparedRay, BitIdenticalToPlainIntersectFloat) {
+    const std::uint64_t seed = spatial_test::test_seed(2014);
+    SCOPED_TRACE(spatial_test::replay_hint(seed));
+    check_prepared_ray_matches_plain<float>(seed);
+}

@@ -22,3 +22,4 @@ spatial_add_test(grid_test grid_test.cpp)
 # kd_tree over objects with extent (skd-tree): contract suite and hard cases; differential tests.
 spatial_add_test(kd_tree_objects_test kd_tree_objects_test.cpp)
 spatial_add_test(kd_tree_objects_differential_test kd_tree_objects_differential_test.cpp)
+spatial_add_test(bvh_ray_fast_path_test bvh_ray_fast_path_test.cpp)

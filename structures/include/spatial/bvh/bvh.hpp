@@ -337,8 +337,10 @@ public:
         require_fresh("bvh::intersect");
         stats_ = {};
         if (slots_.size() == 0) return end();
-        const bv_point o = to_bv(origin), d = to_bv(direction);
         const T grow = thickness * (1 + 16 * eps) + slack(origin);
+        if constexpr (volume_is_box)
+            if (reciprocals_finite(direction)) return make(intersect_boxes(origin, direction, thickness, grow, info));
+        const bv_point o = to_bv(origin), d = to_bv(direction);
         slot_index hit = no_slot;
         struct entry {
             node_index n;
@@ -605,6 +607,132 @@ private:
         if (t1 < 0 || t0 > tmax) return false;
         t0 = std::max(t0, T(0));
         return true;
+    }
+
+    // ---- the ray path for BV = aabb ------------------------------------------------------
+    // The same traversal and the same answers as the generic path, organised as in fast ray
+    // tracers (Williams, Barrus, Morley & Shirley 2005, "An efficient and robust ray-box
+    // intersection algorithm"; Wald, Boulos & Shirley 2007, "Ray tracing deformable scenes
+    // using dynamic bounding volume hierarchies"):
+    //  * per ray, once: the inverse direction and the direction's sign per axis, so a slab
+    //    test is two subtractions and two multiplications (no division, no swap) — the near
+    //    plane is hi when the direction is negative (-0 included: 1 / -0 = -inf);
+    //  * both children of a node are tested from the parent; the nearer one is visited
+    //    directly, the farther is pushed only if it is hit, with its entry parameter so it is
+    //    dropped unopened when a closer hit has been found meanwhile;
+    //  * the counters of last_query_stats() live in registers and are stored once.
+    // A zero direction component makes 1/d infinite: an origin strictly inside the grown slab
+    // gives (-inf, +inf), outside gives an empty interval, and on its boundary 0 * inf = NaN,
+    // which the comparisons below ignore (the slab imposes nothing: correct, the ray lies in
+    // the closed slab). Multiplying by a rounded reciprocal adds one rounding to each slab
+    // parameter; the grown box's slack (16 eps times the magnitudes, see slack_of) dwarfs
+    // those few eps, so no box the exact test would enter is ever skipped.
+    struct box_ray {
+        std::array<T, D> origin, inverse;
+        std::array<bool, D> negative;
+        T grow;
+    };
+    // A nonzero component so small (subnormal) that 1/d overflows would make the slab
+    // parameters infinite where the exact ones are merely huge; such rays take the generic
+    // path, which divides.
+    static bool reciprocals_finite(const point_type& d) {
+        for (std::size_t i = 0; i < D; ++i) {
+            const T c = static_cast<T>(d[i]);
+            if (c != 0 && !std::isfinite(T(1) / c)) return false;
+        }
+        return true;
+    }
+    // The grown box's ray interval clipped to [0, tmax]; t0 is its entry. NaN-proof: a NaN
+    // slab parameter fails both comparisons and leaves the interval unchanged.
+    static bool slab_entry(const box_type& b, const box_ray& r, T tmax, T& t0) {
+        T lo = 0, hi = tmax;
+        for (std::size_t i = 0; i < D; ++i) {
+            const T near_plane = r.negative[i] ? b.hi[i] + r.grow : b.lo[i] - r.grow;
+            const T far_plane = r.negative[i] ? b.lo[i] - r.grow : b.hi[i] + r.grow;
+            const T tn = (near_plane - r.origin[i]) * r.inverse[i];
+            const T tf = (far_plane - r.origin[i]) * r.inverse[i];
+            lo = tn > lo ? tn : lo;
+            hi = tf < hi ? tf : hi;
+        }
+        t0 = lo;
+        return lo <= hi;
+    }
+    slot_index intersect_boxes(const point_type& origin, const point_type& direction, T thickness, T grow,
+                               info_type& info) const {
+        box_ray r;
+        for (std::size_t i = 0; i < D; ++i) {
+            r.origin[i] = static_cast<T>(origin[i]);
+            r.inverse[i] = T(1) / static_cast<T>(direction[i]);
+            r.negative[i] = std::signbit(static_cast<T>(direction[i]));
+        }
+        r.grow = grow;
+        std::size_t visited = 0, tested = 0;
+        slot_index hit = no_slot;
+        // An object type may offer a per-ray preparation (objects::triangle does: the shear of
+        // the watertight test); it must give the same answers as the plain call.
+        auto test_leaf = [&](const node& nd, const auto& ray) {
+            const slot_index* b = block(nd.first);
+            for (std::uint32_t i = 0; i < nd.count; ++i) {
+                bool h;
+                if constexpr (requires { typename O::prepared_ray; })
+                    h = slots_.value(b[i]).intersect(ray, thickness, info);
+                else
+                    h = slots_.value(b[i]).intersect(origin, direction, thickness, info);
+                if (h) hit = b[i];
+            }
+            tested += nd.count;
+        };
+        auto traverse = [&](const auto& ray) {
+            struct entry {
+                node_index n;
+                T t;
+            };
+            bvh_detail::traversal_stack<entry> stack;
+            T t_root;
+            if (!slab_entry(nodes_[root].volume, r, info.hit_time, t_root)) return;
+            node_index n = root;
+            for (;;) {
+                const node& nd = nodes_[n];
+                ++visited;
+                if (nd.leaf) {
+                    test_leaf(nd, ray);
+                } else {
+                    T ta, tb;
+                    const bool ha = slab_entry(nodes_[nd.first].volume, r, info.hit_time, ta);
+                    const bool hb = slab_entry(nodes_[nd.first + 1].volume, r, info.hit_time, tb);
+                    if (ha && hb) {
+                        if (ta <= tb) {
+                            stack.push({nd.first + 1, tb});
+                            n = nd.first;
+                        } else {
+                            stack.push({nd.first, ta});
+                            n = nd.first + 1;
+                        }
+                        continue;
+                    }
+                    if (ha || hb) {
+                        n = ha ? nd.first : nd.first + 1;
+                        continue;
+                    }
+                }
+                // Next: the nearest pending node whose entry is not beyond the best hit.
+                for (;;) {
+                    if (stack.empty()) return;
+                    const entry e = stack.pop();
+                    if (e.t <= info.hit_time) {
+                        n = e.n;
+                        break;
+                    }
+                }
+            }
+        };
+        if constexpr (requires { typename O::prepared_ray; })
+            traverse(typename O::prepared_ray(origin, direction));
+        else
+            traverse(0);
+        stats_.nodes_visited = visited;
+        stats_.objects_tested = tested;
+        return hit == no_slot ? static_cast<slot_index>(slots_.capacity()) : hit;
     }
 
     // Depth-first traversal: descend into nodes for which keep(node) holds, call leaf_fn on

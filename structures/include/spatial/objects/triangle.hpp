@@ -115,6 +115,46 @@ public:
 
     template <class Info>
     bool intersect(const point_type& origin, const point_type& direction, T thickness, Info& info) const {
+        return intersect(prepared_ray(origin, direction), thickness, info);
+    }
+
+    // OPTIONAL per-ray preparation (used by containers that test one ray against many
+    // triangles, e.g. spatial::bvh): the per-ray part of the watertight test of Woop, Benthin
+    // & Wald (2013) — the dominant axis kz, the cyclic kx, ky and the shear sx, sy, sz — is
+    // computed once here instead of once per triangle. intersect(prepared_ray, ...) performs
+    // EXACTLY the floating-point operations of intersect(origin, direction, ...) in the same
+    // order (the unprepared call goes through it), so both give bit-identical answers.
+    class prepared_ray {
+    public:
+        prepared_ray(const point_type& origin, const point_type& direction) : origin_(origin), direction_(direction) {
+            if constexpr (D == 3) {
+                // kz: the dominant axis of the direction; kx, ky follow it cyclically, swapped
+                // when dir[kz] < 0 to keep the winding (so the sign tests need no special case).
+                kz_ = 0;
+                for (std::size_t i = 1; i < 3; ++i)
+                    if (std::abs(direction[i]) > std::abs(direction[kz_])) kz_ = i;
+                kx_ = (kz_ + 1) % 3;
+                ky_ = (kx_ + 1) % 3;
+                if (direction[kz_] < 0) std::swap(kx_, ky_);
+                sx_ = direction[kx_] / direction[kz_];
+                sy_ = direction[ky_] / direction[kz_];
+                sz_ = T(1) / direction[kz_];
+            }
+        }
+        const point_type& origin() const { return origin_; }
+        const point_type& direction() const { return direction_; }
+
+    private:
+        friend class triangle;
+        point_type origin_, direction_;
+        std::size_t kx_ = 0, ky_ = 0, kz_ = 0;
+        T sx_ = 0, sy_ = 0, sz_ = 0;
+    };
+
+    template <class Info>
+    bool intersect(const prepared_ray& ray, T thickness, Info& info) const {
+        const point_type& origin = ray.origin_;
+        const point_type& direction = ray.direction_;
         T t;
         if (thickness > T(0)) {
             if (!detail::first_capsule_contact(lo_.data(), hi_.data(), D, origin, direction, thickness, info.hit_time,
@@ -122,7 +162,7 @@ public:
                 return false;
         } else {
             bool hit;
-            if constexpr (D == 3) hit = watertight_3d(origin, direction, t);
+            if constexpr (D == 3) hit = watertight_3d(ray, t);
             else hit = clip_2d(origin, direction, t);
             if (!hit || !(t < info.hit_time)) return false;
         }
@@ -220,15 +260,10 @@ private:
     }
 
     // ---- 3D watertight ray/triangle (Woop, Benthin & Wald 2013) ---------------------------
-    bool watertight_3d(const point_type& org, const point_type& dir, T& t_out) const {
-        // kz: the dominant axis of the direction; kx, ky follow it cyclically, swapped when
-        // dir[kz] < 0 to keep the winding (so the sign tests below need no special case).
-        std::size_t kz = 0;
-        for (std::size_t i = 1; i < 3; ++i)
-            if (std::abs(dir[i]) > std::abs(dir[kz])) kz = i;
-        std::size_t kx = (kz + 1) % 3, ky = (kx + 1) % 3;
-        if (dir[kz] < 0) std::swap(kx, ky);
-        const T sx = dir[kx] / dir[kz], sy = dir[ky] / dir[kz], sz = T(1) / dir[kz];
+    bool watertight_3d(const prepared_ray& ray, T& t_out) const {
+        const point_type& org = ray.origin_;
+        const std::size_t kx = ray.kx_, ky = ray.ky_, kz = ray.kz_;
+        const T sx = ray.sx_, sy = ray.sy_, sz = ray.sz_;
 
         const point_type A = sub(v_[0], org), B = sub(v_[1], org), C = sub(v_[2], org);
         const T ax = A[kx] - sx * A[kz], ay = A[ky] - sy * A[kz];
