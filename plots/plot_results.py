@@ -356,14 +356,16 @@ def grid_shape(count):
     return rows, columns
 
 
-def new_figure(count, legend_entries=0):
-    """A grid of `count` subplots; legend_entries reserves room for a legend under each."""
-    rows, columns = grid_shape(count)
+def new_figure(count, legend_entries=0, one_column=False):
+    """A grid of `count` subplots; legend_entries reserves room for a legend under each.
+    one_column stacks them (wide legends of many series then do not run into each other)."""
+    rows, columns = (count, 1) if one_column else grid_shape(count)
+    width_scale = 2.0 if one_column else 1.0
     legend_rows = math.ceil(legend_entries / LEGEND_COLUMNS)
     legend_inches = 0.2 * legend_rows + (0.3 if legend_entries else 0)
     figure, axes = plt.subplots(
         rows, columns, squeeze=False,
-        figsize=(SUBPLOT_INCHES[0] * columns, (SUBPLOT_INCHES[1] + legend_inches) * rows + 0.6))
+        figsize=(SUBPLOT_INCHES[0] * columns * width_scale, (SUBPLOT_INCHES[1] + legend_inches) * rows + 0.6))
     axes = axes.ravel()
     for extra in axes[count:]:
         extra.set_visible(False)
@@ -911,7 +913,7 @@ def plot_raycast(rows, out_dir, styles, include_unvalidated):
         return []
     panels = sorted(series)
     entries = max(len({(label, workload) for label, workload, _ in by_key}) for by_key in series.values())
-    figure, axes = new_figure(len(panels), entries)
+    figure, axes = new_figure(len(panels), entries, one_column=True)
     for axis, params in zip(axes, panels):
         real_labelled = set()
         for (label, workload, validated), points in sorted(series[params].items(),
