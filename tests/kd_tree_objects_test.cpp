@@ -74,42 +74,6 @@ void expect_same_queries(const Tree& tree, const Oracle& oracle, const Q& q, typ
     ASSERT_EQ(distances(q, tree.find_in_box(lo, hi)), distances(q, oracle.find_in_box(lo, hi)));
 }
 
-// A closed icosphere (same construction as objects_test.cpp): shared vertices are computed
-// once, so neighbouring triangles share exact coordinates.
-template <class T>
-std::vector<triangle<T, 3>> icosphere(int levels, double radius, const std::array<double, 3>& centre) {
-    using V = point<T, 3>;
-    const double g = (1 + std::sqrt(5.0)) / 2;
-    std::vector<std::array<double, 3>> vs = {{-1, g, 0}, {1, g, 0}, {-1, -g, 0}, {1, -g, 0}, {0, -1, g}, {0, 1, g},
-                                             {0, -1, -g}, {0, 1, -g}, {g, 0, -1}, {g, 0, 1}, {-g, 0, -1}, {-g, 0, 1}};
-    std::vector<std::array<int, 3>> faces = {{0, 11, 5}, {0, 5, 1},  {0, 1, 7},   {0, 7, 10}, {0, 10, 11},
-                                             {1, 5, 9},  {5, 11, 4}, {11, 10, 2}, {10, 7, 6}, {7, 1, 8},
-                                             {3, 9, 4},  {3, 4, 2},  {3, 2, 6},   {3, 6, 8},  {3, 8, 9},
-                                             {4, 9, 5},  {2, 4, 11}, {6, 2, 10},  {8, 6, 7},  {9, 8, 1}};
-    for (int l = 0; l < levels; ++l) {
-        std::map<std::pair<int, int>, int> mid;
-        auto midpoint = [&](int a, int b) {
-            auto key = std::minmax(a, b);
-            if (auto it = mid.find(key); it != mid.end()) return it->second;
-            vs.push_back({(vs[a][0] + vs[b][0]) / 2, (vs[a][1] + vs[b][1]) / 2, (vs[a][2] + vs[b][2]) / 2});
-            return mid[key] = static_cast<int>(vs.size() - 1);
-        };
-        std::vector<std::array<int, 3>> next;
-        for (auto [a, b, c] : faces) {
-            const int ab = midpoint(a, b), bc = midpoint(b, c), ca = midpoint(c, a);
-            next.insert(next.end(), {{a, ab, ca}, {b, bc, ab}, {c, ca, bc}, {ab, bc, ca}});
-        }
-        faces = next;
-    }
-    std::vector<V> pts;
-    for (auto& v : vs) {
-        const double n = std::sqrt(v[0] * v[0] + v[1] * v[1] + v[2] * v[2]);
-        pts.push_back(V{{T(centre[0] + radius * v[0] / n), T(centre[1] + radius * v[1] / n), T(centre[2] + radius * v[2] / n)}});
-    }
-    std::vector<triangle<T, 3>> tris;
-    for (auto [a, b, c] : faces) tris.emplace_back(pts[a], pts[b], pts[c]);
-    return tris;
-}
 
 box<double, 3> cube(double x, double y, double z, double h) {
     return box<double, 3>(P3{{x - h, y - h, z - h}}, P3{{x + h, y + h, z + h}});
@@ -315,7 +279,7 @@ TYPED_TEST(kd_tree_objects_scale, closed_icosphere_is_never_missed_from_inside) 
     std::mt19937_64 rng(seed);
     std::uniform_real_distribution<double> unit(0, 1);
     for (const double offset : {0.0, 1e3}) {
-        const auto mesh = icosphere<T>(3, 2.0, {offset, offset, offset});  // 1280 triangles
+        const auto mesh = spatial_test::icosphere<T>(3, 2.0, {offset, offset, offset});  // 1280 triangles
         kd_tree<triangle<T, 3>> t(mesh.begin(), mesh.end());
         brute_force<triangle<T, 3>> oracle(mesh.begin(), mesh.end());
         ASSERT_EQ(t.check_invariants(), "");

@@ -38,43 +38,6 @@ namespace {
 P3 p3(double x, double y, double z) { return P3{{x, y, z}}; }
 P2 p2(double x, double y) { return P2{{x, y}}; }
 
-// A closed icosphere: the icosahedron subdivided `levels` times, vertices projected on the unit
-// sphere. Shared vertices are computed once, so neighbouring triangles share exact coordinates.
-template <class T>
-std::vector<triangle<T, 3>> icosphere(int levels) {
-    using V = point<T, 3>;
-    const double g = (1 + std::sqrt(5.0)) / 2;
-    std::vector<std::array<double, 3>> vs = {{-1, g, 0}, {1, g, 0}, {-1, -g, 0}, {1, -g, 0}, {0, -1, g}, {0, 1, g},
-                                             {0, -1, -g}, {0, 1, -g}, {g, 0, -1}, {g, 0, 1}, {-g, 0, -1}, {-g, 0, 1}};
-    std::vector<std::array<int, 3>> faces = {{0, 11, 5}, {0, 5, 1},  {0, 1, 7},   {0, 7, 10}, {0, 10, 11},
-                                             {1, 5, 9},  {5, 11, 4}, {11, 10, 2}, {10, 7, 6}, {7, 1, 8},
-                                             {3, 9, 4},  {3, 4, 2},  {3, 2, 6},   {3, 6, 8},  {3, 8, 9},
-                                             {4, 9, 5},  {2, 4, 11}, {6, 2, 10},  {8, 6, 7},  {9, 8, 1}};
-    for (int l = 0; l < levels; ++l) {
-        std::map<std::pair<int, int>, int> mid;
-        auto midpoint = [&](int a, int b) {
-            auto key = std::minmax(a, b);
-            if (auto it = mid.find(key); it != mid.end()) return it->second;
-            vs.push_back({(vs[a][0] + vs[b][0]) / 2, (vs[a][1] + vs[b][1]) / 2, (vs[a][2] + vs[b][2]) / 2});
-            return mid[key] = static_cast<int>(vs.size() - 1);
-        };
-        std::vector<std::array<int, 3>> next;
-        for (auto [a, b, c] : faces) {
-            const int ab = midpoint(a, b), bc = midpoint(b, c), ca = midpoint(c, a);
-            next.insert(next.end(), {{a, ab, ca}, {b, bc, ab}, {c, ca, bc}, {ab, bc, ca}});
-        }
-        faces = next;
-    }
-    std::vector<V> pts;
-    for (auto& v : vs) {
-        const double n = std::sqrt(v[0] * v[0] + v[1] * v[1] + v[2] * v[2]);
-        pts.push_back(V{{T(v[0] / n), T(v[1] / n), T(v[2] / n)}});
-    }
-    std::vector<triangle<T, 3>> tris;
-    for (auto [a, b, c] : faces) tris.emplace_back(pts[a], pts[b], pts[c]);
-    return tris;
-}
-
 template <class T>
 bool any_hit(const std::vector<triangle<T, 3>>& mesh, const point<T, 3>& o, const point<T, 3>& d) {
     for (const auto& tri : mesh) {
@@ -96,7 +59,7 @@ TYPED_TEST_SUITE(watertight, scalar_types);
 TYPED_TEST(watertight, rays_from_inside_through_every_vertex_and_along_every_edge_hit_the_closed_mesh) {
     using T = TypeParam;
     using V = point<T, 3>;
-    const auto mesh = icosphere<T>(2);
+    const auto mesh = spatial_test::icosphere<T>(2);
     const std::uint64_t seed = spatial_test::test_seed(41);
     SCOPED_TRACE(spatial_test::replay_hint(seed));
     std::mt19937_64 rng(seed);

@@ -5,6 +5,9 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <map>
+#include <cmath>
+#include <array>
 #include <cstdint>
 #include <cstdlib>
 #include <random>
@@ -143,6 +146,45 @@ struct object_factory<tagged_box> {
         return b;
     }
 };
+
+// A closed icosphere: the icosahedron subdivided `levels` times, vertices on the sphere of
+// `radius` around `centre`. Shared vertices are computed once, so neighbouring triangles share
+// exact coordinates (what the watertightness tests need).
+template <class T>
+std::vector<spatial::objects::triangle<T, 3>> icosphere(int levels, double radius = 1,
+                                                       const std::array<double, 3>& centre = {0, 0, 0}) {
+    using V = spatial::point<T, 3>;
+    const double g = (1 + std::sqrt(5.0)) / 2;
+    std::vector<std::array<double, 3>> vs = {{-1, g, 0}, {1, g, 0}, {-1, -g, 0}, {1, -g, 0}, {0, -1, g}, {0, 1, g},
+                                             {0, -1, -g}, {0, 1, -g}, {g, 0, -1}, {g, 0, 1}, {-g, 0, -1}, {-g, 0, 1}};
+    std::vector<std::array<int, 3>> faces = {{0, 11, 5}, {0, 5, 1},  {0, 1, 7},   {0, 7, 10}, {0, 10, 11},
+                                             {1, 5, 9},  {5, 11, 4}, {11, 10, 2}, {10, 7, 6}, {7, 1, 8},
+                                             {3, 9, 4},  {3, 4, 2},  {3, 2, 6},   {3, 6, 8},  {3, 8, 9},
+                                             {4, 9, 5},  {2, 4, 11}, {6, 2, 10},  {8, 6, 7},  {9, 8, 1}};
+    for (int l = 0; l < levels; ++l) {
+        std::map<std::pair<int, int>, int> mid;
+        auto midpoint = [&](int a, int b) {
+            auto key = std::minmax(a, b);
+            if (auto it = mid.find(key); it != mid.end()) return it->second;
+            vs.push_back({(vs[a][0] + vs[b][0]) / 2, (vs[a][1] + vs[b][1]) / 2, (vs[a][2] + vs[b][2]) / 2});
+            return mid[key] = static_cast<int>(vs.size() - 1);
+        };
+        std::vector<std::array<int, 3>> next;
+        for (auto [a, b, c] : faces) {
+            const int ab = midpoint(a, b), bc = midpoint(b, c), ca = midpoint(c, a);
+            next.insert(next.end(), {{a, ab, ca}, {b, bc, ab}, {c, ca, bc}, {ab, bc, ca}});
+        }
+        faces = next;
+    }
+    std::vector<V> pts;
+    for (auto& v : vs) {
+        const double n = std::sqrt(v[0] * v[0] + v[1] * v[1] + v[2] * v[2]);
+        pts.push_back(V{{T(centre[0] + radius * v[0] / n), T(centre[1] + radius * v[1] / n), T(centre[2] + radius * v[2] / n)}});
+    }
+    std::vector<spatial::objects::triangle<T, 3>> tris;
+    for (auto [a, b, c] : faces) tris.emplace_back(pts[a], pts[b], pts[c]);
+    return tris;
+}
 
 // The seed for randomized tests: SPATIAL_TEST_SEED replays a failure; otherwise a fixed
 // default per test so CI is reproducible. Every test logs it via SCOPED_TRACE.
