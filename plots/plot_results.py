@@ -945,6 +945,94 @@ def plot_raycast(rows, out_dir, styles, include_unvalidated):
     return [save_atomically(figure, os.path.join(out_dir, RAYCAST_FILE))]
 
 
+# --------------------------------------------------------------------------------------------
+# Accuracy costs time, for the BVH: node tightness per BV type against build and ray time,
+# and the median builder against SAH
+# --------------------------------------------------------------------------------------------
+
+BVH_TRADEOFF_FILE = "bvh_tradeoff.png"
+BVH_BUILDERS = {"bvh": "SAH", "bvh_median": "median"}
+
+
+def bvh_tradeoff_points(rows, include_unvalidated):
+    """{workload: {"n": n, "points": [(bv, area_ratio, build_s, ray_ns)], "builders": [(label, n,
+    build_s, ray_ns)]}} from the raycast suite: per workload the largest n at which the bvh_*
+    structures have a tightness row; incoherent rays."""
+    raycast = [row for row in rows if row.suite == RAYCAST_SUITE and row.structure.startswith("bvh")]
+    raycast = [row for row in raycast if row.validated or include_unvalidated
+               or row.metric not in TIME_METRICS]
+    value = {}
+    for row in raycast:
+        if row.operation == "build" and row.metric in ("build_time", "node_area_ratio"):
+            value[(row.structure, row.bv, row.workload, row.n, row.metric)] = row.value
+        elif (row.operation == "ray" and row.metric == "time_per_op"
+              and dict(parse_params(row.params)).get("rays") == "incoherent"):
+            value[(row.structure, row.bv, row.workload, row.n, "ray")] = convert(row.value, row.unit, "ns")
+    out = {}
+    for workload in sorted({key[2] for key in value}, key=workload_sort_key):
+        tight_ns = [key[3] for key in value if key[2] == workload and key[4] == "node_area_ratio"]
+        entry = {"n": None, "points": [], "builders": []}
+        if tight_ns:
+            n = max(tight_ns)
+            entry["n"] = n
+            for (structure, bv, w, m, metric), ratio in sorted(value.items()):
+                if w != workload or m != n or metric != "node_area_ratio" or structure == "bvh_median":
+                    continue
+                build = value.get((structure, bv, w, m, "build_time"))
+                ray = value.get((structure, bv, w, m, "ray"))
+                if build and ray:
+                    entry["points"].append((bv or structure, ratio, build, ray))
+        for (structure, bv, w, m, metric), build in sorted(value.items()):
+            if w == workload and metric == "build_time" and structure in BVH_BUILDERS:
+                ray = value.get((structure, bv, w, m, "ray"))
+                if ray:
+                    entry["builders"].append((BVH_BUILDERS[structure], m, build, ray))
+        if entry["points"] or entry["builders"]:
+            out[workload] = entry
+    return out
+
+
+def plot_bvh_tradeoff(rows, out_dir, include_unvalidated):
+    """plots/bvh_tradeoff.png, per workload (one row each): node tightness (sum over nodes of
+    the volume's surface area / the node AABB's; 1 = aabb, lower = tighter) against build time
+    and against time per incoherent ray, one point per BV type at the largest n; and the median
+    builder against SAH, build time against ray time at every n."""
+    data = bvh_tradeoff_points(rows, include_unvalidated)
+    if not data:
+        return []
+    figure, axes = plt.subplots(len(data), 3, figsize=(19, 6 * len(data)), squeeze=False)
+    for row_axes, (workload, entry) in zip(axes, data.items()):
+        points = entry["points"]
+        if points:
+            n_text = format_n(entry["n"])
+            draw_tradeoff_panel(row_axes[0], [(label, b, r) for label, r, b, _ in points],
+                                "build time (s)", "node tightness: sum area(BV) / sum area(AABB)",
+                                f"{workload} n={n_text}: tightness against build time", log_y=False)
+            draw_tradeoff_panel(row_axes[1], [(label, t, r) for label, r, _, t in points],
+                                "time per incoherent ray (ns)",
+                                "node tightness: sum area(BV) / sum area(AABB)",
+                                f"{workload} n={n_text}: tightness against ray time", log_y=False)
+        axis = row_axes[2]
+        for builder, marker in (("SAH", "o"), ("median", "s")):
+            pts = sorted((n, b, r) for label, n, b, r in entry["builders"] if label == builder)
+            if not pts:
+                continue
+            axis.plot([b for _, b, _ in pts], [r for _, _, r in pts], marker=marker, label=builder)
+            for n, b, r in pts:
+                axis.annotate(format_n(n), (b, r), fontsize=7, xytext=(3, 3), textcoords="offset points")
+        axis.set_xscale("log")
+        axis.set_yscale("log")
+        axis.set_xlabel("build time (s)")
+        axis.set_ylabel("time per incoherent ray (ns)")
+        axis.set_title(f"{workload}: median split against binned SAH (aabb; labels: n)", fontsize="medium")
+        axis.grid(True, which="both", alpha=0.3)
+        if entry["builders"]:
+            axis.legend(fontsize="small")
+    figure.suptitle("bvh: what node tightness and the builder cost (raycast suite; lower-left is better)")
+    figure.tight_layout()
+    return [save_atomically(figure, os.path.join(out_dir, BVH_TRADEOFF_FILE))]
+
+
 def main(argv=None):
     repo = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
     parser = argparse.ArgumentParser(description=__doc__.split("\n")[0])
@@ -969,6 +1057,7 @@ def main(argv=None):
     written += plot_raycast(rows, args.out, styles, args.include_unvalidated)
     written += plot_ratios(rows, args.out, styles, args.include_unvalidated)
     written += plot_bv_tradeoff(rows, args.out, args.include_unvalidated)
+    written += plot_bvh_tradeoff(rows, args.out, args.include_unvalidated)
     note(f"{len(written)} PNG(s) written to {args.out}")
     return 0
 

@@ -306,6 +306,44 @@ class RaycastPlotTest(unittest.TestCase):
         with open(os.path.join(self.out, plot_results.RAYCAST_FILE), "rb") as handle:
             self.assertEqual(handle.read(8), b"\x89PNG\r\n\x1a\n")
 
+    def test_bvh_tradeoff_points_take_the_largest_n_and_the_validation_rule(self):
+        def bvh_row(structure, bv, n, operation, params, metric, value, unit, validated="true"):
+            r = row(suite="raycast", structure=structure, workload="sphere", n=n, operation=operation,
+                    params=params, metric=metric, value=value, unit=unit, validated=validated)
+            r[2] = bv
+            return r
+        rows = []
+        for n in (1000, 100000):
+            for structure, bv, ratio in (("bvh", "aabb", 1.0), ("bvh_obb", "obb", 0.6),
+                                         ("bvh_median", "aabb", 1.0)):
+                rows.append(bvh_row(structure, bv, n, "build", "", "node_area_ratio", ratio, "ratio"))
+                rows.append(bvh_row(structure, bv, n, "build", "", "build_time", 1e-6 * n, "s"))
+                rows.append(bvh_row(structure, bv, n, "ray", "rays=incoherent", "time_per_op",
+                                    2.0 if structure == "bvh_obb" else 1.0, "us"))
+                rows.append(bvh_row(structure, bv, n, "ray", "rays=coherent;camera=8x8", "time_per_op",
+                                    50.0, "ns"))
+        # An unvalidated timing drops that point (not the others).
+        rows.append(bvh_row("bvh_sphere", "sphere", 100000, "build", "", "node_area_ratio", 1.3, "ratio"))
+        rows.append(bvh_row("bvh_sphere", "sphere", 100000, "build", "", "build_time", 0.2, "s", "false"))
+        rows.append(bvh_row("bvh_sphere", "sphere", 100000, "ray", "rays=incoherent", "time_per_op", 3.0,
+                            "us"))
+        write_csv(self.results, "raycast.csv", rows)
+        with contextlib.redirect_stderr(io.StringIO()), contextlib.redirect_stdout(io.StringIO()):
+            parsed = plot_results.read_results(self.results)
+        data = plot_results.bvh_tradeoff_points(parsed, include_unvalidated=False)
+        self.assertEqual(list(data), ["sphere"])
+        entry = data["sphere"]
+        self.assertEqual(entry["n"], 100000)
+        def rounded(items):
+            return sorted(tuple(round(v, 9) if isinstance(v, float) else v for v in item) for item in items)
+        self.assertEqual(rounded(entry["points"]), [("aabb", 1.0, 0.1, 1000.0), ("obb", 0.6, 0.1, 2000.0)])
+        self.assertEqual(rounded(entry["builders"]),
+                         [("SAH", 1000, 0.001, 1000.0), ("SAH", 100000, 0.1, 1000.0),
+                          ("median", 1000, 0.001, 1000.0), ("median", 100000, 0.1, 1000.0)])
+        code, _, stderr = run_main("--results", self.results, "--out", self.out)
+        self.assertEqual(code, 0, stderr)
+        self.assertIn(plot_results.BVH_TRADEOFF_FILE, pngs(self.out))
+
 
 if __name__ == "__main__":
     unittest.main()

@@ -1,6 +1,7 @@
 #!/usr/bin/env bash
 # The test job: install dependencies, then build and run every test twice — a Release
-# build (with the peers' adapters and a smoke run of the harness) and a Debug build with
+# build (with the peers' adapters and a smoke run of the harness) and a Debug build of the
+# library's tests with
 # -fsanitize=address,undefined — plus the plotting script's tests.
 set -euo pipefail
 cd "$(dirname "$0")/.."

@@ -116,7 +116,7 @@ TYPED_TEST(bv, ray_intervals_agree_with_point_sampling_including_axis_rays) {
             for (std::size_t d = 0; d < D; ++d)
                 if (d != static_cast<std::size_t>(trial / 4) % D) dir[d] = trial % 8 == 0 ? T(0) : T(-0.0);
         if (trial % 5 == 0) o[0] = T(-1);  // origin on a slab plane
-        T t0, t1;
+        T t0 = 0, t1 = 0;
         for (int which = 0; which < 2; ++which) {
             const bool hit = which == 0 ? box.ray_interval(o, dir, t0, t1) : ball.ray_interval(o, dir, t0, t1);
             auto inside = [&](T t) {

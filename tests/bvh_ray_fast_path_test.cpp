@@ -1,15 +1,20 @@
-// The aabb ray path of spatial::bvh (per-ray inverse direction and signs, both children tested
-// from the parent, triangle::prepared_ray) against brute_force, which calls O::intersect
-// directly: hit times must be bit-identical, for triangles in 3D (double and float) and 2D,
-// thin and thick rays (with and without a finite
-// hit_time limit), directions with +0 / -0 components, origins on node boundaries and
-// inside the scene, and after dynamic inserts, erases and updates.
+// The aabb ray paths of spatial::bvh against brute_force, which calls O::intersect directly:
+//  * the wide layout (bvh/wide_ray_layout.hpp: 4- or 8-wide float nodes, objects in leaf
+//    order), the default, and
+//  * the binary path (per-ray inverse direction and signs, both children tested from the
+//    parent, triangle::prepared_ray), Config::wide_ray_layout = false.
+// Hit times must be bit-identical, for triangles in 3D (double and float) and 2D, thin and
+// thick rays (with and without a finite hit_time limit), directions with +0 / -0
+// components, origins on node boundaries and inside the scene, and after dynamic inserts,
+// erases and updates. Plus: the layout's life cycle (built lazily, dropped on change,
+// shared by copies), concurrent first queries, and scenes beyond float's range.
 
 #include <gtest/gtest.h>
 
 #include <cstring>
 #include <limits>
 #include <random>
+#include <thread>
 #include <vector>
 
 #include "spatial/brute/brute_force.hpp"
@@ -82,20 +87,30 @@ std::size_t compare_rays(const Tree& tree, const Oracle& oracle, std::mt19937_64
     return hits;
 }
 
-template <class T, std::size_t D>
+struct binary_rays : bvh_config<> {
+    static constexpr bool wide_ray_layout = false;
+};
+struct four_wide_rays : bvh_config<> {
+    static constexpr std::size_t wide_ray_width = 4;
+};
+struct eight_wide_rays : bvh_config<> {
+    static constexpr std::size_t wide_ray_width = 8;
+};
+
+template <class T, std::size_t D, class Config = bvh_config<>>
 void run_fast_path_case(std::uint64_t seed) {
     using tri = objects::triangle<T, D>;
     std::mt19937_64 rng(seed);
     std::vector<tri> tris;
     for (int k = 0; k < 1500; ++k) tris.push_back(random_triangle<T, D>(rng, k % 3 == 0));
-    bvh<tri> tree(tris.begin(), tris.end());
+    bvh<tri, aabb<T, D>, Config> tree(tris.begin(), tris.end());
     brute_force<tri> oracle;
     oracle.insert(tris.begin(), tris.end());
     ASSERT_EQ(tree.check_invariants(), "");
     EXPECT_GT(compare_rays(tree, oracle, rng, 3000), 300u);
 
     // Dynamic updates: inserts, erases, moves; the ray path must follow.
-    std::vector<typename bvh<tri>::iterator> handles;
+    std::vector<typename bvh<tri, aabb<T, D>, Config>::iterator> handles;
     for (int k = 0; k < 300; ++k) {
         const tri t = random_triangle<T, D>(rng, k % 2 == 0);
         handles.push_back(tree.insert(t));
@@ -104,12 +119,12 @@ void run_fast_path_case(std::uint64_t seed) {
     for (int k = 0; k < 100; ++k) {
         const tri gone = *handles[static_cast<std::size_t>(k)];
         tree.erase(handles[static_cast<std::size_t>(k)]);
-        oracle.erase(gone);
+        oracle.erase(oracle.find(gone));  // one copy: grid triangles can repeat
     }
     for (std::size_t k = 100; k < 200; ++k) {
         const tri old = *handles[k], moved = random_triangle<T, D>(rng, false);
         tree.update(handles[k], moved);
-        oracle.erase(old);
+        oracle.erase(oracle.find(old));
         oracle.insert(moved);
     }
     ASSERT_EQ(tree.check_invariants(), "");
@@ -135,6 +150,144 @@ TEST(bvh_ray_fast_path, triangles_2d_match_brute_force_bit_for_bit) {
     const std::uint64_t seed = spatial_test::test_seed(33);
     SCOPED_TRACE(spatial_test::replay_hint(seed));
     run_fast_path_case<double, 2>(seed);
+}
+
+TEST(bvh_ray_fast_path, binary_path_3d_double_matches_brute_force_bit_for_bit) {
+    const std::uint64_t seed = spatial_test::test_seed(34);
+    SCOPED_TRACE(spatial_test::replay_hint(seed));
+    run_fast_path_case<double, 3, binary_rays>(seed);
+}
+
+TEST(bvh_ray_fast_path, four_and_eight_wide_layouts_match_brute_force_bit_for_bit) {
+    const std::uint64_t seed = spatial_test::test_seed(35);
+    SCOPED_TRACE(spatial_test::replay_hint(seed));
+    run_fast_path_case<double, 3, four_wide_rays>(seed);
+    run_fast_path_case<float, 3, eight_wide_rays>(seed);
+    run_fast_path_case<float, 2, four_wide_rays>(seed);
+}
+
+// The layout is built by the first ray cast (or prepare_rays), used by the casts that
+// follow, dropped by any change and rebuilt; copies share it and drop their share alone.
+TEST(bvh_ray_fast_path, wide_layout_life_cycle) {
+    using tri = objects::triangle<double, 3>;
+    std::mt19937_64 rng(11);
+    std::vector<tri> tris;
+    for (int k = 0; k < 400; ++k) tris.push_back(random_triangle<double, 3>(rng, false));
+    bvh<tri> tree(tris.begin(), tris.end());
+    brute_force<tri> oracle;
+    oracle.insert(tris.begin(), tris.end());
+    const std::size_t bare = tree.memory_bytes();
+    tree.prepare_rays();
+    const std::size_t prepared = tree.memory_bytes();
+    EXPECT_GT(prepared, bare + 400 * sizeof(tri)) << "the layout copies every object";
+    const point<double, 3> o{{0.5, 0.5, -1}}, d{{0.01, -0.02, 1}};
+    intersect_info<point<double, 3>> a, b;
+    EXPECT_EQ(tree.intersect(o, d, 0.0, a), oracle.intersect(o, d, 0.0, b));
+    EXPECT_TRUE(tree.last_query_stats().wide_ray_layout);
+    EXPECT_EQ(a.hit_time, b.hit_time);
+
+    bvh<tri> copy = tree;  // shares the layout
+    const tri extra = random_triangle<double, 3>(rng, false);
+    copy.insert(extra);  // drops the copy's share only
+    EXPECT_EQ(tree.memory_bytes(), prepared);
+    EXPECT_LT(copy.memory_bytes(), prepared);
+
+    // The original still answers from its layout; the copy rebuilds its own on demand and
+    // sees the new triangle.
+    brute_force<tri> oracle2 = oracle;
+    oracle2.insert(extra);
+    for (int r = 0; r < 200; ++r) {
+        std::uniform_real_distribution<double> u(-0.2, 1.2);
+        const point<double, 3> ro{{u(rng), u(rng), -1}}, rd{{u(rng) - 0.5, u(rng) - 0.5, 1}};
+        intersect_info<point<double, 3>> x, y, z, w;
+        EXPECT_EQ(tree.intersect(ro, rd, 0.0, x), oracle.intersect(ro, rd, 0.0, y));
+        EXPECT_EQ(x.hit_time, y.hit_time);
+        EXPECT_EQ(copy.intersect(ro, rd, 0.0, z), oracle2.intersect(ro, rd, 0.0, w));
+        EXPECT_TRUE(copy.last_query_stats().wide_ray_layout);
+        EXPECT_EQ(z.hit_time, w.hit_time);
+    }
+    EXPECT_GT(copy.memory_bytes(), bare);
+    copy.clear();
+    intersect_info<point<double, 3>> none;
+    EXPECT_FALSE(copy.intersect(o, d, 0.0, none));
+}
+
+// Many threads casting the first rays after a change build the layout once, race-free
+// (ASan/UBSan builds run this too), and all get the oracle's answers.
+TEST(bvh_ray_fast_path, concurrent_first_queries_share_one_layout) {
+    using tri = objects::triangle<double, 3>;
+    std::mt19937_64 rng(13);
+    std::vector<tri> tris;
+    for (int k = 0; k < 2000; ++k) tris.push_back(random_triangle<double, 3>(rng, k % 4 == 0));
+    bvh<tri> tree(tris.begin(), tris.end());
+    brute_force<tri> oracle;
+    oracle.insert(tris.begin(), tris.end());
+    struct ray_case {
+        point<double, 3> o, d;
+        double expected;
+    };
+    std::vector<ray_case> rays;
+    std::uniform_real_distribution<double> u(-0.2, 1.2);
+    for (int r = 0; r < 400; ++r) {
+        ray_case c{{{u(rng), u(rng), -1}}, {{u(rng) - 0.5, u(rng) - 0.5, 1}}, 0};
+        intersect_info<point<double, 3>> info;
+        oracle.intersect(c.o, c.d, 0.0, info);
+        c.expected = info.hit_time;
+        rays.push_back(c);
+    }
+    for (int round = 0; round < 3; ++round) {
+        tree.erase(tree.insert(random_triangle<double, 3>(rng, false)));  // drops the layout
+        ASSERT_EQ(tree.size(), tris.size());
+        std::vector<int> wrong(4, 0);
+        std::vector<std::thread> threads;
+        for (int t = 0; t < 4; ++t)
+            threads.emplace_back([&, t] {
+                for (std::size_t r = static_cast<std::size_t>(t); r < rays.size(); r += 2) {
+                    intersect_info<point<double, 3>> info;
+                    tree.intersect(rays[r].o, rays[r].d, 0.0, info);
+                    if (!(info.hit_time == rays[r].expected)) ++wrong[static_cast<std::size_t>(t)];
+                }
+            });
+        for (auto& th : threads) th.join();
+        for (int w : wrong) EXPECT_EQ(w, 0) << "round " << round;
+    }
+}
+
+// Scenes beyond float's comfortable range (|x| ~ 1e35) and rays with direction components
+// below 1e-30 are refused by the layout and answered by the double path: same answers.
+TEST(bvh_ray_fast_path, scenes_and_rays_beyond_float_range_fall_back_exactly) {
+    using tri = objects::triangle<double, 3>;
+    using P = point<double, 3>;
+    std::mt19937_64 rng(17);
+    for (const double scale : {1e35, 1e-35, 1.0}) {
+        std::vector<tri> tris;
+        for (int k = 0; k < 300; ++k) {
+            tri t = random_triangle<double, 3>(rng, k % 2 == 0);
+            P v[3] = {t.vertex(0), t.vertex(1), t.vertex(2)};
+            for (auto& p : v)
+                for (std::size_t i = 0; i < 3; ++i) p[i] *= scale;
+            tris.push_back(tri(v[0], v[1], v[2]));
+        }
+        bvh<tri> tree(tris.begin(), tris.end());
+        brute_force<tri> oracle;
+        oracle.insert(tris.begin(), tris.end());
+        std::size_t hits = 0;
+        std::uniform_real_distribution<double> u(-0.2, 1.2);
+        for (int r = 0; r < 300; ++r) {
+            const P o{{u(rng) * scale, u(rng) * scale, -scale}};
+            P d{{u(rng) - 0.5, u(rng) - 0.5, 1}};
+            if (r % 3 == 0) d[0] = 1e-31;  // below the layout's direction range
+            intersect_info<P> a, b;
+            const bool ha = tree.intersect(o, d, 0.0, a), hb = oracle.intersect(o, d, 0.0, b);
+            EXPECT_EQ(ha, hb) << "scale " << scale << " ray " << r;
+            EXPECT_EQ(a.hit_time, b.hit_time) << "scale " << scale << " ray " << r;
+            // Tiny scenes stay within float's normal range: only 1e35 and the 1e-31
+            // direction component are refused.
+            EXPECT_EQ(tree.last_query_stats().wide_ray_layout, scale != 1e35 && r % 3 != 0);
+            hits += ha;
+        }
+        EXPECT_GT(hits, 20u) << "scale " << scale;
+    }
 }
 
 // The statistics stay meaningful on the fast path: a ray that hits visits nodes and tests

@@ -39,3 +39,31 @@ TYPED_TEST(bvh_volumes, small_trees) {
 }
 
 }  // namespace
+
+// node_surface_areas(): the aabb tree's two sums coincide; volumes nested in the node's box
+// (k-DOPs include the box's six directions, hulls are the tightest convex sets) never exceed
+// its area (area is monotone under inclusion of convex sets), so their ratio is at most 1.
+TEST(bvh_tightness, node_surface_areas_are_equal_for_boxes_and_at_most_the_boxes_for_nested_volumes) {
+    std::mt19937_64 rng(21);
+    std::uniform_real_distribution<double> u(0, 1), s(0.01, 0.05);
+    std::vector<objects::triangle<double, 3>> tris;
+    for (int i = 0; i < 2000; ++i) {
+        const point<double, 3> c{{u(rng), u(rng), u(rng)}};
+        point<double, 3> v[3];
+        for (auto& p : v)
+            for (std::size_t k = 0; k < 3; ++k) p[k] = c[k] + s(rng) * (2 * u(rng) - 1);
+        tris.emplace_back(v[0], v[1], v[2]);
+    }
+    const auto [a_vol, a_box] = bvh<objects::triangle<double, 3>>(tris.begin(), tris.end()).node_surface_areas();
+    EXPECT_GT(a_box, 0);
+    EXPECT_EQ(a_vol, a_box);
+    const auto [k_vol, k_box] =
+        bvh<objects::triangle<double, 3>, kdop<double, 3, 14>>(tris.begin(), tris.end()).node_surface_areas();
+    EXPECT_LT(k_vol, k_box * (1 + 1e-9));
+    EXPECT_GT(k_vol, 0.5 * k_box);  // not degenerate
+    const auto [h_vol, h_box] =
+        bvh<objects::triangle<double, 3>, convex_hull<double, 3>>(tris.begin(), tris.end()).node_surface_areas();
+    EXPECT_LT(h_vol, h_box * (1 + 1e-9));
+    EXPECT_EQ(h_box, k_box);                // the builders see boxes only: the same tree
+    EXPECT_LE(h_vol, k_vol * (1 + 1e-9));  // and the hull is nested in the 14-DOP
+}

@@ -50,6 +50,10 @@
 #include "spatial/grid/uniform_grid.hpp"
 #include "spatial/octree/octree.hpp"
 
+#if defined(SPATIAL_HAVE_TBB)
+#include <tbb/info.h>
+#endif
+
 namespace harness {
 namespace {
 
@@ -243,6 +247,7 @@ public:
             structures.push_back(
                 std::make_unique<container_ray_index<spatial::brute_force<triangle3>>>("brute_force"));
         measure(structures);
+        if (ctx_.wants("bvh")) measure_parallel();
     }
 
 private:
@@ -441,12 +446,107 @@ private:
             ctx_.rows.push_back(row(s, "build", "", "memory_bytes", bytes, "B"));
             ctx_.rows.push_back(
                 row(s, "build", "", "bytes_per_triangle", bytes / static_cast<double>(triangles_.size()), "B"));
+            for (const auto& [metric, value] : s.build_metrics()) ctx_.rows.push_back(row(s, "build", "", metric, value, "ratio"));
             std::ostringstream msg;
             msg.precision(3);
             msg << s.name() << " on " << label_ << " n=" << fmt_n(triangles_.size()) << ": build " << b.median_seconds
                 << " s, " << bytes / static_cast<double>(triangles_.size()) << " B/tri" << summary[i];
             ctx_.prog.say(msg.str());
         }
+    }
+
+    // Multi-threaded build (bvh(first, last, spatial::par)) and batched incoherent casts
+    // (intersect_batch with spatial::par) of `bvh` on every core the back end uses, against
+    // the same work on one thread, interleaved in the same run. Validated before timing: the
+    // parallel tree's batched answers equal the one-thread batch on every ray, and brute
+    // force on the oracle sample.
+    void measure_parallel() {
+        using tree = spatial::bvh<triangle3>;
+        const container_ray_index<tree> label("bvh", "aabb");
+        std::size_t threads = 1;
+#if defined(SPATIAL_HAVE_TBB)
+        threads = static_cast<std::size_t>(tbb::info::default_concurrency());
+#endif
+        if (threads < 2) {
+            ctx_.prog.say("bvh parallel: skipped (the parallel back end has one thread)");
+            return;
+        }
+        std::vector<double> build_seq, build_par;
+        std::unique_ptr<tree> one, many;
+        for (std::size_t rep = 0; rep < ctx_.cfg.build_repetitions; ++rep) {
+            auto t0 = std::chrono::steady_clock::now();
+            auto a = std::make_unique<tree>(triangles_.begin(), triangles_.end());
+            a->prepare_rays();
+            build_seq.push_back(seconds_since(t0));
+            t0 = std::chrono::steady_clock::now();
+            auto b = std::make_unique<tree>(triangles_.begin(), triangles_.end(), spatial::par);
+            b->prepare_rays();
+            build_par.push_back(seconds_since(t0));
+            one = std::move(a);
+            many = std::move(b);
+        }
+        const ray_set& set = sets_[0];  // incoherent
+        std::vector<spatial::ray<point3>> rays;
+        rays.reserve(set.rays.size());
+        for (const auto& r : set.rays) rays.push_back({r.origin, r.direction, T(0)});
+        const std::size_t n = rays.size();
+        std::vector<tree::iterator> hits_one(n), hits_many(n);
+        std::vector<spatial::intersect_info<point3>> infos_one(n), infos_many(n);
+        auto batch = [&](const tree& t, std::vector<tree::iterator>& hits, std::vector<spatial::intersect_info<point3>>& infos,
+                         bool parallel) {
+            for (auto& i : infos) i = {};
+            const auto t0 = std::chrono::steady_clock::now();
+            if (parallel) t.intersect_batch(rays, hits, infos, spatial::par);
+            else t.intersect_batch(rays, hits, infos, spatial::seq);
+            const double sec = seconds_since(t0);
+            double sum = 0;
+            for (std::size_t i = 0; i < n; ++i) sum += hits[i] == t.end() ? 0.0 : infos[i].hit_time + 1;
+            return std::pair{sec, sum};
+        };
+        const double checksum = batch(*one, hits_one, infos_one, false).second;
+        batch(*many, hits_many, infos_many, true);
+        for (std::size_t i = 0; i < n; ++i)
+            if ((hits_one[i] == one->end()) != (hits_many[i] == many->end()) ||
+                !(infos_one[i].hit_time == infos_many[i].hit_time))
+                throw validation_error(where("bvh", set) + ": the parallel build and batch disagree with one thread on ray " +
+                                       std::to_string(i));
+        for (std::size_t j = 0; j < set.oracle_sample.size(); ++j) {
+            const std::size_t i = set.oracle_sample[j];
+            const ray_answer& want = oracle_[0][j];
+            const bool hit = hits_many[i] != many->end();
+            if (hit != want.hit || (hit && !(infos_many[i].hit_time == want.t)))
+                throw validation_error(where("bvh", set) + ": the parallel batch disagrees with brute force on ray " +
+                                       std::to_string(i));
+        }
+        std::vector<double> ray_seq, ray_par;
+        for (std::size_t rep = 0; rep < 1 + ctx_.cfg.repetitions; ++rep) {  // the first is a warm-up
+            const auto a = batch(*one, hits_one, infos_one, false);
+            const auto b = batch(*many, hits_many, infos_many, true);
+            if (a.second != checksum || b.second != checksum)
+                throw validation_error(where("bvh", set) + ": a timed batch gave different answers than the validated one");
+            if (rep > 0) ray_seq.push_back(a.first), ray_par.push_back(b.first);
+        }
+        const std::string t1 = "threads=1", tn = "threads=" + std::to_string(threads);
+        const timing_result bs = summarize(build_seq), bp = summarize(build_par);
+        const timing_result rs = summarize(ray_seq), rp = summarize(ray_par);
+        const double per_ray_ns = 1e9 / static_cast<double>(n);
+        ctx_.rows.push_back(row(label, "parallel_build", t1, "build_time", bs.median_seconds, "s", &bs));
+        ctx_.rows.push_back(row(label, "parallel_build", tn, "build_time", bp.median_seconds, "s", &bp));
+        ctx_.rows.push_back(row(label, "parallel_build", tn, "speedup", bs.median_seconds / bp.median_seconds, "x"));
+        ctx_.rows.push_back(row(label, "parallel_ray", set.params + ";" + t1, "time_per_op",
+                                rs.median_seconds * per_ray_ns, "ns", &rs, per_ray_ns));
+        ctx_.rows.push_back(row(label, "parallel_ray", set.params + ";" + tn, "time_per_op",
+                                rp.median_seconds * per_ray_ns, "ns", &rp, per_ray_ns));
+        ctx_.rows.push_back(row(label, "parallel_ray", set.params + ";" + tn, "speedup",
+                                rs.median_seconds / rp.median_seconds, "x"));
+        std::ostringstream msg;
+        msg.precision(3);
+        msg << "bvh parallel on " << label_ << " n=" << fmt_n(triangles_.size()) << ", " << threads
+            << " threads: build " << bs.median_seconds << " -> " << bp.median_seconds << " s ("
+            << bs.median_seconds / bp.median_seconds << "x), batched incoherent rays "
+            << rs.median_seconds * per_ray_ns << " -> " << rp.median_seconds * per_ray_ns << " ns/ray ("
+            << rs.median_seconds / rp.median_seconds << "x)";
+        ctx_.prog.say(msg.str());
     }
 
     context& ctx_;

@@ -14,6 +14,8 @@
 #include <limits>
 #include <span>
 #include <string>
+#include <utility>
+#include <vector>
 
 #include "datasets/triangle_mesh.hpp"
 #include "spatial/core/point.hpp"
@@ -52,6 +54,9 @@ public:
 
     // Nodes visited by the last intersect(), or -1 when the structure cannot report it.
     virtual long long last_nodes_visited() const { return -1; }
+    // Properties of the built structure, (metric, value) pairs written as build rows
+    // (bvh: node_area_ratio, its node tightness). Empty when it has none.
+    virtual std::vector<std::pair<std::string, double>> build_metrics() const { return {}; }
 };
 
 }  // namespace harness

@@ -30,7 +30,7 @@ public:
     std::size_t size() const { return size_; }
 
 private:
-    std::array<E, N> inline_{};
+    std::array<E, N> inline_;  // not value-initialised: zeroing it would cost every query
     std::vector<E> spill_;
     std::size_t size_ = 0;
 };

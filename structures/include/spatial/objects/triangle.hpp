@@ -265,24 +265,29 @@ private:
         const std::size_t kx = ray.kx_, ky = ray.ky_, kz = ray.kz_;
         const T sx = ray.sx_, sy = ray.sy_, sz = ray.sz_;
 
-        const point_type A = sub(v_[0], org), B = sub(v_[1], org), C = sub(v_[2], org);
-        const T ax = A[kx] - sx * A[kz], ay = A[ky] - sy * A[kz];
-        const T bx = B[kx] - sx * B[kz], by = B[ky] - sy * B[kz];
-        const T cx = C[kx] - sx * C[kz], cy = C[ky] - sy * C[kz];
+        // Vertices relative to the origin, read in the ray's axis order (no temporaries
+        // indexed at run time: they would go through memory).
+        const T Az = v_[0][kz] - org[kz], Bz = v_[1][kz] - org[kz], Cz = v_[2][kz] - org[kz];
+        const T ax = (v_[0][kx] - org[kx]) - sx * Az, ay = (v_[0][ky] - org[ky]) - sy * Az;
+        const T bx = (v_[1][kx] - org[kx]) - sx * Bz, by = (v_[1][ky] - org[ky]) - sy * Bz;
+        const T cx = (v_[2][kx] - org[kx]) - sx * Cz, cy = (v_[2][ky] - org[ky]) - sy * Cz;
 
         T u = cx * by - cy * bx;
         T v = ax * cy - ay * cx;
         T w = bx * ay - by * ax;
-        if (u == T(0) || v == T(0) || w == T(0)) {  // on an edge in T: decide in more precision
+        if (u == T(0) || v == T(0) || w == T(0)) [[unlikely]] {  // on an edge in T: decide in more precision
             using W = std::conditional_t<std::is_same_v<T, float>, double, long double>;
             u = static_cast<T>(W(cx) * W(by) - W(cy) * W(bx));
             v = static_cast<T>(W(ax) * W(cy) - W(ay) * W(cx));
             w = static_cast<T>(W(bx) * W(ay) - W(by) * W(ax));
         }
-        if ((u < 0 || v < 0 || w < 0) && (u > 0 || v > 0 || w > 0)) return false;
+        // Mixed signs: the ray passes outside an edge. Evaluated without branches (these
+        // outcomes are unpredictable across the triangles of a leaf).
+        const bool negative = (u < 0) | (v < 0) | (w < 0), positive = (u > 0) | (v > 0) | (w > 0);
+        if (negative & positive) return false;
         const T det = u + v + w;
         if (det == T(0)) return false;
-        const T az = sz * A[kz], bz = sz * B[kz], cz = sz * C[kz];
+        const T az = sz * Az, bz = sz * Bz, cz = sz * Cz;
         const T t_scaled = u * az + v * bz + w * cz;
         const T t = t_scaled / det;
         if (!(t >= T(0))) return false;

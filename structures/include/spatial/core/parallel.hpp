@@ -1,0 +1,62 @@
+#pragma once
+// spatial::seq / spatial::par — execution policies of the structures' multi-threaded
+// members (bvh: parallel build, batched ray casts), and the two primitives they use.
+//
+// The back end is oneTBB (Debian's libtbb-dev) when the build defines SPATIAL_HAVE_TBB (the
+// CMake target spatial::structures does when TBB is found; option SPATIAL_WITH_TBB).
+// Without it `par` runs sequentially and gives the same answers: every parallel member is
+// written so that its result does not depend on the schedule. The number of threads is
+// TBB's default (all cores) unless the caller limits it, e.g. with tbb::global_control.
+
+#include <cstddef>
+#include <utility>
+
+#if defined(SPATIAL_HAVE_TBB)
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_for.h>
+#include <tbb/parallel_invoke.h>
+#endif
+
+namespace spatial {
+
+struct sequential_policy {};
+struct parallel_policy {};
+inline constexpr sequential_policy seq{};
+inline constexpr parallel_policy par{};
+
+// Whether `par` really runs on several threads in this build.
+inline constexpr bool parallel_backend_available =
+#if defined(SPATIAL_HAVE_TBB)
+    true;
+#else
+    false;
+#endif
+
+namespace detail {
+
+// Calls body(begin, end) on disjoint chunks covering [0, n), chunks of at least `grain`
+// indices, concurrently when the back end allows.
+template <class Body>
+void parallel_chunks(std::size_t n, std::size_t grain, Body&& body) {
+#if defined(SPATIAL_HAVE_TBB)
+    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, n, grain == 0 ? 1 : grain),
+                      [&](const tbb::blocked_range<std::size_t>& r) { body(r.begin(), r.end()); });
+#else
+    (void)grain;
+    if (n > 0) body(std::size_t{0}, n);
+#endif
+}
+
+// Runs f() and g(), concurrently when the back end allows.
+template <class F, class G>
+void parallel_invoke(F&& f, G&& g) {
+#if defined(SPATIAL_HAVE_TBB)
+    tbb::parallel_invoke(std::forward<F>(f), std::forward<G>(g));
+#else
+    std::forward<F>(f)();
+    std::forward<G>(g)();
+#endif
+}
+
+}  // namespace detail
+}  // namespace spatial

@@ -1,0 +1,168 @@
+// spatial::bvh's multi-threaded members (core/parallel.hpp):
+//  * rebuild(par) / bvh(first, last, par) build the SAME tree as the sequential builder,
+//    node for node: same node count and height, and every query visits the same number of
+//    nodes and tests the same objects (median and SAH builders; aabb, sphere, obb and k-DOP
+//    volumes; points and triangles; skewed and identical inputs);
+//  * intersect_batch gives, with seq and with par, exactly the answers of one
+//    intersect_object per ray, and rejects bad input before casting anything.
+// With TBB (the default build) these run on several threads; without it `par` is sequential
+// and the tests still check the answers.
+
+#include <gtest/gtest.h>
+
+#include <random>
+#include <stdexcept>
+#include <vector>
+
+#include "spatial/bv/kdop.hpp"
+#include "spatial/bv/obb.hpp"
+#include "spatial/bv/sphere.hpp"
+#include "spatial/bvh/bvh.hpp"
+#include "spatial/objects/triangle.hpp"
+#include "test_support.hpp"
+
+using namespace spatial;
+
+namespace {
+
+using P3 = point<double, 3>;
+using tri = objects::triangle<double, 3>;
+
+std::vector<tri> random_triangles(std::size_t n, std::uint64_t seed) {
+    std::mt19937_64 rng(seed);
+    std::uniform_real_distribution<double> u(0, 1), s(0.001, 0.02);
+    std::vector<tri> out;
+    for (std::size_t i = 0; i < n; ++i) {
+        const P3 c{{u(rng), u(rng), u(rng)}};
+        P3 v[3];
+        const double h = s(rng);
+        for (auto& p : v)
+            for (std::size_t k = 0; k < 3; ++k) p[k] = c[k] + h * (2 * u(rng) - 1);
+        out.emplace_back(v[0], v[1], v[2]);
+    }
+    return out;
+}
+
+// Same shape, node for node, as far as queries can tell: equal node counts and heights, and
+// every ray and kNN query visits exactly as many nodes and tests exactly as many objects.
+template <class Tree>
+void expect_same_tree(const Tree& a, const Tree& b, std::uint64_t seed) {
+    ASSERT_EQ(a.check_invariants(), "");
+    ASSERT_EQ(b.check_invariants(), "");
+    EXPECT_EQ(a.node_count(), b.node_count());
+    EXPECT_EQ(a.height(), b.height());
+    std::mt19937_64 rng(seed);
+    std::uniform_real_distribution<double> u(-0.2, 1.2);
+    using Pt = typename Tree::point_type;
+    for (int q = 0; q < 200; ++q) {
+        Pt o, d;
+        for (std::size_t k = 0; k < Tree::dimension; ++k) o[k] = u(rng), d[k] = u(rng) - 0.5;
+        d[0] += 0.01;
+        typename Tree::info_type x, y;
+        const auto ha = a.intersect_object(o, d, 0.0, x);
+        const auto sa = a.last_query_stats();
+        const auto hb = b.intersect_object(o, d, 0.0, y);
+        const auto sb = b.last_query_stats();
+        EXPECT_EQ(ha == a.end(), hb == b.end());
+        EXPECT_EQ(x.hit_time, y.hit_time);
+        EXPECT_EQ(sa.nodes_visited, sb.nodes_visited) << "ray " << q;
+        EXPECT_EQ(sa.objects_tested, sb.objects_tested) << "ray " << q;
+        const auto na = a.find_nearest(o, 5);
+        const auto nsa = a.last_query_stats();
+        const auto nb = b.find_nearest(o, 5);
+        const auto nsb = b.last_query_stats();
+        ASSERT_EQ(na.size(), nb.size());
+        for (std::size_t i = 0; i < na.size(); ++i) EXPECT_TRUE(*na[i] == *nb[i]);
+        EXPECT_EQ(nsa.nodes_visited, nsb.nodes_visited) << "knn " << q;
+    }
+}
+
+template <class O, class BV, class Config>
+void check_parallel_build(const std::vector<O>& data, std::uint64_t seed) {
+    bvh<O, BV, Config> sequential(data.begin(), data.end());
+    bvh<O, BV, Config> parallel(data.begin(), data.end(), par);
+    {
+        SCOPED_TRACE((std::string("built by the constructor, ") + bvh<O, BV, Config>::volume_name()));
+        expect_same_tree(sequential, parallel, seed);
+    }
+    // rebuild(par) of a tree grown by single inserts: the same as rebuild().
+    bvh<O, BV, Config> grown, grown_copy;
+    for (const O& x : data) grown.insert(x);
+    grown_copy = grown;
+    grown.rebuild();
+    grown_copy.rebuild(par);
+    SCOPED_TRACE((std::string("rebuilt, ") + bvh<O, BV, Config>::volume_name()));
+    expect_same_tree(grown, grown_copy, seed + 1);
+}
+
+}  // namespace
+
+TEST(bvh_parallel, build_of_triangles_is_the_sequential_tree_for_every_builder_and_volume) {
+    const std::uint64_t seed = spatial_test::test_seed(71);
+    SCOPED_TRACE(spatial_test::replay_hint(seed));
+    const auto data = random_triangles(20000, seed);
+    check_parallel_build<tri, aabb<double, 3>, bvh_sah_config<>>(data, seed);
+    check_parallel_build<tri, aabb<double, 3>, bvh_median_config<>>(data, seed);
+    check_parallel_build<tri, sphere<double, 3>, bvh_sah_config<>>(data, seed);
+    check_parallel_build<tri, obb<double, 3>, bvh_sah_config<>>(data, seed);
+    check_parallel_build<tri, kdop<double, 3, 14>, bvh_median_config<8>>(data, seed);
+}
+
+TEST(bvh_parallel, build_of_points_skewed_and_identical_inputs_is_the_sequential_tree) {
+    const std::uint64_t seed = spatial_test::test_seed(72);
+    SCOPED_TRACE(spatial_test::replay_hint(seed));
+    std::mt19937_64 rng(seed);
+    std::uniform_real_distribution<double> u(0, 1);
+    std::vector<P3> skewed, identical(12000, P3{{0.25, 0.5, 0.75}});
+    // Geometrically spaced along a line: SAH splits off small groups, the planner's skewed
+    // branch iterates instead of recursing.
+    for (int i = 0; i < 20000; ++i) skewed.push_back(P3{{std::pow(1.001, i), u(rng) * 1e-3, 0}});
+    check_parallel_build<P3, aabb<double, 3>, bvh_sah_config<>>(skewed, seed);
+    check_parallel_build<P3, aabb<double, 3>, bvh_sah_config<>>(identical, seed);
+    check_parallel_build<P3, aabb<double, 3>, bvh_median_config<16>>(identical, seed);
+}
+
+TEST(bvh_parallel, batched_casts_equal_single_casts_with_both_policies) {
+    const std::uint64_t seed = spatial_test::test_seed(73);
+    SCOPED_TRACE(spatial_test::replay_hint(seed));
+    const auto data = random_triangles(30000, seed);
+    bvh<tri> tree(data.begin(), data.end(), par);
+    std::mt19937_64 rng(seed);
+    std::uniform_real_distribution<double> u(-0.2, 1.2);
+    std::vector<ray<P3>> rays;
+    for (int i = 0; i < 5000; ++i)
+        rays.push_back({P3{{u(rng), u(rng), -0.5}}, P3{{u(rng) - 0.5, u(rng) - 0.5, 1}}, i % 7 == 0 ? 0.002 : 0.0});
+    std::vector<intersect_info<P3>> single(rays.size()), seq_infos(rays.size()), par_infos(rays.size());
+    for (std::size_t i = 0; i < rays.size(); i += 3) single[i].hit_time = seq_infos[i].hit_time = par_infos[i].hit_time = 0.8;
+    std::vector<bvh<tri>::iterator> seq_hits(rays.size()), par_hits(rays.size());
+    tree.intersect_batch(rays, seq_hits, seq_infos, seq);
+    tree.intersect_batch(rays, par_hits, par_infos, par);
+    std::size_t hit_count = 0;
+    for (std::size_t i = 0; i < rays.size(); ++i) {
+        const auto it = tree.intersect_object(rays[i].origin, rays[i].direction, rays[i].thickness, single[i]);
+        EXPECT_EQ(seq_hits[i] == tree.end(), it == tree.end()) << "ray " << i;
+        EXPECT_EQ(par_hits[i] == tree.end(), it == tree.end()) << "ray " << i;
+        EXPECT_EQ(seq_infos[i].hit_time, single[i].hit_time) << "ray " << i;
+        EXPECT_EQ(par_infos[i].hit_time, single[i].hit_time) << "ray " << i;
+        hit_count += it != tree.end();
+    }
+    EXPECT_GT(hit_count, 500u);
+}
+
+TEST(bvh_parallel, batched_casts_reject_bad_input_before_casting) {
+    const auto data = random_triangles(100, 5);
+    bvh<tri> tree(data.begin(), data.end());
+    std::vector<ray<P3>> rays(3, ray<P3>{P3{{0.5, 0.5, -1}}, P3{{0, 0, 1}}, 0.0});
+    std::vector<bvh<tri>::iterator> hits(3, tree.end());
+    std::vector<intersect_info<P3>> infos(2);
+    EXPECT_THROW(tree.intersect_batch(rays, hits, infos, par), std::invalid_argument);
+    infos.resize(3);
+    rays[2].direction = P3{{0, 0, 0}};
+    try {
+        tree.intersect_batch(rays, hits, infos, par);
+        FAIL() << "a zero direction must be rejected";
+    } catch (const std::invalid_argument& e) {
+        EXPECT_NE(std::string(e.what()).find("direction"), std::string::npos) << e.what();
+    }
+    for (const auto& info : infos) EXPECT_EQ(info.hit_time, std::numeric_limits<double>::infinity());  // untouched
+}
