@@ -15,3 +15,8 @@ target_link_libraries(adapters_raycast_test PRIVATE spatial_adapters spatial_har
 target_compile_definitions(adapters_raycast_test PRIVATE
   SPATIAL_DATASETS_SAMPLES_DIR="${PROJECT_SOURCE_DIR}/datasets/samples"
   SPATIAL_DATASETS_REAL_DIR="${PROJECT_SOURCE_DIR}/datasets/real")
+
+# Embree user geometry over boxes and points (harness/object_ray_index.hpp) against
+# spatial::brute_force: exact hit times.
+spatial_add_test(embree_user_geometry_test ${CMAKE_CURRENT_LIST_DIR}/embree_user_geometry_test.cpp)
+target_link_libraries(embree_user_geometry_test PRIVATE spatial_adapters spatial_harness_interface)

@@ -24,6 +24,7 @@
 #include <memory>
 #include <sstream>
 #include <string>
+#include <type_traits>
 #include <vector>
 
 #include "datasets/mesh_generators.hpp"
@@ -33,6 +34,7 @@
 #include "harness/our_ray_indexes.hpp"
 #include "harness/progress.hpp"
 #include "harness/ray_adapters.hpp"
+#include "harness/object_ray_index.hpp"
 #include "harness/ray_validation.hpp"
 #include "harness/run_info.hpp"
 #include "harness/timing.hpp"
@@ -48,6 +50,7 @@
 #include "spatial/grid/hashed_grid.hpp"
 #include "spatial/kdtree/kd_tree.hpp"
 #include "spatial/grid/uniform_grid.hpp"
+#include "spatial/objects/box.hpp"
 #include "spatial/octree/octree.hpp"
 
 #if defined(SPATIAL_HAVE_TBB)
@@ -247,6 +250,9 @@ public:
             structures.push_back(
                 std::make_unique<container_ray_index<spatial::brute_force<triangle3>>>("brute_force"));
         measure(structures);
+        // Embree's devices are created with "threads=1", which caps oneTBB (Embree's tasking
+        // system, process-wide) at one thread while they live: release them first.
+        structures.clear();
         if (ctx_.wants("bvh")) measure_parallel();
     }
 
@@ -559,20 +565,194 @@ private:
     std::vector<std::vector<ray_answer>> oracle_;  // per ray set, per oracle sample ray
 };
 
+// ---- object workloads: boxes and points (issue 4: Embree user geometry) -------------------
+// `boxes`: n axis-aligned boxes, centres uniform in the unit cube, half-sizes log-uniform in
+// [0.002, 0.02] (1e5 / n)^(1/3) (so a ray crosses about as many at every n), thin rays.
+// `points`: n points uniform in the unit cube cast with thick rays of radius 0.25 n^(-1/3)
+// (a quarter of the mean spacing). Incoherent rays as for the meshes. Our containers and
+// Embree's user geometry (with our exact double test in its callback) all run the same exact
+// object tests, so answers must agree EXACTLY: with brute force on the oracle sample, and with
+// the reference (bvh) on every ray; timed repetitions must reproduce the validated checksum.
+template <class O>
+class object_measurement {
+public:
+    object_measurement(context& ctx, std::string workload, std::size_t n) : ctx_(ctx), workload_(std::move(workload)), n_(n) {}
+
+    void run() {
+        const std::uint64_t seed = datasets::derive_seed(ctx_.opt.seed, fnv1a(workload_ + std::to_string(n_)));
+        datasets::random_stream rng(seed);
+        const double scale = std::cbrt(1e5 / static_cast<double>(n_));
+        for (std::size_t i = 0; i < n_; ++i) {
+            point3 c;
+            for (std::size_t k = 0; k < 3; ++k) c[k] = rng.uniform01<double>();
+            if constexpr (std::is_same_v<O, point3>) {
+                objects_.push_back(c);
+            } else {
+                point3 lo, hi;
+                for (std::size_t k = 0; k < 3; ++k) {
+                    const double h = 0.002 * std::pow(10.0, rng.uniform01<double>()) * scale;
+                    lo[k] = c[k] - h;
+                    hi[k] = c[k] + h;
+                }
+                objects_.emplace_back(lo, hi);
+            }
+        }
+        thickness_ = std::is_same_v<O, point3> ? 0.25 / std::cbrt(static_cast<double>(n_)) : 0.0;
+        datasets::mesh_bounds cube;
+        cube.lo = {0, 0, 0};
+        cube.hi = {1, 1, 1};
+        rays_ = incoherent_rays(cube, ctx_.cfg.incoherent_rays, seed);
+        sample_ = random_sample(rays_.size(), ctx_.cfg.oracle_rays, seed);
+        params_ = std::is_same_v<O, point3> ? "rays=thick;objects=points" : "rays=incoherent;objects=boxes";
+        ctx_.prog.say("== " + workload_ + " n=" + fmt_n(n_) + (thickness_ > 0 ? ", ray radius " + std::to_string(thickness_) : ""));
+
+        spatial::brute_force<O> oracle;
+        oracle.insert(objects_.begin(), objects_.end());
+        for (std::size_t i : sample_) oracle_.push_back(answer_of(oracle, rays_[i]));
+
+        using namespace spatial;
+        std::vector<std::unique_ptr<object_ray_index<O>>> structures;
+        structures.push_back(std::make_unique<container_object_ray_index<bvh<O>>>("bvh", "aabb"));
+        structures.push_back(std::make_unique<container_object_ray_index<bvh<O, aabb<T, 3>, bvh_median_config<>>>>("bvh_median", "aabb"));
+        structures.push_back(std::make_unique<container_object_ray_index<kd_tree<O>>>("kd_tree"));
+        structures.push_back(std::make_unique<container_object_ray_index<octree<O>>>("octree"));
+        structures.push_back(std::make_unique<container_object_ray_index<uniform_grid<O>>>("uniform_grid"));
+        structures.push_back(std::make_unique<container_object_ray_index<hashed_grid<O>>>("hashed_grid"));
+#if defined(SPATIAL_HAVE_EMBREE) && SPATIAL_HAVE_EMBREE
+        if constexpr (std::is_same_v<O, point3>) structures.push_back(make_embree_point_ray_index());
+        else structures.push_back(make_embree_box_ray_index());
+#endif
+        std::erase_if(structures, [&](const auto& st) { return !ctx_.wants(st->name()); });
+        if (structures.empty()) return;
+
+        const std::size_t S = structures.size();
+        std::vector<std::vector<double>> build_samples(S);
+        for (std::size_t rep = 0; rep < ctx_.cfg.build_repetitions; ++rep)
+            for (std::size_t i = 0; i < S; ++i) {
+                const auto t0 = std::chrono::steady_clock::now();
+                structures[i]->build(objects_, thickness_);
+                build_samples[i].push_back(seconds_since(t0));
+            }
+        // Validation: the oracle sample for everyone, every ray against the first structure.
+        std::vector<std::vector<ray_answer>> answers(S);
+        std::vector<double> checksum(S, 0.0);
+        std::vector<std::size_t> hits(S, 0);
+        for (std::size_t i = 0; i < S; ++i) {
+            auto& st = *structures[i];
+            for (const auto& r : rays_) answers[i].push_back(cast_object(st, r));
+            for (const auto& a : answers[i]) checksum[i] += checksum_of(a), hits[i] += a.hit;
+            for (std::size_t j = 0; j < sample_.size(); ++j)
+                if (!same(answers[i][sample_[j]], oracle_[j]))
+                    throw validation_error(st.name() + " on " + workload_ + " n=" + fmt_n(n_) +
+                                           ": differs from brute force on ray " + std::to_string(sample_[j]));
+            for (std::size_t k = 0; k < rays_.size(); ++k)
+                if (!same(answers[i][k], answers[0][k]))
+                    throw validation_error(st.name() + " on " + workload_ + " n=" + fmt_n(n_) + ": differs from " +
+                                           structures[0]->name() + " on ray " + std::to_string(k));
+        }
+        std::vector<std::vector<double>> samples(S);
+        for (std::size_t rep = 0; rep < 1 + ctx_.cfg.repetitions; ++rep)
+            for (std::size_t i = 0; i < S; ++i) {
+                const auto t0 = std::chrono::steady_clock::now();
+                double sum = 0;
+                for (const auto& r : rays_) sum += checksum_of(cast_object(*structures[i], r));
+                const double sec = seconds_since(t0);
+                if (sum != checksum[i])
+                    throw validation_error(structures[i]->name() + " on " + workload_ +
+                                           ": a timed repetition gave different answers than the validated run");
+                if (rep > 0) samples[i].push_back(sec);
+            }
+        const double per_ray_ns = 1e9 / static_cast<double>(rays_.size());
+        for (std::size_t i = 0; i < S; ++i) {
+            const auto& st = *structures[i];
+            const timing_result t = summarize(samples[i]), b = summarize(build_samples[i]);
+            ctx_.rows.push_back(row(st, "ray", params_, "time_per_op", t.median_seconds * per_ray_ns, "ns", &t, per_ray_ns));
+            ctx_.rows.push_back(row(st, "ray", params_, "rays", static_cast<double>(rays_.size()), "count"));
+            ctx_.rows.push_back(row(st, "ray", params_, "hits", static_cast<double>(hits[i]), "count"));
+            ctx_.rows.push_back(row(st, "build", "", "build_time", b.median_seconds, "s", &b));
+            const double bytes = static_cast<double>(st.memory_bytes());
+            ctx_.rows.push_back(row(st, "build", "", "memory_bytes", bytes, "B"));
+            ctx_.rows.push_back(row(st, "build", "", "bytes_per_object", bytes / static_cast<double>(n_), "B"));
+            std::ostringstream msg;
+            msg.precision(3);
+            msg << st.name() << " on " << workload_ << " n=" << fmt_n(n_) << ": build " << b.median_seconds << " s, "
+                << t.median_seconds * per_ray_ns / 1000 << " us/ray (" << hits[i] << "/" << rays_.size() << " hit)";
+            ctx_.prog.say(msg.str());
+        }
+    }
+
+private:
+    static ray_answer cast_object(object_ray_index<O>& st, const ray& r) {
+        ray_hit<T> hit;
+        if (!st.intersect(r.origin, r.direction, std::numeric_limits<T>::infinity(), hit)) return {};
+        return {true, hit.t};
+    }
+    ray_answer answer_of(const spatial::brute_force<O>& oracle, const ray& r) const {
+        spatial::intersect_info<point3> info;
+        if (!oracle.intersect(r.origin, r.direction, thickness_, info)) return {};
+        return {true, info.hit_time};
+    }
+    static bool same(const ray_answer& a, const ray_answer& b) { return a.hit == b.hit && (!a.hit || a.t == b.t); }
+    result_row row(const object_ray_index<O>& st, const std::string& operation, const std::string& params,
+                   const std::string& metric, double value, const std::string& unit, const timing_result* t = nullptr,
+                   double scale = 1) const {
+        result_row r;
+        r.suite = "raycast";
+        r.structure = st.name();
+        r.bv = st.bv();
+        r.workload = workload_;
+        r.n = n_;
+        r.dim = 3;
+        r.scalar = "double";
+        r.operation = operation;
+        r.params = params;
+        r.metric = metric;
+        r.value = value;
+        r.unit = unit;
+        r.validated = true;  // rows are written only after validation passed
+        r.run_id = ctx_.run_id;
+        if (t) {
+            r.repetitions = t->repetitions;
+            r.min_value = t->min_seconds * scale;
+            r.max_value = t->max_seconds * scale;
+        }
+        return r;
+    }
+
+    context& ctx_;
+    std::string workload_;
+    std::size_t n_;
+    std::vector<O> objects_;
+    double thickness_ = 0;
+    std::vector<ray> rays_;
+    std::vector<std::size_t> sample_;
+    std::vector<ray_answer> oracle_;
+    std::string params_;
+};
+
 }  // namespace
 
 void run_raycast_suite(const suite_options& options) {
     context ctx{options, preset(options.preset), make_run_id("raycast", options.preset), progress(options.quiet), {}, {}};
     if (!options.sizes.empty()) ctx.cfg.sizes = options.sizes;
     std::vector<std::string> workloads = options.workloads;
-    if (workloads.empty())
+    if (workloads.empty()) {
         for (auto w : datasets::mesh_workload_names) workloads.emplace_back(w);
-    for (const auto& w : workloads) (void)datasets::generate_mesh(w, 0, 0);  // fail fast on a typo
+        workloads.emplace_back("boxes");
+        workloads.emplace_back("points");
+    }
+    auto is_object_workload = [](const std::string& w) { return w == "boxes" || w == "points"; };
+    for (const auto& w : workloads)
+        if (!is_object_workload(w)) (void)datasets::generate_mesh(w, 0, 0);  // fail fast on a typo
     ctx.seeds["data"] = options.seed;
     ctx.seeds["rays"] = options.seed;
     const auto t0 = std::chrono::steady_clock::now();
     for (const auto& w : workloads)
-        for (std::size_t n : ctx.cfg.sizes) mesh_measurement(ctx, w, datasets::generate_mesh(w, n, options.seed)).run();
+        for (std::size_t n : ctx.cfg.sizes) {
+            if (w == "boxes") object_measurement<spatial::objects::box<T, 3>>(ctx, w, n).run();
+            else if (w == "points") object_measurement<point3>(ctx, w, n).run();
+            else mesh_measurement(ctx, w, datasets::generate_mesh(w, n, options.seed)).run();
+        }
 
     std::vector<std::filesystem::path> real_files;
     if (!options.real_data_dir.empty() && std::filesystem::is_directory(options.real_data_dir))
