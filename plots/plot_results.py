@@ -956,8 +956,8 @@ BVH_BUILDERS = {"bvh": "SAH", "bvh_median": "median"}
 
 def bvh_tradeoff_points(rows, include_unvalidated):
     """{workload: {"n": n, "points": [(bv, area_ratio, build_s, ray_ns)], "builders": [(label, n,
-    build_s, ray_ns)]}} from the raycast suite: per workload the largest n at which the bvh_*
-    structures have a tightness row; incoherent rays."""
+    build_s, ray_ns)]}} from the raycast suite: per workload the n at which the most bvh_*
+    structures have a tightness row (the largest such n); incoherent rays."""
     raycast = [row for row in rows if row.suite == RAYCAST_SUITE and row.structure.startswith("bvh")]
     raycast = [row for row in raycast if row.validated or include_unvalidated
                or row.metric not in TIME_METRICS]
@@ -973,7 +973,9 @@ def bvh_tradeoff_points(rows, include_unvalidated):
         tight_ns = [key[3] for key in value if key[2] == workload and key[4] == "node_area_ratio"]
         entry = {"n": None, "points": [], "builders": []}
         if tight_ns:
-            n = max(tight_ns)
+            # The n with the most volume types (runs restricted to a few structures at a
+            # larger n add single points), the largest such n.
+            n = max(set(tight_ns), key=lambda m: (tight_ns.count(m), m))
             entry["n"] = n
             for (structure, bv, w, m, metric), ratio in sorted(value.items()):
                 if w != workload or m != n or metric != "node_area_ratio" or structure == "bvh_median":
@@ -1003,6 +1005,10 @@ def plot_bvh_tradeoff(rows, out_dir, include_unvalidated):
     figure, axes = plt.subplots(len(data), 3, figsize=(19, 6 * len(data)), squeeze=False)
     for row_axes, (workload, entry) in zip(axes, data.items()):
         points = entry["points"]
+        if not points:
+            for axis in row_axes[:2]:
+                axis.set_axis_off()
+                axis.text(0.5, 0.5, f"{workload}: no node-tightness rows", ha="center", va="center")
         if points:
             n_text = format_n(entry["n"])
             draw_tradeoff_panel(row_axes[0], [(label, b, r) for label, r, b, _ in points],
@@ -1029,7 +1035,7 @@ def plot_bvh_tradeoff(rows, out_dir, include_unvalidated):
         if entry["builders"]:
             axis.legend(fontsize="small")
     figure.suptitle("bvh: what node tightness and the builder cost (raycast suite; lower-left is better)")
-    figure.tight_layout()
+    figure.tight_layout(rect=(0, 0, 1, 0.985))
     return [save_atomically(figure, os.path.join(out_dir, BVH_TRADEOFF_FILE))]
 
 
