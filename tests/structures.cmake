@@ -24,3 +24,11 @@ spatial_add_test(kd_tree_objects_test kd_tree_objects_test.cpp)
 spatial_add_test(kd_tree_objects_differential_test kd_tree_objects_differential_test.cpp)
 spatial_add_test(bvh_ray_fast_path_test bvh_ray_fast_path_test.cpp)
 spatial_add_test(bvh_parallel_test bvh_parallel_test.cpp)
+
+# Exact segment/triangle intersection (collide/), with CGAL as the differential oracle when
+# the harness's CGAL adapter is built (not in the sanitizer build, which still runs the rest).
+spatial_add_test(exact_intersection_test exact_intersection_test.cpp)
+if(TARGET spatial_adapters AND TARGET spatial_harness_interface)
+  target_link_libraries(exact_intersection_test PRIVATE spatial_adapters spatial_harness_interface)
+endif()
+spatial_add_test(collide_pairs_test collide_pairs_test.cpp)

@@ -23,6 +23,7 @@
 #include "spatial/core/object_concepts.hpp"
 #include "spatial/core/object_geometry.hpp"
 #include "spatial/core/slot_storage.hpp"
+#include "spatial/collide/pairs.hpp"
 
 namespace spatial {
 
@@ -150,6 +151,32 @@ public:
         return out;
     }
 
+    // ---- collision pairs (collide/pairs.hpp) ---------------------------------------------
+    // The O(n^2) oracle. Candidates: the pairs whose objects' bounding boxes overlap; exact:
+    // those the narrow phase confirms. Sorted by slots, self pairs as (lower, higher).
+    std::vector<std::pair<iterator, iterator>> self_pairs(pair_filter filter = pair_filter::exact) const {
+        std::vector<std::pair<iterator, iterator>> out;
+        for (slot_index s = slots_.next_occupied(0); s < slots_.capacity(); s = slots_.next_occupied(s + 1))
+            for (slot_index t = slots_.next_occupied(s + 1); t < slots_.capacity(); t = slots_.next_occupied(t + 1))
+                if (boxes_overlap(slots_.value(s), slots_.value(t)) &&
+                    (filter == pair_filter::candidates || collide::narrow_phase(slots_.value(s), slots_.value(t))))
+                    out.emplace_back(make(s), make(t));
+        return out;
+    }
+    // Pairs (object of *this, object of other), O(n m), any container `other`.
+    template <class Other>
+    std::vector<std::pair<iterator, typename Other::iterator>> pairs_with(const Other& other,
+                                                                         pair_filter filter = pair_filter::exact) const {
+        std::vector<std::pair<iterator, typename Other::iterator>> out;
+        for (slot_index s = slots_.next_occupied(0); s < slots_.capacity(); s = slots_.next_occupied(s + 1))
+            for (auto it = other.begin(); it != other.end(); ++it)
+                if (boxes_overlap(slots_.value(s), *it) &&
+                    (filter == pair_filter::candidates || collide::narrow_phase(slots_.value(s), *it)))
+                    out.emplace_back(make(s), it);
+        sort_pairs(out);
+        return out;
+    }
+
     // ---- STL basics --------------------------------------------------------------------
     size_type size() const { return slots_.size(); }
     bool empty() const { return slots_.size() == 0; }
@@ -159,6 +186,12 @@ public:
 
 private:
     iterator make(slot_index s) const { return iterator(&slots_, s); }
+    template <class A, class B>
+    static bool boxes_overlap(const A& a, const B& b) {
+        for (std::size_t i = 0; i < A::dimension; ++i)
+            if (object_upper(a, i) < object_lower(b, i) || object_upper(b, i) < object_lower(a, i)) return false;
+        return true;
+    }
 
     slot_storage<O> slots_;
     scalar_type ray_thickness_ = 0;

@@ -69,6 +69,7 @@
 #include "spatial/bvh/node_volume.hpp"
 #include "spatial/bvh/traversal_stack.hpp"
 #include "spatial/bvh/wide_ray_layout.hpp"
+#include "spatial/collide/pairs.hpp"
 #include "spatial/core/container_concept.hpp"
 #include "spatial/core/input_checks.hpp"
 #include "spatial/core/intersect_info.hpp"
@@ -534,6 +535,88 @@ private:
     }
 
 public:
+    // ---- collision pairs (collide/pairs.hpp) -------------------------------------------
+    // Self pairs by descending the tree against itself: a node with itself opens into its
+    // children's self pairs and their cross pair; a cross pair of nodes is opened only when
+    // their boxes and volumes overlap (BV::overlaps, so tighter volumes prune more), the
+    // larger node first (by box surface area). Candidates: the object pairs of every leaf with
+    // itself and of every overlapping leaf pair; exact adds the narrow phase. Sorted by slots,
+    // (lower, higher). last_query_stats(): node pairs tested, candidate pairs.
+    // O(node pairs whose volumes overlap + candidates); about O(n + k) for well-separated
+    // objects with k pairs (Gottschalk, Lin & Manocha 1996 descend two OBB trees this way).
+    std::vector<std::pair<iterator, iterator>> self_pairs(pair_filter filter = pair_filter::exact) const {
+        require_fresh("bvh::self_pairs");
+        stats_ = {};
+        std::vector<std::pair<iterator, iterator>> out;
+        if (slots_.size() < 2) return out;
+        auto emit = [&](slot_index s, slot_index t) {
+            ++stats_.objects_tested;
+            if (s > t) std::swap(s, t);
+            if (filter == pair_filter::candidates || collide::narrow_phase(slots_.value(s), slots_.value(t)))
+                out.emplace_back(make(s), make(t));
+        };
+        std::vector<std::pair<node_index, node_index>> todo{{root, root}};
+        while (!todo.empty()) {
+            const auto [a, b] = todo.back();
+            todo.pop_back();
+            const node& na = nodes_[a];
+            if (a == b) {
+                if (na.leaf) {
+                    const slot_index* blk = block(na.first);
+                    for (std::uint32_t i = 0; i < na.count; ++i)
+                        for (std::uint32_t j = i + 1; j < na.count; ++j) emit(blk[i], blk[j]);
+                } else {
+                    todo.push_back({na.first, na.first + 1});
+                    todo.push_back({na.first + 1, na.first + 1});
+                    todo.push_back({na.first, na.first});
+                }
+                continue;
+            }
+            descend_pair(*this, a, b, todo, [&](const node& x, const node& y) {
+                const slot_index* bx = block(x.first);
+                const slot_index* by = block(y.first);
+                for (std::uint32_t i = 0; i < x.count; ++i)
+                    for (std::uint32_t j = 0; j < y.count; ++j) emit(bx[i], by[j]);
+            });
+        }
+        sort_pairs(out);
+        return out;
+    }
+    // Pairs (object of *this, object of other). With another bvh of the same type: the two
+    // trees descended together as above; with any other container: collide/pairs.hpp's
+    // pairs_between (a box query of *this per object of other).
+    template <class Other>
+    std::vector<std::pair<iterator, typename Other::iterator>> pairs_with(const Other& other,
+                                                                         pair_filter filter = pair_filter::exact) const {
+        if constexpr (!std::is_same_v<Other, bvh>) {
+            return pairs_between(*this, other, filter);
+        } else {
+            require_fresh("bvh::pairs_with");
+            other.require_fresh("bvh::pairs_with");
+            stats_ = {};
+            std::vector<std::pair<iterator, iterator>> out;
+            if (slots_.size() == 0 || other.slots_.size() == 0) return out;
+            std::vector<std::pair<node_index, node_index>> todo{{root, root}};
+            while (!todo.empty()) {
+                const auto [a, b] = todo.back();
+                todo.pop_back();
+                descend_pair(other, a, b, todo, [&](const node& x, const node& y) {
+                    const slot_index* bx = block(x.first);
+                    const slot_index* by = other.block(y.first);
+                    for (std::uint32_t i = 0; i < x.count; ++i)
+                        for (std::uint32_t j = 0; j < y.count; ++j) {
+                            ++stats_.objects_tested;
+                            if (filter == pair_filter::candidates ||
+                                collide::narrow_phase(slots_.value(bx[i]), other.slots_.value(by[j])))
+                                out.emplace_back(make(bx[i]), other.make(by[j]));
+                        }
+                });
+            }
+            sort_pairs(out);
+            return out;
+        }
+    }
+
     // Builds the ray layout now (BV = aabb with Config::wide_ray_layout; otherwise nothing),
     // which the first ray cast after a change would otherwise do: call it after building to
     // keep that O(n) cost out of the first query (the benchmarks count it as build time).
@@ -914,6 +997,33 @@ private:
         st.nodes_visited = visited;
         st.objects_tested = tested;
         return hit == no_slot ? static_cast<slot_index>(slots_.capacity()) : hit;
+    }
+
+    // ---- collision descent ----------------------------------------------------------------
+    // One step of the two-tree descent for node a of *this and node b of `other`: nothing when
+    // their boxes or volumes are disjoint, leaves(x, y) for two leaves, otherwise the larger
+    // inner node is opened (both children paired with the other node).
+    template <class Leaves>
+    void descend_pair(const bvh& other, node_index a, node_index b, std::vector<std::pair<node_index, node_index>>& todo,
+                      Leaves&& leaves) const {
+        const node& na = nodes_[a];
+        const node& nb = other.nodes_[b];
+        ++stats_.nodes_visited;
+        if (!box_of(na).overlaps(box_of(nb))) return;
+        if constexpr (!volume_is_box)
+            if (!na.volume.overlaps(nb.volume)) return;
+        if (na.leaf && nb.leaf) {
+            leaves(na, nb);
+            return;
+        }
+        const bool open_a = nb.leaf || (!na.leaf && box_of(na).surface_area() >= box_of(nb).surface_area());
+        if (open_a) {
+            todo.push_back({na.first, b});
+            todo.push_back({na.first + 1, b});
+        } else {
+            todo.push_back({a, nb.first});
+            todo.push_back({a, nb.first + 1});
+        }
     }
 
     // ---- the wide ray layout (BV = aabb) --------------------------------------------------

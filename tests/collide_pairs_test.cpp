@@ -1,0 +1,202 @@
+// Collision pairs (collide/pairs.hpp): bvh's self_pairs and pairs_with, for several bounding
+// volumes and both builders, against brute_force's O(n^2) oracle — the exact pair sets must
+// be IDENTICAL; candidate sets must contain them; every pair reported once, sorted, self
+// pairs as (lower slot, higher slot). Objects: boxes (3D and 2D, some on a grid so that
+// touching faces and duplicates occur), spheres, triangles (3D), points (duplicates only).
+// Also after updates (moves, erases, inserts) and bipartite (bvh with bvh, bvh with
+// brute_force through the generic path). Seeds are logged.
+
+#include <gtest/gtest.h>
+
+#include <random>
+#include <set>
+#include <vector>
+
+#include "spatial/brute/brute_force.hpp"
+#include "spatial/bv/kdop.hpp"
+#include "spatial/bv/obb.hpp"
+#include "spatial/bv/sphere.hpp"
+#include "spatial/bvh/bvh.hpp"
+#include "spatial/collide/pairs.hpp"
+#include "test_support.hpp"
+
+using namespace spatial;
+
+namespace {
+
+template <class O>
+struct make_object;
+template <class T, std::size_t D>
+struct make_object<objects::box<T, D>> {
+    static objects::box<T, D> random(std::mt19937_64& rng, int k) {
+        std::uniform_real_distribution<T> u(0, 1), h(T(0.002), T(0.04));
+        std::uniform_int_distribution<int> g(0, 16);
+        point<T, D> a, b;
+        for (std::size_t i = 0; i < D; ++i) {
+            if (k % 3 == 0) {  // grid boxes: shared faces and duplicates
+                a[i] = static_cast<T>(g(rng)) / 16;
+                b[i] = a[i] + T(1) / 16;
+            } else {
+                const T c = u(rng), r = h(rng);
+                a[i] = c - r;
+                b[i] = c + r;
+            }
+        }
+        return objects::box<T, D>(a, b);
+    }
+};
+template <class T>
+struct make_object<objects::sphere<T, 3>> {
+    static objects::sphere<T, 3> random(std::mt19937_64& rng, int) {
+        std::uniform_real_distribution<T> u(0, 1), r(T(0.005), T(0.04));
+        return objects::sphere<T, 3>(point<T, 3>{{u(rng), u(rng), u(rng)}}, r(rng));
+    }
+};
+template <class T>
+struct make_object<objects::triangle<T, 3>> {
+    static objects::triangle<T, 3> random(std::mt19937_64& rng, int k) {
+        std::uniform_real_distribution<T> u(0, 1), s(T(-0.05), T(0.05));
+        std::uniform_int_distribution<int> g(0, 8);
+        point<T, 3> c{{u(rng), u(rng), u(rng)}}, v[3];
+        for (auto& p : v)
+            for (std::size_t i = 0; i < 3; ++i)
+                p[i] = k % 4 == 0 ? static_cast<T>(g(rng)) / 8 : c[i] + s(rng);  // grid: coplanar / touching
+        return objects::triangle<T, 3>(v[0], v[1], v[2]);
+    }
+};
+template <class T>
+struct make_object<point<T, 3>> {
+    static point<T, 3> random(std::mt19937_64& rng, int) {
+        std::uniform_int_distribution<int> g(0, 12);  // few distinct values: duplicates
+        return point<T, 3>{{static_cast<T>(g(rng)), static_cast<T>(g(rng)), static_cast<T>(g(rng))}};
+    }
+};
+
+using slot_pair = std::pair<slot_index, slot_index>;
+
+template <class Pairs>
+std::vector<slot_pair> slots_of(const Pairs& pairs) {
+    std::vector<slot_pair> out;
+    for (const auto& [a, b] : pairs) out.emplace_back(a.slot(), b.slot());
+    return out;
+}
+
+template <class Pairs>
+void expect_well_formed(const Pairs& pairs, bool self) {
+    const auto s = slots_of(pairs);
+    EXPECT_TRUE(std::is_sorted(s.begin(), s.end()));
+    EXPECT_EQ(std::set<slot_pair>(s.begin(), s.end()).size(), s.size()) << "a pair reported twice";
+    if (self)
+        for (const auto& [a, b] : s) EXPECT_LT(a, b);
+}
+
+template <class Tree>
+void check_against_oracle(const Tree& tree, const brute_force<typename Tree::value_type>& oracle) {
+    const auto exact = tree.self_pairs(pair_filter::exact);
+    const auto candidates = tree.self_pairs(pair_filter::candidates);
+    expect_well_formed(exact, true);
+    expect_well_formed(candidates, true);
+    const auto want = slots_of(oracle.self_pairs(pair_filter::exact));
+    EXPECT_EQ(slots_of(exact), want);
+    const auto c = slots_of(candidates);
+    EXPECT_TRUE(std::includes(c.begin(), c.end(), want.begin(), want.end())) << "a candidate set misses a pair";
+}
+
+template <class Tree>
+class collide_pairs : public ::testing::Test {};
+
+using P3 = point<double, 3>;
+using B3 = objects::box<double, 3>;
+using trees = ::testing::Types<
+    bvh<B3>, bvh<B3, aabb<double, 3>, bvh_median_config<>>, bvh<B3, sphere<double, 3>>, bvh<B3, obb<double, 3>>,
+    bvh<B3, kdop<double, 3, 14>>, bvh<objects::box<float, 2>>, bvh<objects::box<double, 2>, kdop<double, 2, 8>>,
+    bvh<objects::sphere<double, 3>>, bvh<objects::sphere<double, 3>, sphere<double, 3>>,
+    bvh<objects::triangle<double, 3>>, bvh<objects::triangle<double, 3>, obb<double, 3>>, bvh<P3, aabb<double, 3>, bvh_sah_config<8>>>;
+TYPED_TEST_SUITE(collide_pairs, trees);
+
+TYPED_TEST(collide_pairs, self_pairs_equal_brute_force_before_and_after_updates) {
+    using Tree = TypeParam;
+    using O = typename Tree::value_type;
+    const std::uint64_t seed = spatial_test::test_seed(101);
+    SCOPED_TRACE(spatial_test::replay_hint(seed));
+    std::mt19937_64 rng(seed);
+    std::vector<O> objects;
+    for (int k = 0; k < 1200; ++k) objects.push_back(make_object<O>::random(rng, k));
+    Tree tree(objects.begin(), objects.end());
+    brute_force<O> oracle;
+    oracle.insert(objects.begin(), objects.end());
+    check_against_oracle(tree, oracle);
+    EXPECT_GT(tree.self_pairs().size(), 20u) << "too few pairs to test anything";
+
+    // Move 200, erase 100, insert 150: both containers keep slots in step (erase frees a
+    // slot, the next insert reuses it in both, LIFO).
+    std::vector<typename Tree::iterator> handles;
+    for (auto it = tree.begin(); it != tree.end(); ++it) handles.push_back(it);
+    std::vector<typename brute_force<O>::iterator> oracle_handles;
+    for (auto it = oracle.begin(); it != oracle.end(); ++it) oracle_handles.push_back(it);
+    for (int k = 0; k < 200; ++k) {
+        const auto i = static_cast<std::size_t>(k * 5);
+        const O moved = make_object<O>::random(rng, k + 1);
+        tree.update(handles[i], moved);
+        oracle.erase(oracle_handles[i]);
+        ASSERT_EQ(oracle.insert(moved).slot(), handles[i].slot());
+    }
+    for (int k = 0; k < 100; ++k) {
+        const auto i = static_cast<std::size_t>(k * 7 + 3);
+        tree.erase(handles[i]);
+        oracle.erase(oracle_handles[i]);  // same slot as handles[i] (a moved object reused it)
+    }
+    for (int k = 0; k < 150; ++k) {
+        const O x = make_object<O>::random(rng, k);
+        ASSERT_EQ(tree.insert(x).slot(), oracle.insert(x).slot());
+    }
+    ASSERT_EQ(tree.size(), oracle.size());
+    ASSERT_EQ(tree.check_invariants(), "");
+    check_against_oracle(tree, oracle);
+}
+
+TYPED_TEST(collide_pairs, bipartite_pairs_equal_brute_force) {
+    using Tree = TypeParam;
+    using O = typename Tree::value_type;
+    const std::uint64_t seed = spatial_test::test_seed(102);
+    SCOPED_TRACE(spatial_test::replay_hint(seed));
+    std::mt19937_64 rng(seed);
+    std::vector<O> a, b;
+    for (int k = 0; k < 700; ++k) a.push_back(make_object<O>::random(rng, k));
+    for (int k = 0; k < 500; ++k) b.push_back(make_object<O>::random(rng, k + 1));
+    Tree ta(a.begin(), a.end()), tb(b.begin(), b.end());
+    brute_force<O> oa, ob;
+    oa.insert(a.begin(), a.end());
+    ob.insert(b.begin(), b.end());
+    const auto want = slots_of(oa.pairs_with(ob));
+    EXPECT_GT(want.size(), 10u);
+    const auto tree_tree = ta.pairs_with(tb);
+    expect_well_formed(tree_tree, false);
+    EXPECT_EQ(slots_of(tree_tree), want);
+    const auto tree_other = ta.pairs_with(ob);  // generic path: box queries
+    expect_well_formed(tree_other, false);
+    EXPECT_EQ(slots_of(tree_other), want);
+    const auto cand = slots_of(ta.pairs_with(tb, pair_filter::candidates));
+    EXPECT_TRUE(std::includes(cand.begin(), cand.end(), want.begin(), want.end()));
+}
+
+TEST(collide_pairs_edge_cases, empty_single_and_identical_objects) {
+    bvh<B3> empty;
+    EXPECT_TRUE(empty.self_pairs().empty());
+    bvh<B3> one;
+    one.insert(B3(P3{{0, 0, 0}}, P3{{1, 1, 1}}));
+    EXPECT_TRUE(one.self_pairs().empty());
+    EXPECT_TRUE(one.pairs_with(empty).empty());
+    // 50 identical boxes: every one of the 50 * 49 / 2 pairs, once.
+    std::vector<B3> same(50, B3(P3{{0, 0, 0}}, P3{{1, 1, 1}}));
+    bvh<B3> tree(same.begin(), same.end());
+    EXPECT_EQ(tree.self_pairs().size(), 50u * 49u / 2u);
+    // Touching faces intersect (closed sets); a gap of one ulp does not.
+    bvh<B3> touching;
+    touching.insert(B3(P3{{0, 0, 0}}, P3{{1, 1, 1}}));
+    touching.insert(B3(P3{{1, 0, 0}}, P3{{2, 1, 1}}));
+    touching.insert(B3(P3{{std::nextafter(2.0, 3.0), 0, 0}}, P3{{3, 1, 1}}));
+    EXPECT_EQ(touching.self_pairs().size(), 1u);
+}
+
+}  // namespace
