@@ -1,5 +1,6 @@
 // Collision pairs (collide/pairs.hpp): bvh's self_pairs and pairs_with, for several bounding
-// volumes and both builders, against brute_force's O(n^2) oracle — the exact pair sets must
+// volumes and both builders — and the other structures' (kd_tree, octree, grids: through
+// their box queries) — against brute_force's O(n^2) oracle — the exact pair sets must
 // be IDENTICAL; candidate sets must contain them; every pair reported once, sorted, self
 // pairs as (lower slot, higher slot). Objects: boxes (3D and 2D, some on a grid so that
 // touching faces and duplicates occur), spheres, triangles (3D), points (duplicates only).
@@ -18,6 +19,10 @@
 #include "spatial/bv/sphere.hpp"
 #include "spatial/bvh/bvh.hpp"
 #include "spatial/collide/pairs.hpp"
+#include "spatial/grid/hashed_grid.hpp"
+#include "spatial/grid/uniform_grid.hpp"
+#include "spatial/kdtree/kd_tree.hpp"
+#include "spatial/octree/octree.hpp"
 #include "test_support.hpp"
 
 using namespace spatial;
@@ -178,6 +183,79 @@ TYPED_TEST(collide_pairs, bipartite_pairs_equal_brute_force) {
     EXPECT_EQ(slots_of(tree_other), want);
     const auto cand = slots_of(ta.pairs_with(tb, pair_filter::candidates));
     EXPECT_TRUE(std::includes(cand.begin(), cand.end(), want.begin(), want.end()));
+}
+
+// Containers allocate slots in their own order (kd_tree's bulk build does not follow the
+// input order), so across containers pair sets are compared as multisets of pairs of
+// object signatures (bounds per axis; identical objects are interchangeable).
+template <class Pairs>
+std::vector<std::pair<std::vector<double>, std::vector<double>>> signature_pairs(const Pairs& pairs) {
+    auto sig = [](const auto& x) {
+        std::vector<double> v;
+        for (std::size_t i = 0; i < std::decay_t<decltype(x)>::dimension; ++i)
+            v.push_back(static_cast<double>(object_lower(x, i))), v.push_back(static_cast<double>(object_upper(x, i)));
+        return v;
+    };
+    std::vector<std::pair<std::vector<double>, std::vector<double>>> out;
+    for (const auto& [a, b] : pairs) {
+        auto x = sig(*a), y = sig(*b);
+        if (y < x) std::swap(x, y);
+        out.emplace_back(std::move(x), std::move(y));
+    }
+    std::sort(out.begin(), out.end());
+    return out;
+}
+
+// Every other structure, through its box queries: the same exact sets as brute force,
+// before and after erases and inserts, and bipartite with brute force.
+template <class C>
+class collide_pairs_other : public ::testing::Test {};
+using others = ::testing::Types<kd_tree<B3>, octree<B3>, uniform_grid<B3>, hashed_grid<B3>,
+                                kd_tree<objects::triangle<double, 3>>, uniform_grid<objects::sphere<double, 3>>>;
+TYPED_TEST_SUITE(collide_pairs_other, others);
+
+TYPED_TEST(collide_pairs_other, self_and_bipartite_pairs_equal_brute_force) {
+    using C = TypeParam;
+    using O = typename C::value_type;
+    const std::uint64_t seed = spatial_test::test_seed(103);
+    SCOPED_TRACE(spatial_test::replay_hint(seed));
+    std::mt19937_64 rng(seed);
+    std::vector<O> objects;
+    for (int k = 0; k < 1000; ++k) objects.push_back(make_object<O>::random(rng, k));
+    C c;
+    c.insert(objects.begin(), objects.end());
+    brute_force<O> oracle;
+    oracle.insert(objects.begin(), objects.end());
+    auto check = [&] {
+        const auto exact = c.self_pairs();
+        expect_well_formed(exact, true);
+        const auto want = signature_pairs(oracle.self_pairs());
+        EXPECT_EQ(signature_pairs(exact), want);
+        const auto cand = signature_pairs(c.self_pairs(pair_filter::candidates));
+        EXPECT_TRUE(std::includes(cand.begin(), cand.end(), want.begin(), want.end()));
+        return want.size();
+    };
+    EXPECT_GT(check(), 20u);
+    std::vector<typename C::iterator> handles;
+    for (auto it = c.begin(); it != c.end(); ++it) handles.push_back(it);
+    for (int k = 0; k < 100; ++k) {  // erase one copy of the same value from both
+        const auto i = static_cast<std::size_t>(k * 9 + 1);
+        const O gone = *handles[i];
+        c.erase(handles[i]);
+        oracle.erase(oracle.find(gone));
+    }
+    for (int k = 0; k < 150; ++k) {
+        const O x = make_object<O>::random(rng, k);
+        c.insert(x);
+        oracle.insert(x);
+    }
+    ASSERT_EQ(c.size(), oracle.size());
+    check();
+    std::vector<O> more;
+    for (int k = 0; k < 300; ++k) more.push_back(make_object<O>::random(rng, k + 2));
+    brute_force<O> other;
+    other.insert(more.begin(), more.end());
+    EXPECT_EQ(signature_pairs(c.pairs_with(other)), signature_pairs(oracle.pairs_with(other)));
 }
 
 TEST(collide_pairs_edge_cases, empty_single_and_identical_objects) {

@@ -50,4 +50,24 @@ std::vector<std::pair<typename A::iterator, typename B::iterator>> pairs_between
     return out;
 }
 
+// Self pairs of any container through its own box queries: for each object a, the objects
+// its box query reports (they overlap a's bounding box) with a higher slot, then the narrow
+// phase when asked. Complete for the exact pairs: an object that meets a meets a's box.
+// Candidates here: pairs (a, b), slot(a) < slot(b), where b overlaps a's box. O(n box queries).
+template <class C>
+std::vector<std::pair<typename C::iterator, typename C::iterator>> self_pairs_by_queries(const C& c,
+                                                                                         pair_filter filter) {
+    std::vector<std::pair<typename C::iterator, typename C::iterator>> out;
+    using P = typename C::point_type;
+    for (auto it = c.begin(); it != c.end(); ++it) {
+        P lo, hi;
+        for (std::size_t i = 0; i < C::dimension; ++i) lo[i] = object_lower(*it, i), hi[i] = object_upper(*it, i);
+        for (const auto& other : c.find_in_box(lo, hi))
+            if (other.slot() > it.slot() && (filter == pair_filter::candidates || collide::narrow_phase(*it, *other)))
+                out.emplace_back(it, other);
+    }
+    sort_pairs(out);
+    return out;
+}
+
 }  // namespace spatial

@@ -46,6 +46,7 @@
 #include <utility>
 #include <vector>
 
+#include "spatial/collide/pairs.hpp"
 #include "spatial/core/container_concept.hpp"
 #include "spatial/core/input_checks.hpp"
 #include "spatial/core/intersect_info.hpp"
@@ -360,6 +361,18 @@ public:
     }
 
     // ---- STL basics and introspection ----------------------------------------------------
+    // ---- collision pairs (collide/pairs.hpp) ---------------------------------------------
+    // Through this structure's own box queries (self_pairs_by_queries / pairs_between):
+    // O(n box queries + candidates). A dedicated broad phase for this structure is future work.
+    std::vector<std::pair<iterator, iterator>> self_pairs(pair_filter filter = pair_filter::exact) const {
+        return self_pairs_by_queries(*this, filter);
+    }
+    template <class Other>
+    std::vector<std::pair<iterator, typename Other::iterator>> pairs_with(const Other& other,
+                                                                         pair_filter filter = pair_filter::exact) const {
+        return pairs_between(*this, other, filter);
+    }
+
     size_type size() const { return slots_.size(); }
     bool empty() const { return slots_.size() == 0; }
     iterator begin() const { return make(slots_.next_occupied(0)); }
