@@ -429,11 +429,34 @@ public:
 
     // ---- STL basics and introspection ----------------------------------------------------
     // ---- collision pairs (collide/pairs.hpp) ---------------------------------------------
-    // Through this structure's own box queries (self_pairs_by_queries / pairs_between):
-    // O(n box queries + candidates). A dedicated broad phase for this structure is future work.
+    // Self pairs by a cell join: every object is listed in each cell its box overlaps, so
+    // two objects whose boxes overlap share the cell holding the lower corner of the boxes'
+    // intersection (cell_of is monotone) — the pair is reported there only, hence once, with
+    // no hash set of seen pairs. Candidates: pairs whose boxes overlap; exact adds the narrow
+    // phase. O(sum over cells of (objects in the cell)^2): O(n + k) for objects about the
+    // cell size (the grid's heuristic) with k pairs.
     std::vector<std::pair<iterator, iterator>> self_pairs(pair_filter filter = pair_filter::exact) const {
-        return self_pairs_by_queries(static_cast<const Derived&>(*this), filter);
+        std::vector<std::pair<iterator, iterator>> out;
+        cells_.for_each_nonempty([&](const key& cell, const std::vector<slot_index>& list) {
+            for (std::size_t i = 0; i < list.size(); ++i)
+                for (std::size_t j = i + 1; j < list.size(); ++j) {
+                    const O& a = slots_.value(list[i]);
+                    const O& b = slots_.value(list[j]);
+                    bool here = true;
+                    for (std::size_t k = 0; k < D && here; ++k) {
+                        const T lo = std::max(object_lower(a, k), object_lower(b, k));
+                        const T hi = std::min(object_upper(a, k), object_upper(b, k));
+                        here = !(hi < lo) && cell_of(lo, k) == cell[k];
+                    }
+                    if (!here) continue;
+                    if (filter == pair_filter::exact && !collide::narrow_phase(a, b)) continue;
+                    out.emplace_back(make(std::min(list[i], list[j])), make(std::max(list[i], list[j])));
+                }
+        });
+        sort_pairs(out);
+        return out;
     }
+    // Bipartite: through this grid's box queries (pairs_between), O(|other| box queries).
     template <class Other>
     std::vector<std::pair<iterator, typename Other::iterator>> pairs_with(const Other& other,
                                                                          pair_filter filter = pair_filter::exact) const {
