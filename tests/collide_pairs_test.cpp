@@ -92,8 +92,9 @@ void expect_well_formed(const Pairs& pairs, bool self) {
     const auto s = slots_of(pairs);
     EXPECT_TRUE(std::is_sorted(s.begin(), s.end()));
     EXPECT_EQ(std::set<slot_pair>(s.begin(), s.end()).size(), s.size()) << "a pair reported twice";
-    if (self)
+    if (self) {
         for (const auto& [a, b] : s) EXPECT_LT(a, b);
+    }
 }
 
 template <class Tree>

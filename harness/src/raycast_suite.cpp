@@ -134,6 +134,35 @@ struct ray {
     point3 origin, direction;  // |direction| = 1
 };
 
+// One validated raycast row (rows are written only after validation passed); t gives the
+// repetitions and the spread, scaled like the value.
+result_row raycast_row(const context& ctx, const std::string& structure, const std::string& bv,
+                       const std::string& workload, std::size_t n, const std::string& operation,
+                       const std::string& params, const std::string& metric, double value, const std::string& unit,
+                       const timing_result* t, double scale) {
+    result_row r;
+    r.suite = "raycast";
+    r.structure = structure;
+    r.bv = bv;
+    r.workload = workload;
+    r.n = n;
+    r.dim = 3;
+    r.scalar = "double";
+    r.operation = operation;
+    r.params = params;
+    r.metric = metric;
+    r.value = value;
+    r.unit = unit;
+    r.validated = true;
+    r.run_id = ctx.run_id;
+    if (t) {
+        r.repetitions = t->repetitions;
+        r.min_value = t->min_seconds * scale;
+        r.max_value = t->max_seconds * scale;
+    }
+    return r;
+}
+
 struct ray_set {
     std::string kind;    // incoherent | coherent
     std::string params;  // CSV params column
@@ -346,27 +375,8 @@ private:
     result_row row(const ray_index<T>& s, const std::string& operation, const std::string& params,
                    const std::string& metric, double value, const std::string& unit,
                    const timing_result* t = nullptr, double scale = 1) const {
-        result_row r;
-        r.suite = "raycast";
-        r.structure = s.name();
-        r.bv = s.bv();
-        r.workload = label_;
-        r.n = triangles_.size();
-        r.dim = 3;
-        r.scalar = "double";
-        r.operation = operation;
-        r.params = params;
-        r.metric = metric;
-        r.value = value;
-        r.unit = unit;
-        r.validated = true;
-        r.run_id = ctx_.run_id;
-        if (t) {
-            r.repetitions = t->repetitions;
-            r.min_value = t->min_seconds * scale;
-            r.max_value = t->max_seconds * scale;
-        }
-        return r;
+        return raycast_row(ctx_, s.name(), s.bv(), label_, triangles_.size(), operation, params, metric, value, unit,
+                           t, scale);
     }
 
     void measure(std::vector<std::unique_ptr<ray_index<T>>>& structures) {
@@ -696,27 +706,7 @@ private:
     result_row row(const object_ray_index<O>& st, const std::string& operation, const std::string& params,
                    const std::string& metric, double value, const std::string& unit, const timing_result* t = nullptr,
                    double scale = 1) const {
-        result_row r;
-        r.suite = "raycast";
-        r.structure = st.name();
-        r.bv = st.bv();
-        r.workload = workload_;
-        r.n = n_;
-        r.dim = 3;
-        r.scalar = "double";
-        r.operation = operation;
-        r.params = params;
-        r.metric = metric;
-        r.value = value;
-        r.unit = unit;
-        r.validated = true;  // rows are written only after validation passed
-        r.run_id = ctx_.run_id;
-        if (t) {
-            r.repetitions = t->repetitions;
-            r.min_value = t->min_seconds * scale;
-            r.max_value = t->max_seconds * scale;
-        }
-        return r;
+        return raycast_row(ctx_, st.name(), st.bv(), workload_, n_, operation, params, metric, value, unit, t, scale);
     }
 
     context& ctx_;

@@ -24,6 +24,7 @@
 #include <vector>
 
 #include "harness/object_ray_index.hpp"
+#include "spatial/bv/rounding.hpp"
 #include "spatial/core/object_geometry.hpp"
 
 namespace harness {
@@ -38,17 +39,6 @@ namespace {
 bool count_user_bytes(void* user, ssize_t bytes, bool /*post*/) {
     static_cast<std::atomic<long long>*>(user)->fetch_add(static_cast<long long>(bytes), std::memory_order_relaxed);
     return true;
-}
-
-float float_below(double x) {
-    float f = static_cast<float>(x);
-    if (static_cast<double>(f) > x) f = std::nextafter(f, -std::numeric_limits<float>::infinity());
-    return f;
-}
-float float_above(double x) {
-    float f = static_cast<float>(x);
-    if (static_cast<double>(f) < x) f = std::nextafter(f, std::numeric_limits<float>::infinity());
-    return f;
 }
 
 template <class O>
@@ -122,7 +112,7 @@ public:
         rh.ray.dir_y = static_cast<float>(direction[1]);
         rh.ray.dir_z = static_cast<float>(direction[2]);
         rh.ray.tnear = 0.0f;
-        rh.ray.tfar = float_above(t_max);  // never below the exact limit: the callback decides
+        rh.ray.tfar = spatial::detail_rounding::round_up<float>(t_max);  // never below the exact limit: the callback decides
         rh.ray.time = 0.0f;
         rh.ray.mask = ~0u;
         rh.ray.id = 0;
@@ -151,12 +141,12 @@ private:
         const auto* self = static_cast<const embree_object_index*>(args->geometryUserPtr);
         const O& x = self->objects_[args->primID];
         RTCBounds* b = args->bounds_o;
-        b->lower_x = float_below(spatial::object_lower(x, 0) - self->grow_);
-        b->lower_y = float_below(spatial::object_lower(x, 1) - self->grow_);
-        b->lower_z = float_below(spatial::object_lower(x, 2) - self->grow_);
-        b->upper_x = float_above(spatial::object_upper(x, 0) + self->grow_);
-        b->upper_y = float_above(spatial::object_upper(x, 1) + self->grow_);
-        b->upper_z = float_above(spatial::object_upper(x, 2) + self->grow_);
+        b->lower_x = spatial::detail_rounding::round_down<float>(spatial::object_lower(x, 0) - self->grow_);
+        b->lower_y = spatial::detail_rounding::round_down<float>(spatial::object_lower(x, 1) - self->grow_);
+        b->lower_z = spatial::detail_rounding::round_down<float>(spatial::object_lower(x, 2) - self->grow_);
+        b->upper_x = spatial::detail_rounding::round_up<float>(spatial::object_upper(x, 0) + self->grow_);
+        b->upper_y = spatial::detail_rounding::round_up<float>(spatial::object_upper(x, 1) + self->grow_);
+        b->upper_z = spatial::detail_rounding::round_up<float>(spatial::object_upper(x, 2) + self->grow_);
     }
     static void intersect_one(const RTCIntersectFunctionNArguments* args) {
         const auto* self = static_cast<const embree_object_index*>(args->geometryUserPtr);
@@ -171,7 +161,7 @@ private:
             RTCRayN* ray = RTCRayHitN_RayN(args->rayhit, args->N);
             RTCHitN* hit = RTCRayHitN_HitN(args->rayhit, args->N);
             // Shorten the float ray to the exact hit (rounded up: nothing nearer is culled).
-            RTCRayN_tfar(ray, args->N, i) = std::min(RTCRayN_tfar(ray, args->N, i), float_above(info.hit_time));
+            RTCRayN_tfar(ray, args->N, i) = std::min(RTCRayN_tfar(ray, args->N, i), spatial::detail_rounding::round_up<float>(info.hit_time));
             RTCHitN_geomID(hit, args->N, i) = args->geomID;
             RTCHitN_primID(hit, args->N, i) = args->primID;
             RTCHitN_instID(hit, args->N, i, 0) = args->context->instID[0];

@@ -158,7 +158,7 @@ public:
         std::vector<std::pair<iterator, iterator>> out;
         for (slot_index s = slots_.next_occupied(0); s < slots_.capacity(); s = slots_.next_occupied(s + 1))
             for (slot_index t = slots_.next_occupied(s + 1); t < slots_.capacity(); t = slots_.next_occupied(t + 1))
-                if (boxes_overlap(slots_.value(s), slots_.value(t)) &&
+                if (object_boxes_overlap(slots_.value(s), slots_.value(t)) &&
                     (filter == pair_filter::candidates || collide::narrow_phase(slots_.value(s), slots_.value(t))))
                     out.emplace_back(make(s), make(t));
         return out;
@@ -170,7 +170,7 @@ public:
         std::vector<std::pair<iterator, typename Other::iterator>> out;
         for (slot_index s = slots_.next_occupied(0); s < slots_.capacity(); s = slots_.next_occupied(s + 1))
             for (auto it = other.begin(); it != other.end(); ++it)
-                if (boxes_overlap(slots_.value(s), *it) &&
+                if (object_boxes_overlap(slots_.value(s), *it) &&
                     (filter == pair_filter::candidates || collide::narrow_phase(slots_.value(s), *it)))
                     out.emplace_back(make(s), it);
         sort_pairs(out);
@@ -186,12 +186,6 @@ public:
 
 private:
     iterator make(slot_index s) const { return iterator(&slots_, s); }
-    template <class A, class B>
-    static bool boxes_overlap(const A& a, const B& b) {
-        for (std::size_t i = 0; i < A::dimension; ++i)
-            if (object_upper(a, i) < object_lower(b, i) || object_upper(b, i) < object_lower(a, i)) return false;
-        return true;
-    }
 
     slot_storage<O> slots_;
     scalar_type ray_thickness_ = 0;

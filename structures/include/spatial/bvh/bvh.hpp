@@ -322,10 +322,7 @@ public:
     }
     // Rebuilds the whole tree with the builder (iterators stay valid). O(n log n).
     void rebuild() {
-        nodes_.clear();
-        items_.clear();
-        free_pairs_.clear();
-        free_blocks_.clear();
+        clear_nodes();
         std::vector<item> its;
         its.reserve(slots_.size());
         for (slot_index s = slots_.next_occupied(0); s < slots_.capacity(); s = slots_.next_occupied(s + 1))
@@ -336,10 +333,7 @@ public:
         } else {
             build_subtree(root, its.data(), its.size());
         }
-        size_at_build_ = slots_.size();
-        updates_since_build_ = 0;
-        stale_ = false;
-        ++full_rebuilds_;
+        finish_build();
     }
 
     // The same tree as rebuild(), node for node, built on several threads (spatial::par):
@@ -356,10 +350,7 @@ public:
             rebuild();
             return;
         }
-        nodes_.clear();
-        items_.clear();
-        free_pairs_.clear();
-        free_blocks_.clear();
+        clear_nodes();
         std::vector<slot_index> occupied;
         occupied.reserve(slots_.size());
         for (slot_index s = slots_.next_occupied(0); s < slots_.capacity(); s = slots_.next_occupied(s + 1))
@@ -411,10 +402,7 @@ public:
                 pending.push_back(c);
             }
         if constexpr (wide_rays) wide_.reset();
-        size_at_build_ = slots_.size();
-        updates_since_build_ = 0;
-        stale_ = false;
-        ++full_rebuilds_;
+        finish_build();
     }
 
     // ---- lookup ----------------------------------------------------------------------
@@ -443,6 +431,8 @@ public:
     // parameter, and a node whose entry lies beyond the best hit so far is skipped.
     iterator intersect_object(const point_type& origin, const point_type& direction, scalar_type thickness,
                               info_type& info) const {
+        validate_ray(origin, direction, thickness);
+        require_fresh("bvh::intersect");
         bvh_stats st;
         const slot_index hit = cast_ray(origin, direction, thickness, info, st);
         stats_ = st;
@@ -481,10 +471,9 @@ private:
         detail::require_nonnegative(thickness, "bvh::intersect", "ray thickness");
     }
     // The slot of the first object hit (capacity() when none); st receives the statistics.
+    // The callers have validated the ray and checked that the tree is fresh.
     slot_index cast_ray(const point_type& origin, const point_type& direction, scalar_type thickness, info_type& info,
                         bvh_stats& st) const {
-        validate_ray(origin, direction, thickness);
-        require_fresh("bvh::intersect");
         const auto none = static_cast<slot_index>(slots_.capacity());
         if (slots_.size() == 0) return none;
         const T grow = thickness * (1 + 16 * eps) + slack(origin);
@@ -1124,11 +1113,21 @@ private:
     }
 
     // ================= storage of nodes and leaf blocks =====================================
-    void reset_to_empty() {
+    void clear_nodes() {
         nodes_.clear();
         items_.clear();
         free_pairs_.clear();
         free_blocks_.clear();
+    }
+    // The bookkeeping after a full build (rebuild() and rebuild(par)).
+    void finish_build() {
+        size_at_build_ = slots_.size();
+        updates_since_build_ = 0;
+        stale_ = false;
+        ++full_rebuilds_;
+    }
+    void reset_to_empty() {
+        clear_nodes();
         nodes_.push_back(node{});
         make_leaf(root, nullptr, 0);
         size_at_build_ = 0;
@@ -1224,16 +1223,25 @@ private:
         }
     }
     void fit_inner_from_items(node_index n, const item* f, std::size_t m) {
-        box_type b = box_type::empty();
+        box_type b;
+        fit_items(f, m, scratch_, b, nodes_[n].volume);
+        if constexpr (!volume_is_box) nodes_[n].own_box = b;
+    }
+    // The box of items [f, f + m) and the volume fitted to all their hull points (in item
+    // order), with a caller-owned scratch buffer (so concurrent planners can fit). For
+    // BV = aabb the volume is the box.
+    void fit_items(const item* f, std::size_t m, std::vector<bv_point>& scratch, box_type& box, BV& volume) const {
+        box = box_type::empty();
         for (std::size_t i = 0; i < m; ++i)
-            for (std::size_t k = 0; k < D; ++k) b.lo[k] = std::min(b.lo[k], f[i].lo[k]), b.hi[k] = std::max(b.hi[k], f[i].hi[k]);
+            for (std::size_t k = 0; k < D; ++k)
+                box.lo[k] = std::min(box.lo[k], f[i].lo[k]), box.hi[k] = std::max(box.hi[k], f[i].hi[k]);
         if constexpr (volume_is_box) {
-            nodes_[n].volume = b;
+            volume = box;
         } else {
-            nodes_[n].own_box = b;
-            scratch_.clear();
-            for (std::size_t i = 0; i < m; ++i) add_hull_points(slots_.value(f[i].slot));
-            nodes_[n].volume = bvh_detail::fit_volume<BV>(scratch_);
+            scratch.clear();
+            for (std::size_t i = 0; i < m; ++i)
+                object_hull_points(slots_.value(f[i].slot), [&](const auto& hp) { scratch.push_back(to_bv(hp)); });
+            volume = bvh_detail::fit_volume<BV>(scratch);
         }
     }
     void add_hull_points(const O& v) {
@@ -1253,19 +1261,8 @@ private:
     };
     split_record make_record(const item* base, std::size_t b, std::size_t m, std::size_t left,
                              std::vector<bv_point>& scratch) const {
-        split_record r{b, m, left, box_type::empty(), BV{}};
-        const item* f = base + b;
-        for (std::size_t i = 0; i < m; ++i)
-            for (std::size_t k = 0; k < D; ++k)
-                r.box.lo[k] = std::min(r.box.lo[k], f[i].lo[k]), r.box.hi[k] = std::max(r.box.hi[k], f[i].hi[k]);
-        if constexpr (volume_is_box) {
-            r.volume = r.box;
-        } else {
-            scratch.clear();
-            for (std::size_t i = 0; i < m; ++i)
-                object_hull_points(slots_.value(f[i].slot), [&](const auto& hp) { scratch.push_back(to_bv(hp)); });
-            r.volume = bvh_detail::fit_volume<BV>(scratch);
-        }
+        split_record r{b, m, left, box_type{}, BV{}};
+        fit_items(base + b, m, scratch, r.box, r.volume);
         return r;
     }
     // Chunks of records, each the preorder of a whole subtree or a single node, appended by

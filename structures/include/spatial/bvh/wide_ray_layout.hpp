@@ -42,21 +42,10 @@
 #include <immintrin.h>
 #endif
 
+#include "spatial/bv/rounding.hpp"
 #include "spatial/bvh/traversal_stack.hpp"
 
 namespace spatial::bvh_detail {
-
-// Nearest float not above / not below x (x finite or infinite).
-inline float float_down(double x) {
-    float f = static_cast<float>(x);
-    if (static_cast<double>(f) > x) f = std::nextafter(f, -std::numeric_limits<float>::infinity());
-    return f;
-}
-inline float float_up(double x) {
-    float f = static_cast<float>(x);
-    if (static_cast<double>(f) < x) f = std::nextafter(f, std::numeric_limits<float>::infinity());
-    return f;
-}
 
 // SIMD lanes (GCC/Clang vector extensions: element-wise arithmetic and comparisons, lowered
 // to SSE / AVX / NEON as the target allows).
@@ -112,7 +101,7 @@ public:
         std::vector<task> todo;
         nodes_.push_back(empty_node());
         if (tree.is_leaf(tree.root())) {
-            set_lane(tree, nodes_[0], 0, tree.root(), todo);
+            set_lane(tree, 0, 0, tree.root(), todo);
         } else {
             todo.push_back({tree.root(), 0});
         }
@@ -137,7 +126,7 @@ public:
                 kids[best] = tree.left(opened);
                 kids[k++] = tree.left(opened) + 1;
             }
-            for (std::size_t i = 0; i < k; ++i) set_lane(tree, nodes_[tk.wide], i, kids[i], todo);
+            for (std::size_t i = 0; i < k; ++i) set_lane(tree, tk.wide, i, kids[i], todo);
         }
     }
 
@@ -195,12 +184,12 @@ public:
         };
         traversal_stack<entry> stack;
         object_index hit = no_object;
-        float limit = float_up(static_cast<double>(info.hit_time));
+        float limit = detail_rounding::round_up<float>(static_cast<double>(info.hit_time));
         auto test_leaf = [&](std::uint32_t first, std::uint32_t count) {
             tested += count;
             for (std::uint32_t i = first; i < first + count; ++i)
                 if (test(objects_[i])) hit = i;
-            if (hit != no_object) limit = float_up(static_cast<double>(info.hit_time));
+            if (hit != no_object) limit = detail_rounding::round_up<float>(static_cast<double>(info.hit_time));
         };
         entry cur{0, 0, 0.0f};
         for (;;) {
@@ -308,13 +297,12 @@ private:
     // Fills lane i of wide node `parent` with binary node n: a leaf's objects are copied now,
     // an inner node gets a wide node of its own (filled later from `todo`).
     template <class Tree, class Task>
-    void set_lane(const Tree& tree, wide_node& parent_ref, std::size_t i, typename Tree::node_index n,
+    void set_lane(const Tree& tree, std::size_t parent, std::size_t i, typename Tree::node_index n,
                   std::vector<Task>& todo) {
-        // parent_ref may dangle once nodes_ grows: remember its index.
-        const auto parent = static_cast<std::size_t>(&parent_ref - nodes_.data());
+        // By index: nodes_ may grow (and move) below.
         for (std::size_t a = 0; a < D; ++a) {
-            nodes_[parent].lo[a][i] = float_down(static_cast<double>(tree.lower(n, a)));
-            nodes_[parent].hi[a][i] = float_up(static_cast<double>(tree.upper(n, a)));
+            nodes_[parent].lo[a][i] = detail_rounding::round_down<float>(static_cast<double>(tree.lower(n, a)));
+            nodes_[parent].hi[a][i] = detail_rounding::round_up<float>(static_cast<double>(tree.upper(n, a)));
         }
         if (tree.is_leaf(n)) {
             const std::size_t m = tree.leaf_size(n);

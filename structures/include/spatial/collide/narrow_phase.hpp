@@ -117,10 +117,7 @@ bool objects_intersect(const objects::box<T, D>& b, const objects::triangle<T, D
 // Anything else: the bounding boxes overlap (conservative).
 template <stored_object A, stored_object B>
 bool objects_intersect(const A& a, const B& b) {
-    static_assert(A::dimension == B::dimension, "objects_intersect: objects of different dimensions");
-    for (std::size_t i = 0; i < A::dimension; ++i)
-        if (object_upper(a, i) < object_lower(b, i) || object_upper(b, i) < object_lower(a, i)) return false;
-    return true;
+    return object_boxes_overlap(a, b);
 }
 
 // The call every structure makes: finds user overloads by argument-dependent lookup, the

@@ -31,6 +31,14 @@ void sort_pairs(std::vector<std::pair<ItA, ItB>>& pairs) {
     });
 }
 
+namespace detail {
+// The corners of an object's bounding box as points of container C.
+template <class C, class Obj>
+void object_box_corners(const Obj& x, typename C::point_type& lo, typename C::point_type& hi) {
+    for (std::size_t i = 0; i < C::dimension; ++i) lo[i] = object_lower(x, i), hi[i] = object_upper(x, i);
+}
+}  // namespace detail
+
 // Bipartite pairs between any two containers: for each object of b, the objects of a whose
 // intersection with its bounding box a's own box query reports (find_in_box: the object
 // overlaps the box), then the narrow phase when asked. O(|b| * (box query of a)).
@@ -42,7 +50,7 @@ std::vector<std::pair<typename A::iterator, typename B::iterator>> pairs_between
     using PA = typename A::point_type;
     for (auto it = b.begin(); it != b.end(); ++it) {
         PA lo, hi;
-        for (std::size_t i = 0; i < A::dimension; ++i) lo[i] = object_lower(*it, i), hi[i] = object_upper(*it, i);
+        detail::object_box_corners<A>(*it, lo, hi);
         for (const auto& ia : a.find_in_box(lo, hi))
             if (filter == pair_filter::candidates || collide::narrow_phase(*ia, *it)) out.emplace_back(ia, it);
     }
@@ -61,7 +69,7 @@ std::vector<std::pair<typename C::iterator, typename C::iterator>> self_pairs_by
     using P = typename C::point_type;
     for (auto it = c.begin(); it != c.end(); ++it) {
         P lo, hi;
-        for (std::size_t i = 0; i < C::dimension; ++i) lo[i] = object_lower(*it, i), hi[i] = object_upper(*it, i);
+        detail::object_box_corners<C>(*it, lo, hi);
         for (const auto& other : c.find_in_box(lo, hi))
             if (other.slot() > it.slot() && (filter == pair_filter::candidates || collide::narrow_phase(*it, *other)))
                 out.emplace_back(it, other);

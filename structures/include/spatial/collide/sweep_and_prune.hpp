@@ -107,7 +107,7 @@ public:
             const O& x = slots_.value(a.slot);
             for (std::size_t j = i + 1; j < n && order_[j].lo <= a.hi; ++j) {
                 const O& y = slots_.value(order_[j].slot);
-                if (!boxes_overlap(x, y)) continue;
+                if (!object_boxes_overlap(x, y)) continue;
                 if (filter == pair_filter::exact && !collide::narrow_phase(x, y)) continue;
                 slot_index s = a.slot, t = order_[j].slot;
                 if (s > t) std::swap(s, t);
@@ -131,11 +131,6 @@ private:
         slot_index slot;
     };
     iterator make(slot_index s) const { return iterator(&slots_, s); }
-    static bool boxes_overlap(const O& a, const O& b) {
-        for (std::size_t i = 0; i < dimension; ++i)
-            if (object_upper(a, i) < object_lower(b, i) || object_upper(b, i) < object_lower(a, i)) return false;
-        return true;
-    }
     // Brings order_ up to date: drops erased slots, adds new ones, refreshes every interval
     // on the (possibly new) sweep axis, and restores the sort by insertion sort.
     void refresh_order() const {

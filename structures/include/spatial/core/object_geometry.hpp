@@ -75,6 +75,16 @@ bool object_box_overlaps_box(const O& o, const point_type_of<O>& lo, const point
     return true;
 }
 
+// Do the bounding boxes of two objects (of any stored types, same dimension) overlap? Closed:
+// touching boxes overlap. The broad phases' final candidate test. O(D).
+template <stored_object A, stored_object B>
+bool object_boxes_overlap(const A& a, const B& b) {
+    static_assert(A::dimension == B::dimension, "object_boxes_overlap: objects of different dimensions");
+    for (std::size_t i = 0; i < A::dimension; ++i)
+        if (object_upper(a, i) < object_lower(b, i) || object_upper(b, i) < object_lower(a, i)) return false;
+    return true;
+}
+
 template <stored_object O>
 bool object_overlaps_box(const O& o, const point_type_of<O>& lo, const point_type_of<O>& hi) {
     if constexpr (!bounded_object<O>) return in_closed_box(o, lo, hi);
