@@ -18,6 +18,7 @@
 #include "spatial/bv/obb.hpp"
 #include "spatial/bv/sphere.hpp"
 #include "spatial/bvh/bvh.hpp"
+#include "spatial/collide/collision_grid.hpp"
 #include "spatial/collide/pairs.hpp"
 #include "spatial/collide/sweep_and_prune.hpp"
 #include "spatial/grid/hashed_grid.hpp"
@@ -260,15 +261,16 @@ TYPED_TEST(collide_pairs_other, self_and_bipartite_pairs_equal_brute_force) {
     EXPECT_EQ(signature_pairs(c.pairs_with(other)), signature_pairs(oracle.pairs_with(other)));
 }
 
-// sweep_and_prune keeps slots in step with brute_force (both allocate in order, LIFO reuse),
-// so pair sets compare slot for slot — also after small motions (few repair swaps), large
-// ones, erases and inserts, and when the sweep axis changes.
-template <class O>
-void check_sweep_and_prune(std::uint64_t seed) {
+// The handle structures (sweep_and_prune, collision_grid) keep slots in step with
+// brute_force (all allocate in order, LIFO reuse), so pair sets compare slot for slot — also
+// after small motions, large ones, erases and inserts, and (sweep_and_prune) when the sweep
+// axis changes.
+template <template <class> class S, class O>
+void check_handle_structure(std::uint64_t seed) {
     std::mt19937_64 rng(seed);
     std::vector<O> objects;
     for (int k = 0; k < 1500; ++k) objects.push_back(make_object<O>::random(rng, k));
-    sweep_and_prune<O> sap(objects.begin(), objects.end());
+    S<O> sap(objects.begin(), objects.end());
     brute_force<O> oracle;
     oracle.insert(objects.begin(), objects.end());
     auto check = [&] {
@@ -281,7 +283,7 @@ void check_sweep_and_prune(std::uint64_t seed) {
         return want.size();
     };
     EXPECT_GT(check(), 20u);
-    std::vector<typename sweep_and_prune<O>::iterator> handles;
+    std::vector<typename S<O>::iterator> handles;
     for (auto it = sap.begin(); it != sap.end(); ++it) handles.push_back(it);
     std::vector<typename brute_force<O>::iterator> oracle_handles;
     for (auto it = oracle.begin(); it != oracle.end(); ++it) oracle_handles.push_back(it);
@@ -301,18 +303,42 @@ void check_sweep_and_prune(std::uint64_t seed) {
         ASSERT_EQ(sap.insert(x).slot(), oracle.insert(x).slot());
     }
     check();
-    // No motion at all: the order is already sorted, the repair makes no swap.
-    (void)sap.self_pairs();
-    EXPECT_EQ(sap.last_repair_swaps(), 0u);
+    // Bipartite against a brute_force and (same structure) against another instance.
+    std::vector<O> more;
+    for (int k = 0; k < 400; ++k) more.push_back(make_object<O>::random(rng, k + 1));
+    brute_force<O> other_oracle(more.begin(), more.end());
+    const S<O> other(more.begin(), more.end());
+    const auto want = slots_of(oracle.pairs_with(other_oracle));
+    EXPECT_EQ(slots_of(sap.pairs_with(other_oracle)), want);
+    EXPECT_EQ(slots_of(sap.pairs_with(other)), want);
+    if constexpr (requires { sap.grid_stats(); }) {  // one grid over both sets: box overlap exactly
+        EXPECT_EQ(slots_of(sap.pairs_with(other, pair_filter::candidates)),
+                  slots_of(oracle.pairs_with(other_oracle, pair_filter::candidates)));
+    }
+    if constexpr (requires { sap.last_repair_swaps(); }) {
+        // No motion at all: the order is already sorted, the repair makes no swap.
+        (void)sap.self_pairs();
+        EXPECT_EQ(sap.last_repair_swaps(), 0u);
+    }
 }
 
 TEST(collide_sweep_and_prune, pairs_equal_brute_force_for_boxes_spheres_and_triangles) {
     const std::uint64_t seed = spatial_test::test_seed(104);
     SCOPED_TRACE(spatial_test::replay_hint(seed));
-    check_sweep_and_prune<B3>(seed);
-    check_sweep_and_prune<objects::box<float, 2>>(seed);
-    check_sweep_and_prune<objects::sphere<double, 3>>(seed);
-    check_sweep_and_prune<objects::triangle<double, 3>>(seed);
+    check_handle_structure<sweep_and_prune, B3>(seed);
+    check_handle_structure<sweep_and_prune, objects::box<float, 2>>(seed);
+    check_handle_structure<sweep_and_prune, objects::sphere<double, 3>>(seed);
+    check_handle_structure<sweep_and_prune, objects::triangle<double, 3>>(seed);
+}
+
+TEST(collide_collision_grid, pairs_equal_brute_force_for_boxes_spheres_triangles_and_points) {
+    const std::uint64_t seed = spatial_test::test_seed(105);
+    SCOPED_TRACE(spatial_test::replay_hint(seed));
+    check_handle_structure<collision_grid, B3>(seed);
+    check_handle_structure<collision_grid, objects::box<float, 2>>(seed);
+    check_handle_structure<collision_grid, objects::sphere<double, 3>>(seed);
+    check_handle_structure<collision_grid, objects::triangle<double, 3>>(seed);
+    check_handle_structure<collision_grid, P3>(seed);  // all extents zero, many duplicates
 }
 
 TEST(collide_sweep_and_prune, coherent_motion_needs_few_swaps_and_the_axis_follows_the_spread) {

@@ -75,6 +75,7 @@
 #include "spatial/core/intersect_info.hpp"
 #include "spatial/core/knn_result_set.hpp"
 #include "spatial/core/lazy_snapshot.hpp"
+#include "spatial/core/motion.hpp"
 #include "spatial/core/object_concepts.hpp"
 #include "spatial/core/object_geometry.hpp"
 #include "spatial/core/parallel.hpp"
@@ -100,6 +101,12 @@ struct bvh_config {
     // inserts + erases.
     static constexpr double rebuild_factor = 1.0;
     static constexpr std::size_t min_rebuild_updates = 32;
+    // Motion, automatic strategy (update(first, last)): reinsert the moved objects when at
+    // most reinsert_fraction of the tree moved; otherwise refit, and rebuild once the refitted
+    // tree's node-box area (relative to the root's) exceeds refit_quality_limit times its
+    // value at the last build. Measured in results/collide.csv (refit_decay rows).
+    static constexpr double reinsert_fraction = 1.0 / 32;
+    static constexpr double refit_quality_limit = 1.3;
     // BV = aabb only: cast rays on a 4-wide single-precision copy of the tree with the
     // objects in leaf order (bvh/wide_ray_layout.hpp), built on the first ray cast after a
     // change or by prepare_rays(). Same answers; costs a copy of the objects.
@@ -311,6 +318,70 @@ public:
         else stale_ = true;
         return make(s2);
     }
+    // Incremental reinsertion of one moved object: it leaves its leaf (as by erase; the
+    // path is refitted) and is placed again by the greedy descent from the root (as by
+    // insert), so the tree adapts to the new position instead of stretching a node over the
+    // old and new ones. The iterator stays valid. O(depth) plus leaf fits.
+    iterator reinsert(const_iterator pos, const O& v) {
+        detail::require_finite_object(v, "bvh::reinsert");
+        if (pos == end() || !slots_.occupied(pos.slot()))
+            throw std::invalid_argument("bvh::reinsert: the iterator does not refer to a stored element");
+        ensure_fresh();
+        const slot_index s = pos.slot();
+        remove_from_leaf(s);
+        slots_.release(s);
+        const slot_index s2 = slots_.allocate(v, 0);  // LIFO free list: s2 == s
+        place(s2, root);
+        return make(s2);
+    }
+    // Moves many objects: [first, last) yields (iterator, new object) pairs; the tree is
+    // restored by `strategy` (core/motion.hpp). Every object is validated before any is
+    // replaced, so a NaN leaves the tree unchanged. Iterators stay valid.
+    //   refit O(n + m), rebuild O(n log n), reinsert O(m depth);
+    //   automatic: reinsert if m <= reinsert_fraction * n, else refit, then rebuild if the
+    //   refitted tree's quality() exceeds refit_quality_limit * quality at the last build.
+    // Returns the strategy that ran (automatic resolves to one of the three).
+    template <class PairIt>
+    motion_strategy update(PairIt first, PairIt last, motion_strategy strategy = motion_strategy::automatic) {
+        std::size_t m = 0;
+        for (auto it = first; it != last; ++it, ++m) {
+            detail::require_finite_object(it->second, "bvh::update(first, last)");
+            if (it->first == end() || !slots_.occupied(it->first.slot()))
+                throw std::invalid_argument("bvh::update(first, last): an iterator does not refer to a stored element");
+        }
+        if (m == 0) return strategy == motion_strategy::automatic ? motion_strategy::refit : strategy;
+        const bool automatic = strategy == motion_strategy::automatic;
+        if (automatic)
+            strategy = static_cast<double>(m) <= Config::reinsert_fraction * static_cast<double>(slots_.size())
+                           ? motion_strategy::reinsert
+                           : motion_strategy::refit;
+        if (strategy == motion_strategy::reinsert) {
+            for (auto it = first; it != last; ++it) reinsert(it->first, it->second);
+            return strategy;
+        }
+        for (auto it = first; it != last; ++it) update(it->first, it->second, false);
+        if (strategy == motion_strategy::rebuild) {
+            rebuild();
+            return strategy;
+        }
+        refit();
+        if (automatic && quality() > Config::refit_quality_limit * quality_at_build_) {
+            rebuild();
+            return motion_strategy::rebuild;
+        }
+        return motion_strategy::refit;
+    }
+    // The tree's SAH quality: the sum of its nodes' box surface areas divided by the
+    // root's (the expected number of nodes a random ray through the root enters, MacDonald
+    // & Booth 1990). Lower is better; it grows as a refitted tree ages. O(nodes).
+    double quality() const {
+        const double root_area = static_cast<double>(box_of(nodes_[root]).surface_area());
+        if (!(root_area > 0)) return 1;
+        return node_surface_areas().second / root_area;
+    }
+    // quality() right after the last full build.
+    double quality_at_build() const { return quality_at_build_; }
+
     // Recomputes every node volume bottom-up: leaves fitted to their objects, inner nodes
     // merged from their children. O(n) fits of leaf_size objects plus O(nodes) merges.
     // The topology is kept (rebuild() re-optimises it).
@@ -1125,6 +1196,7 @@ private:
         updates_since_build_ = 0;
         stale_ = false;
         ++full_rebuilds_;
+        quality_at_build_ = quality();
     }
     void reset_to_empty() {
         clear_nodes();
@@ -1144,6 +1216,7 @@ private:
         std::swap(updates_since_build_, o.updates_since_build_);
         std::swap(full_rebuilds_, o.full_rebuilds_);
         std::swap(stale_, o.stale_);
+        std::swap(quality_at_build_, o.quality_at_build_);
         std::swap(ray_thickness_, o.ray_thickness_);
         if constexpr (wide_rays) wide_.swap(o.wide_);
     }
@@ -1461,6 +1534,7 @@ private:
     std::vector<bv_point> scratch_;  // hull points of the node being fitted (no allocation per fit)
     std::size_t size_at_build_ = 0, updates_since_build_ = 0, full_rebuilds_ = 0;
     bool stale_ = false;
+    double quality_at_build_ = 1;
     scalar_type ray_thickness_ = 0;
     mutable bvh_stats stats_;
     struct no_layout {};

@@ -1,0 +1,175 @@
+#pragma once
+// spatial::collision_grid<O> — a broad-phase structure for scenes where most objects move
+// every step: it stores the objects with stable handles and answers each pair query with a
+// grid REBUILT from scratch by counting sort (collide/cell_sort_grid.hpp). Nothing is
+// maintained between queries, so moving an object is O(1) and the whole pair query is
+// O(n + e + k) on boxes of similar size (e cell entries, k overlapping pairs) — cheaper than
+// repairing any dynamic index when a sizeable fraction of the objects moved.
+//
+// Semantics as every structure's pair queries (collide/pairs.hpp): each pair once, self
+// pairs as (lower slot, higher slot), sorted by slot; candidates = closed bounding boxes
+// overlap; exact adds collide::narrow_phase. Box range queries are a linear scan (this is a
+// collision structure, not a general index). Queries are const but reuse mutable scratch
+// buffers: concurrent queries on one object race.
+
+#include <cstddef>
+#include <stdexcept>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include "spatial/collide/cell_sort_grid.hpp"
+#include "spatial/collide/pairs.hpp"
+#include "spatial/core/input_checks.hpp"
+#include "spatial/core/object_concepts.hpp"
+#include "spatial/core/object_geometry.hpp"
+#include "spatial/core/slot_storage.hpp"
+
+namespace spatial {
+
+template <stored_object O>
+class collision_grid {
+public:
+    using value_type = O;
+    using scalar_type = typename O::scalar_type;
+    using point_type = point_type_of<O>;
+    using size_type = std::size_t;
+    using iterator = slot_iterator<O>;
+    using const_iterator = iterator;
+    static constexpr std::size_t dimension = O::dimension;
+    using bounds = collide::box_bounds<scalar_type, dimension>;
+
+    explicit collision_grid(collide::cell_sort_grid_config config = {}) : grid_(config) {}
+    template <class InputIt>
+    collision_grid(InputIt first, InputIt last, collide::cell_sort_grid_config config = {}) : grid_(config) {
+        insert(first, last);
+    }
+
+    // O(1).
+    iterator insert(const O& x) {
+        detail::require_finite_object(x, "collision_grid::insert");
+        return make(slots_.allocate(x, 1));
+    }
+    // Validates the whole batch before storing any of it. O(m).
+    template <class InputIt>
+    void insert(InputIt first, InputIt last) {
+        const std::vector<O> batch(first, last);
+        for (const O& x : batch) detail::require_finite_object(x, "collision_grid::insert(first, last)");
+        slots_.require_room_for(batch.size(), "collision_grid::insert(first, last)");
+        for (const O& x : batch) slots_.allocate(x, 1);
+    }
+    // O(1). Returns the next element in iteration order.
+    iterator erase(const_iterator pos) {
+        check(pos, "collision_grid::erase");
+        const slot_index s = pos.slot();
+        slots_.release(s);
+        return make(slots_.next_occupied(s + 1));
+    }
+    // Moves the object at pos (same handle). O(1).
+    iterator update(const_iterator pos, const O& x) {
+        detail::require_finite_object(x, "collision_grid::update");
+        check(pos, "collision_grid::update");
+        const slot_index s = pos.slot();
+        slots_.release(s);
+        slots_.allocate(x, 1);  // LIFO free list: the same slot
+        return make(s);
+    }
+    void clear() { slots_.clear(); }
+
+    size_type size() const { return slots_.size(); }
+    bool empty() const { return slots_.size() == 0; }
+    iterator begin() const { return make(slots_.next_occupied(0)); }
+    iterator end() const { return make(static_cast<slot_index>(slots_.capacity())); }
+    std::size_t memory_bytes() const {
+        return sizeof(*this) + slots_.memory_bytes() + grid_.memory_bytes() + boxes_.capacity() * sizeof(bounds) +
+               (slot_of_.capacity() + other_slot_of_.capacity()) * sizeof(slot_index) +
+               other_boxes_.capacity() * sizeof(bounds);
+    }
+    // Every stored object overlapping the closed box: a linear scan, O(n).
+    std::vector<iterator> find_in_box(const point_type& lo, const point_type& hi) const {
+        std::vector<iterator> out;
+        for (auto it = begin(); it != end(); ++it)
+            if (object_overlaps_box(*it, lo, hi)) out.push_back(it);
+        return out;
+    }
+
+    // Pairs of distinct stored objects (collide/pairs.hpp). O(n + e + k) plus sorting k.
+    std::vector<std::pair<iterator, iterator>> self_pairs(pair_filter filter = pair_filter::exact) const {
+        std::vector<std::pair<iterator, iterator>> out;
+        for_each_self_pair(filter, [&](iterator a, iterator b) { out.emplace_back(a, b); });
+        sort_pairs(out);
+        return out;
+    }
+    // The same pairs, unsorted (in the grid's deterministic order), to a callback f(a, b)
+    // with a.slot() < b.slot(): no result vector, no sort (what a simulation loop wants).
+    template <class F>
+    void for_each_self_pair(pair_filter filter, F&& f) const {
+        gather(*this, boxes_, slot_of_);
+        grid_.self_pairs(boxes_, [&](std::uint32_t i, std::uint32_t j) {
+            slot_index s = slot_of_[i], t = slot_of_[j];
+            if (filter == pair_filter::exact && !collide::narrow_phase(slots_.value(s), slots_.value(t))) return;
+            if (s > t) std::swap(s, t);
+            f(make(s), make(t));
+        });
+    }
+    // Bipartite pairs. With another collision_grid, one grid over both sets; otherwise the
+    // generic pairs_between (other's box queries).
+    template <class Other>
+    std::vector<std::pair<iterator, typename Other::iterator>> pairs_with(const Other& other,
+                                                                         pair_filter filter = pair_filter::exact) const {
+        if constexpr (requires { other.grid_stats(); other.gather_into(boxes_, slot_of_); }) {
+            std::vector<std::pair<iterator, typename Other::iterator>> out;
+            gather(*this, boxes_, slot_of_);
+            other.gather_into(other_boxes_, other_slot_of_);
+            grid_.bipartite_pairs(boxes_, other_boxes_, [&](std::uint32_t i, std::uint32_t j) {
+                const slot_index s = slot_of_[i], t = other_slot_of_[j];
+                const auto ot = other.make_iterator(t);
+                if (filter == pair_filter::exact && !collide::narrow_phase(slots_.value(s), *ot)) return;
+                out.emplace_back(make(s), ot);
+            });
+            sort_pairs(out);
+            return out;
+        } else {
+            return pairs_between(*this, other, filter);
+        }
+    }
+    // Statistics of the last pair query (cells, entries, pairs looked at, cell size).
+    const typename collide::cell_sort_grid<scalar_type, dimension>::query_stats& grid_stats() const {
+        return grid_.last_query_stats();
+    }
+
+    // For pairs_with between two collision_grids of possibly different object types.
+    template <class Bounds>
+    void gather_into(std::vector<Bounds>& boxes, std::vector<slot_index>& slot_of) const {
+        gather(*this, boxes, slot_of);
+    }
+    iterator make_iterator(slot_index s) const { return make(s); }
+
+private:
+    template <class Self, class Bounds>
+    static void gather(const Self& self, std::vector<Bounds>& boxes, std::vector<slot_index>& slot_of) {
+        boxes.clear();
+        slot_of.clear();
+        boxes.reserve(self.slots_.size());
+        slot_of.reserve(self.slots_.size());
+        for (slot_index s = self.slots_.next_occupied(0); s < self.slots_.capacity(); s = self.slots_.next_occupied(s + 1)) {
+            const O& x = self.slots_.value(s);
+            Bounds b;
+            for (std::size_t i = 0; i < dimension; ++i) b.lo[i] = object_lower(x, i), b.hi[i] = object_upper(x, i);
+            boxes.push_back(b);
+            slot_of.push_back(s);
+        }
+    }
+    void check(const_iterator pos, const char* what) const {
+        if (pos == end() || !slots_.occupied(pos.slot()))
+            throw std::invalid_argument(std::string(what) + ": the iterator does not refer to a stored element");
+    }
+    iterator make(slot_index s) const { return iterator(&slots_, s); }
+
+    slot_storage<O> slots_;
+    mutable collide::cell_sort_grid<scalar_type, dimension> grid_;
+    mutable std::vector<bounds> boxes_, other_boxes_;
+    mutable std::vector<slot_index> slot_of_, other_slot_of_;
+};
+
+}  // namespace spatial

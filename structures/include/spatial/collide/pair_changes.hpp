@@ -1,0 +1,53 @@
+#pragma once
+// spatial::collide::pair_set_tracker<Id> — the pair set of a moving scene kept from step to
+// step, with the pairs that appeared and disappeared this step (what a simulation reacts
+// to: contact begin / contact end).
+//
+// The tracker stores the current set sorted; each step's new set (from any structure's
+// self_pairs / pairs_with, mapped to ids the caller keeps stable for an object's life) is
+// sorted and merged against it: added = new \ old, removed = old \ new, O(p log p + p_old)
+// for p pairs. Ids must not be reused while a pair holding them is in the set: a
+// structure's slot index is NOT such an id once objects are erased and inserted (a new
+// object may take an erased object's slot), so the scene runner uses its own object ids.
+
+#include <algorithm>
+#include <iterator>
+#include <utility>
+#include <vector>
+
+namespace spatial::collide {
+
+template <class Id>
+class pair_set_tracker {
+public:
+    using pair_type = std::pair<Id, Id>;
+
+    // Replaces the current set by `pairs` (any order; (a, b) and (b, a) are the same pair
+    // for self pairs only if the caller normalises them — self_pairs() already reports
+    // (lower, higher)). Returns the number of pairs that changed (added + removed).
+    std::size_t step(std::vector<pair_type> pairs) {
+        std::sort(pairs.begin(), pairs.end());
+        pairs.erase(std::unique(pairs.begin(), pairs.end()), pairs.end());
+        added_.clear();
+        removed_.clear();
+        std::set_difference(pairs.begin(), pairs.end(), current_.begin(), current_.end(), std::back_inserter(added_));
+        std::set_difference(current_.begin(), current_.end(), pairs.begin(), pairs.end(), std::back_inserter(removed_));
+        current_ = std::move(pairs);
+        return added_.size() + removed_.size();
+    }
+    void clear() {
+        current_.clear();
+        added_.clear();
+        removed_.clear();
+    }
+    // The current set, sorted.
+    const std::vector<pair_type>& pairs() const { return current_; }
+    // Pairs in the current set that were not in the previous one, and the reverse; sorted.
+    const std::vector<pair_type>& added() const { return added_; }
+    const std::vector<pair_type>& removed() const { return removed_; }
+
+private:
+    std::vector<pair_type> current_, added_, removed_;
+};
+
+}  // namespace spatial::collide

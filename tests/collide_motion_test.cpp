@@ -1,0 +1,270 @@
+// Collision under motion: the counting-sort grid (collide/cell_sort_grid.hpp) against an
+// O(n^2) loop on hard inputs (touching faces on an integer grid, identical boxes, zero
+// extents, one huge box, heavy-tailed sizes, 2D and 3D, bipartite); the BVH's motion API
+// (update(first, last, strategy) with refit / rebuild / reinsert / automatic) against
+// brute force over many steps; and the pair-set tracker's added / removed sets.
+// Seeds are logged.
+
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <random>
+#include <set>
+#include <vector>
+
+#include "spatial/brute/brute_force.hpp"
+#include "spatial/bv/obb.hpp"
+#include "spatial/bv/sphere.hpp"
+#include "spatial/bvh/bvh.hpp"
+#include "spatial/collide/cell_sort_grid.hpp"
+#include "spatial/collide/pair_changes.hpp"
+#include "test_support.hpp"
+
+using namespace spatial;
+
+namespace {
+
+using pair32 = std::pair<std::uint32_t, std::uint32_t>;
+
+template <class T, std::size_t D>
+std::vector<pair32> brute_pairs(const std::vector<collide::box_bounds<T, D>>& a,
+                                const std::vector<collide::box_bounds<T, D>>* b = nullptr) {
+    std::vector<pair32> out;
+    if (b == nullptr) {
+        for (std::uint32_t i = 0; i < a.size(); ++i)
+            for (std::uint32_t j = i + 1; j < a.size(); ++j)
+                if (collide::closed_boxes_overlap(a[i], a[j])) out.emplace_back(i, j);
+    } else {
+        for (std::uint32_t i = 0; i < a.size(); ++i)
+            for (std::uint32_t j = 0; j < b->size(); ++j)
+                if (collide::closed_boxes_overlap(a[i], (*b)[j])) out.emplace_back(i, j);
+    }
+    return out;
+}
+
+template <class T, std::size_t D>
+std::vector<pair32> grid_self(collide::cell_sort_grid<T, D>& g, const std::vector<collide::box_bounds<T, D>>& boxes) {
+    std::vector<pair32> out;
+    g.self_pairs(boxes, [&](std::uint32_t i, std::uint32_t j) { out.emplace_back(std::min(i, j), std::max(i, j)); });
+    const std::size_t reported = out.size();
+    std::sort(out.begin(), out.end());
+    out.erase(std::unique(out.begin(), out.end()), out.end());
+    EXPECT_EQ(out.size(), reported) << "a pair reported twice";
+    return out;
+}
+
+// Boxes of several kinds: integer-grid boxes (shared faces, edges, corners; duplicates),
+// zero-extent boxes (points), heavy-tailed sizes, and optionally one box covering all.
+template <class T, std::size_t D>
+std::vector<collide::box_bounds<T, D>> hard_boxes(std::mt19937_64& rng, std::size_t n, bool huge) {
+    std::vector<collide::box_bounds<T, D>> out(n);
+    std::uniform_real_distribution<double> u(0, 1);
+    std::uniform_int_distribution<int> g(0, 10);
+    for (std::size_t k = 0; k < n; ++k) {
+        auto& b = out[k];
+        for (std::size_t i = 0; i < D; ++i) {
+            switch (k % 4) {
+                case 0:  // grid cell boxes: touching neighbours
+                    b.lo[i] = static_cast<T>(g(rng));
+                    b.hi[i] = b.lo[i] + 1;
+                    break;
+                case 1:  // zero extent on the grid
+                    b.lo[i] = b.hi[i] = static_cast<T>(g(rng));
+                    break;
+                case 2: {  // heavy tail: Pareto(1.5) edge, capped at the domain
+                    const double edge = std::min(0.05 / std::pow(1 - u(rng), 1 / 1.5), 11.0);
+                    b.lo[i] = static_cast<T>(u(rng) * 11);
+                    b.hi[i] = static_cast<T>(b.lo[i] + edge);
+                    break;
+                }
+                default:
+                    b.lo[i] = static_cast<T>(u(rng) * 11);
+                    b.hi[i] = static_cast<T>(b.lo[i] + 0.3 * u(rng));
+            }
+        }
+    }
+    if (huge && n > 0)
+        for (std::size_t i = 0; i < D; ++i) out[n / 2].lo[i] = -1, out[n / 2].hi[i] = 12;
+    return out;
+}
+
+template <class T, std::size_t D>
+void check_cell_sort_grid(std::uint64_t seed) {
+    std::mt19937_64 rng(seed);
+    collide::cell_sort_grid<T, D> g;
+    for (std::size_t n : {0u, 1u, 2u, 50u, 1500u})
+        for (bool huge : {false, true}) {
+            SCOPED_TRACE(::testing::Message() << "n " << n << " huge " << huge);
+            const auto boxes = hard_boxes<T, D>(rng, n, huge);
+            EXPECT_EQ(grid_self(g, boxes), brute_pairs(boxes));
+            const auto other = hard_boxes<T, D>(rng, n / 2 + 1, false);
+            std::vector<pair32> bi;
+            g.bipartite_pairs(boxes, other, [&](std::uint32_t i, std::uint32_t j) { bi.emplace_back(i, j); });
+            std::sort(bi.begin(), bi.end());
+            EXPECT_TRUE(std::adjacent_find(bi.begin(), bi.end()) == bi.end()) << "a pair reported twice";
+            EXPECT_EQ(bi, brute_pairs(boxes, &other));
+        }
+    // Identical boxes: every pair once.
+    const std::vector<collide::box_bounds<T, D>> same(40, hard_boxes<T, D>(rng, 1, false)[0]);
+    EXPECT_EQ(grid_self(g, same).size(), 40u * 39u / 2u);
+    // All boxes the same point: the mean edge is 0, the grid must still work.
+    collide::box_bounds<T, D> p;
+    p.lo.fill(T(3));
+    p.hi.fill(T(3));
+    EXPECT_EQ(grid_self(g, std::vector<collide::box_bounds<T, D>>(10, p)).size(), 45u);
+}
+
+TEST(collide_cell_sort_grid, equals_the_quadratic_loop_on_hard_inputs) {
+    const std::uint64_t seed = spatial_test::test_seed(201);
+    SCOPED_TRACE(spatial_test::replay_hint(seed));
+    check_cell_sort_grid<double, 3>(seed);
+    check_cell_sort_grid<float, 3>(seed);
+    check_cell_sort_grid<double, 2>(seed);
+}
+
+TEST(collide_cell_sort_grid, memory_stays_linear_when_boxes_are_spread_out) {
+    // Two clusters of tiny boxes far apart: the cell cap keeps cells <= 4 n.
+    std::vector<collide::box_bounds<double, 3>> boxes(2000);
+    for (std::size_t k = 0; k < boxes.size(); ++k) {
+        const double base = k % 2 ? 1e6 : 0;
+        for (std::size_t i = 0; i < 3; ++i) boxes[k].lo[i] = base + 1e-3 * static_cast<double>(k), boxes[k].hi[i] = boxes[k].lo[i] + 1e-4;
+    }
+    collide::cell_sort_grid<double, 3> g;
+    EXPECT_EQ(grid_self(g, boxes), brute_pairs(boxes));
+    EXPECT_LE(g.last_query_stats().cells, 4 * boxes.size());
+}
+
+// ---- BVH motion ------------------------------------------------------------------------
+
+using B3 = objects::box<double, 3>;
+using P3 = point<double, 3>;
+
+template <class Tree>
+class bvh_motion : public ::testing::Test {};
+using motion_trees = ::testing::Types<bvh<B3>, bvh<B3, aabb<double, 3>, bvh_median_config<>>, bvh<B3, sphere<double, 3>>,
+                                      bvh<objects::sphere<double, 3>, obb<double, 3>>>;
+TYPED_TEST_SUITE(bvh_motion, motion_trees);
+
+template <class O>
+O moved(const O& x, const P3& d) {
+    if constexpr (std::is_same_v<O, B3>) {
+        B3 b = x;
+        for (std::size_t i = 0; i < 3; ++i) b.lo[i] += d[i], b.hi[i] += d[i];
+        return b;
+    } else {
+        P3 c = x.center();
+        for (std::size_t i = 0; i < 3; ++i) c[i] += d[i];
+        return O(c, x.radius());
+    }
+}
+template <class O>
+O random_object(std::mt19937_64& rng) {
+    std::uniform_real_distribution<double> u(0, 1), r(0.005, 0.03);
+    const P3 c{{u(rng), u(rng), u(rng)}};
+    const double h = r(rng);
+    if constexpr (std::is_same_v<O, B3>) return B3(P3{{c[0] - h, c[1] - h, c[2] - h}}, P3{{c[0] + h, c[1] + h, c[2] + h}});
+    else return O(c, h);
+}
+
+TYPED_TEST(bvh_motion, every_strategy_keeps_pairs_equal_to_brute_force_over_many_steps) {
+    using Tree = TypeParam;
+    using O = typename Tree::value_type;
+    const std::uint64_t seed = spatial_test::test_seed(202);
+    SCOPED_TRACE(spatial_test::replay_hint(seed));
+    std::mt19937_64 rng(seed);
+    std::vector<O> objects;
+    for (int k = 0; k < 800; ++k) objects.push_back(random_object<O>(rng));
+    std::normal_distribution<double> step(0, 0.01);
+    for (motion_strategy strategy : {motion_strategy::refit, motion_strategy::rebuild, motion_strategy::reinsert,
+                                     motion_strategy::automatic}) {
+        SCOPED_TRACE(to_string(strategy));
+        Tree tree(objects.begin(), objects.end());
+        std::vector<typename Tree::iterator> handles;
+        for (auto it = tree.begin(); it != tree.end(); ++it) handles.push_back(it);
+        for (int s = 0; s < 12; ++s) {
+            // Steps alternate between moving everything and moving a few (automatic: refit
+            // or rebuild, then reinsert).
+            const std::size_t stride = s % 2 ? 1 : 50;
+            std::vector<std::pair<typename Tree::iterator, O>> moves;
+            for (std::size_t i = static_cast<std::size_t>(s) % stride; i < handles.size(); i += stride)
+                moves.emplace_back(handles[i], moved(*handles[i], P3{{step(rng), step(rng), step(rng)}}));
+            const motion_strategy ran = tree.update(moves.begin(), moves.end(), strategy);
+            if (strategy != motion_strategy::automatic) {
+                EXPECT_EQ(ran, strategy);
+            } else if (stride == 50) {
+                EXPECT_EQ(ran, motion_strategy::reinsert);
+            } else {
+                EXPECT_NE(ran, motion_strategy::reinsert);
+            }
+            for (const auto& [it, v] : moves) EXPECT_EQ(*it, v) << "the handle no longer holds its object";
+            brute_force<O> oracle;
+            for (auto h : handles) oracle.insert(*h);
+            auto sig = [&](const auto& pairs, auto slot_of) {
+                std::vector<pair32> out;
+                for (const auto& [a, b] : pairs) {
+                    auto x = slot_of(a), y = slot_of(b);
+                    out.emplace_back(std::min(x, y), std::max(x, y));
+                }
+                std::sort(out.begin(), out.end());
+                return out;
+            };
+            // handle i <-> oracle slot i (the oracle was filled in handle order)
+            std::vector<std::uint32_t> index_of_slot(tree.end().slot() + 1);
+            for (std::uint32_t i = 0; i < handles.size(); ++i) index_of_slot[handles[i].slot()] = i;
+            EXPECT_EQ(sig(tree.self_pairs(), [&](auto it) { return index_of_slot[it.slot()]; }),
+                      sig(oracle.self_pairs(), [](auto it) { return static_cast<std::uint32_t>(it.slot()); }));
+        }
+        if (strategy == motion_strategy::automatic) {
+            EXPECT_LE(tree.quality(), Tree::config::refit_quality_limit * tree.quality_at_build() * 1.0000001);
+        }
+    }
+}
+
+TEST(bvh_motion_rules, a_nan_in_a_batch_leaves_the_tree_unchanged_and_refit_quality_decays) {
+    std::mt19937_64 rng(spatial_test::test_seed(203));
+    std::vector<B3> boxes;
+    for (int k = 0; k < 2000; ++k) boxes.push_back(random_object<B3>(rng));
+    bvh<B3> tree(boxes.begin(), boxes.end());
+    std::vector<std::pair<bvh<B3>::iterator, B3>> moves;
+    for (auto it = tree.begin(); it != tree.end(); ++it) moves.emplace_back(it, moved(*it, P3{{0.5, 0, 0}}));
+    moves[1000].second.lo[1] = std::nan("");
+    const auto before = tree.self_pairs();
+    EXPECT_THROW(tree.update(moves.begin(), moves.end(), motion_strategy::refit), std::invalid_argument);
+    EXPECT_EQ(tree.self_pairs(), before);
+    EXPECT_EQ(*moves[0].first, boxes[0]);
+    // Shuffle every box to a random new place and only refit: the tree keeps its old
+    // topology, so its quality (expected nodes entered per ray) gets much worse; a rebuild
+    // restores it.
+    for (auto& [it, v] : moves) v = random_object<B3>(rng);
+    const double fresh = tree.quality();
+    tree.update(moves.begin(), moves.end(), motion_strategy::refit);
+    EXPECT_GT(tree.quality(), 2 * fresh);
+    tree.rebuild();
+    EXPECT_LT(tree.quality(), 1.2 * fresh);
+}
+
+TEST(collide_pair_set_tracker, added_and_removed_are_the_set_differences) {
+    const std::uint64_t seed = spatial_test::test_seed(204);
+    SCOPED_TRACE(spatial_test::replay_hint(seed));
+    std::mt19937_64 rng(seed);
+    std::uniform_int_distribution<std::uint32_t> id(0, 30);
+    collide::pair_set_tracker<std::uint32_t> tracker;
+    std::set<pair32> previous;
+    for (int step = 0; step < 50; ++step) {
+        std::vector<pair32> now;
+        for (int k = 0; k < 40; ++k) now.emplace_back(id(rng), id(rng));
+        now.push_back(now.front());  // a duplicate is one pair
+        const std::set<pair32> cur(now.begin(), now.end());
+        std::vector<pair32> added, removed;
+        std::set_difference(cur.begin(), cur.end(), previous.begin(), previous.end(), std::back_inserter(added));
+        std::set_difference(previous.begin(), previous.end(), cur.begin(), cur.end(), std::back_inserter(removed));
+        EXPECT_EQ(tracker.step(now), added.size() + removed.size());
+        EXPECT_EQ(tracker.added(), added);
+        EXPECT_EQ(tracker.removed(), removed);
+        EXPECT_EQ(tracker.pairs(), std::vector<pair32>(cur.begin(), cur.end()));
+        previous = cur;
+    }
+}
+
+}  // namespace
