@@ -1,7 +1,8 @@
 #!/usr/bin/env bash
 # The main job: install dependencies, fetch real data, build Release, run the benchmark
-# suites knn, structures, bv and raycast (default: the quick preset, < 15 min on 2 cores), write
-# results/*.csv and draw plots/*.png.   Usage: scripts/main.sh [smoke|quick|full]
+# suites knn, structures, bv, raycast and collide (default: the quick preset) and every shipped
+# scene (datasets/scenes/*.toml), write results/*.csv and draw plots/*.png.
+# Usage: scripts/main.sh [smoke|quick|full]
 set -euo pipefail
 cd "$(dirname "$0")/.."
 preset="${1:-quick}"
@@ -16,12 +17,17 @@ cmake --build --preset release --target spatialbench -j"$(nproc)"
 real_dir=datasets/real
 mesh_dir=datasets/real/meshes
 [[ "$preset" == smoke ]] && real_dir="" && mesh_dir=""   # smoke stays seconds long
-for suite in knn structures bv raycast; do
+for suite in knn structures bv raycast collide; do
   data_dir="$real_dir"
   [[ "$suite" == raycast ]] && data_dir="$mesh_dir"
   ./build/release/harness/spatialbench run --suite "$suite" --preset "$preset" --results results \
     ${data_dir:+--real-data "$data_dir"}
 done
+
+# Scenes: every structure that answers each scene's effects (the smoke preset: 3 steps each).
+scene_steps=()
+[[ "$preset" == smoke ]] && scene_steps=(--steps 3)
+./build/release/harness/spatialbench scene datasets/scenes/*.toml --structure all --results results "${scene_steps[@]}"
 
 /usr/bin/python3 plots/plot_results.py --results results --out plots
 echo "main: results in results/, plots in plots/"

@@ -20,3 +20,14 @@ target_compile_definitions(adapters_raycast_test PRIVATE
 # spatial::brute_force: exact hit times.
 spatial_add_test(embree_user_geometry_test ${CMAKE_CURRENT_LIST_DIR}/embree_user_geometry_test.cpp)
 target_link_libraries(embree_user_geometry_test PRIVATE spatial_adapters spatial_harness_interface)
+
+# Collision peers (harness/collide_adapters.hpp: CGAL box_intersection_d, FCL's broad-phase
+# managers, Embree rtcCollide) against a brute-force closed-box oracle: identical pair sets.
+spatial_add_test(adapters_collide_test ${CMAKE_CURRENT_LIST_DIR}/adapters_collide_test.cpp)
+target_link_libraries(adapters_collide_test PRIVATE spatial_adapters spatial_harness_interface)
+
+# The scene runner (harness/scene_runner.hpp): pipeline composition proved by call counters,
+# identical pairs across structures, and every shipped scene (datasets/scenes/*.toml).
+spatial_add_test(scene_runner_test ${CMAKE_CURRENT_LIST_DIR}/scene_runner_test.cpp)
+target_link_libraries(scene_runner_test PRIVATE spatial_harness)
+target_compile_definitions(scene_runner_test PRIVATE SPATIAL_SCENES_DIR="${PROJECT_SOURCE_DIR}/datasets/scenes")

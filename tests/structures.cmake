@@ -34,3 +34,9 @@ endif()
 spatial_add_test(collide_pairs_test collide_pairs_test.cpp)
 spatial_add_test(narrow_phase_test narrow_phase_test.cpp)
 spatial_add_test(collide_motion_test collide_motion_test.cpp)
+
+# Scene files (datasets/scene.hpp): parsing and errors with their lines, generation, motion,
+# churn and query draws; every scene in datasets/scenes parses and generates.
+spatial_add_test(scene_file_test scene_file_test.cpp)
+target_link_libraries(scene_file_test PRIVATE spatial::datasets)
+target_compile_definitions(scene_file_test PRIVATE SPATIAL_SCENES_DIR="${PROJECT_SOURCE_DIR}/datasets/scenes")

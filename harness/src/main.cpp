@@ -1,6 +1,8 @@
 // spatialbench — the benchmark harness CLI.
-//   spatialbench run --suite knn|bv|raycast [--preset smoke|quick|full] [--results DIR] [--real-data DIR]
+//   spatialbench run --suite knn|bv|raycast|collide|structures [--preset smoke|quick|full] [--results DIR] [--real-data DIR]
 //                    [--workload W ...] [--structure S ...] [--n N ...] [--seed S] [--quiet]
+//   spatialbench scene FILE... [--structure bvh|kd_tree|octree|uniform_grid|collision_grid|brute_force|all]
+//                    [--steps N] [--results DIR] [--output scenes.csv] [--quiet]
 //   spatialbench list
 // Exit codes: 0 success, 1 bad usage or input, 2 validation failure (a wrong answer).
 
@@ -13,9 +15,14 @@
 #include "datasets/shapes.hpp"
 #include "harness/adapters.hpp"
 #include "harness/bv_suite.hpp"
+#include "harness/collide_suite.hpp"
 #include "harness/knn_suite.hpp"
 #include "harness/ray_adapters.hpp"
 #include "harness/raycast_suite.hpp"
+#include "harness/run_info.hpp"
+#include "harness/scene_runner.hpp"
+#include "harness/timing.hpp"
+#include "datasets/scene.hpp"
 #include "harness/validation.hpp"
 
 int main(int argc, char** argv) {
@@ -25,7 +32,7 @@ int main(int argc, char** argv) {
     harness::suite_options opt;
     std::string suite = "knn";
     auto* run = app.add_subcommand("run", "run a benchmark suite and write results/<suite>.csv");
-    run->add_option("--suite", suite, "suite to run")->check(CLI::IsMember({"knn", "bv", "raycast", "structures"}));
+    run->add_option("--suite", suite, "suite to run")->check(CLI::IsMember({"knn", "bv", "raycast", "structures", "collide"}));
     run->add_option("--preset", opt.preset, "size preset: smoke (seconds), quick (<15 min), full (1e7)")
         ->check(CLI::IsMember({"smoke", "quick", "full"}));
     run->add_option("--results", opt.results_dir, "directory for CSV tables and run sidecars");
@@ -42,10 +49,22 @@ int main(int argc, char** argv) {
 
     auto* list = app.add_subcommand("list", "list suites, workloads and available structures");
 
+    std::vector<std::string> scene_files;
+    harness::scene_run_options scene_opt;
+    std::filesystem::path scene_results = "results";
+    std::string scene_output = "scenes.csv";
+    auto* scene = app.add_subcommand("scene", "run scene files (datasets/scenes/*.toml) and write results/scenes.csv");
+    scene->add_option("files", scene_files, "scene files (TOML)")->required()->check(CLI::ExistingFile);
+    scene->add_option("--structure", scene_opt.structures, "structure(s) to run: bvh (default), kd_tree, octree, uniform_grid, collision_grid, brute_force, or all");
+    scene->add_option("--steps", scene_opt.steps, "override the scene's number of steps");
+    scene->add_option("--results", scene_results, "directory for the CSV table and the run sidecar");
+    scene->add_option("--output", scene_output, "CSV file name inside --results");
+    scene->add_flag("--quiet", scene_opt.quiet, "no progress output");
+
     CLI11_PARSE(app, argc, argv);
 
     if (*list) {
-        std::cout << "suites: knn bv raycast structures\nworkloads (knn, structures):";
+        std::cout << "suites: knn bv raycast structures collide\nworkloads (collide): boxes moving_boxes triangles\nworkloads (knn, structures):";
         for (auto w : datasets::point_workload_names()) std::cout << ' ' << w;
         std::cout << "\nshapes (bv):";
         for (const auto& w : datasets::shape_names()) std::cout << ' ' << w;
@@ -56,6 +75,32 @@ int main(int argc, char** argv) {
         std::cout << "\nray structures: bvh brute_force";
         for (const auto& p : harness::make_peer_ray_indices<double>()) std::cout << ' ' << p->name();
         std::cout << '\n';
+        return 0;
+    }
+    if (*scene) {
+        try {
+            scene_opt.run_id = harness::make_run_id("scenes", "scene");
+            const auto t0 = std::chrono::steady_clock::now();
+            std::vector<harness::result_row> rows;
+            harness::scene_counters counters;
+            for (const auto& f : scene_files) {
+                const auto description = datasets::load_scene(f);
+                auto r = harness::run_scene(description, scene_opt, counters);
+                rows.insert(rows.end(), r.begin(), r.end());
+            }
+            harness::write_csv_atomically(scene_results / scene_output, rows);
+            harness::run_info info{scene_opt.run_id, "scenes", "scene", {}, {}};
+            for (std::size_t i = 0; i < scene_files.size(); ++i) info.extra["scene_" + std::to_string(i)] = scene_files[i];
+            harness::write_run_sidecar(scene_results, info, harness::seconds_since(t0));
+            if (!scene_opt.quiet)
+                std::fprintf(stderr, "spatialbench: wrote %s (%zu rows)\n", (scene_results / scene_output).c_str(), rows.size());
+        } catch (const harness::validation_error& e) {
+            std::fprintf(stderr, "spatialbench: VALIDATION FAILED, nothing written: %s\n", e.what());
+            return 2;
+        } catch (const std::exception& e) {
+            std::fprintf(stderr, "spatialbench: error: %s\n", e.what());
+            return 1;
+        }
         return 0;
     }
     opt.dynamic = !no_dynamic;
@@ -70,6 +115,8 @@ int main(int argc, char** argv) {
             harness::run_bv_suite(opt);
         else if (suite == "raycast")
             harness::run_raycast_suite(opt);
+        else if (suite == "collide")
+            harness::run_collide_suite(opt);
         else
             harness::run_knn_suite(opt);
     } catch (const harness::validation_error& e) {

@@ -1,0 +1,495 @@
+// The collide suite (see collide_suite.hpp). Three workloads:
+//   boxes         static self-intersection of n random cubes with about two overlaps each
+//                 (side s with n (2s)^3 = 2 in the unit cube): build and pair-query time of
+//                 every structure and peer;
+//   moving_boxes  the same cubes moving linearly and bouncing off the unit cube's walls,
+//                 `steps` steps: per step, update + exact pairs, for every structure (bvh with
+//                 each motion strategy) and peer, and the refitted trees' quality per step;
+//   triangles     a static soup of small random triangles: for the BVH of every bounding-
+//                 volume type, candidate pairs (before the narrow phase) against time.
+// Validation before any timing is recorded: every participant's pair set must EQUAL the
+// reference's, and the reference is checked against an O(n^2) brute force (n <= brute_max_n)
+// or, above that, against a linear scan for a seeded sample of boxes (every pair of a
+// sampled box, both ways). On moving workloads this is done at every step.
+
+#include "harness/collide_suite.hpp"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <functional>
+#include <memory>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include "datasets/random.hpp"
+#include "harness/collide_adapters.hpp"
+#include "harness/csv_writer.hpp"
+#include "harness/our_collide_indexes.hpp"
+#include "harness/progress.hpp"
+#include "harness/run_info.hpp"
+#include "harness/timing.hpp"
+#include "harness/validation.hpp"
+#include "spatial/brute/brute_force.hpp"
+#include "spatial/bv/aabb.hpp"
+#include "spatial/bv/convex_hull.hpp"
+#include "spatial/bv/ellipsoid.hpp"
+#include "spatial/bv/kdop.hpp"
+#include "spatial/bv/obb.hpp"
+#include "spatial/bv/sphere.hpp"
+#include "spatial/bvh/bvh.hpp"
+#include "spatial/collide/collision_grid.hpp"
+#include "spatial/collide/pair_changes.hpp"
+#include "spatial/collide/sweep_and_prune.hpp"
+#include "spatial/grid/hashed_grid.hpp"
+#include "spatial/grid/uniform_grid.hpp"
+#include "spatial/kdtree/kd_tree.hpp"
+#include "spatial/objects/triangle.hpp"
+#include "spatial/octree/octree.hpp"
+
+namespace harness {
+namespace {
+
+using spatial::motion_strategy;
+
+struct preset_config {
+    std::vector<std::size_t> static_sizes, moving_sizes, triangle_sizes;
+    std::size_t steps;         // moving_boxes steps
+    std::size_t repetitions;   // timed repetitions of static workloads (median), after one validated run
+    std::size_t oracle_sample; // boxes checked by linear scan when n > brute_max_n
+    std::size_t brute_max_n;   // full O(n^2) check up to this n
+    std::size_t slow_max_n;    // structures without a dedicated broad phase (sweep_and_prune,
+                               // kd_tree, octree, hashed_grid, brute_force) up to this n
+};
+
+preset_config preset(const std::string& name) {
+    if (name == "smoke") return {{1000, 5000}, {2000}, {2000}, 5, 2, 64, 5000, 5000};
+    if (name == "quick") return {{10000, 100000, 1000000}, {10000, 100000}, {10000, 100000}, 30, 3, 200, 20000, 100000};
+    if (name == "full") return {{10000, 100000, 1000000}, {10000, 100000}, {10000, 100000}, 120, 5, 400, 20000, 100000};
+    throw std::invalid_argument("unknown preset '" + name + "' (expected smoke, quick or full)");
+}
+
+std::string fmt_n(std::size_t n) {
+    std::ostringstream os;
+    const double l = std::log10(static_cast<double>(n));
+    if (std::abs(l - std::round(l)) < 1e-9) os << "1e" << static_cast<int>(std::round(l));
+    else os << n;
+    return os.str();
+}
+
+bool boxes_overlap(const collide_box& a, const collide_box& b) {
+    for (std::size_t i = 0; i < 3; ++i)
+        if (a.hi[i] < b.lo[i] || b.hi[i] < a.lo[i]) return false;
+    return true;
+}
+
+// Cubes of side s = (2 / n)^(1/3) / 2 with lower corners uniform in [0, 1)^3: the expected
+// number of other cubes overlapping one is n (2s)^3 = 2.
+double cube_side(std::size_t n) { return std::cbrt(2.0 / static_cast<double>(n)) / 2; }
+std::vector<collide_box> random_cubes(std::size_t n, std::uint64_t seed) {
+    datasets::random_stream rng(datasets::derive_seed(seed, 0xC0u /* stream: collide cubes */));
+    const double s = cube_side(n);
+    std::vector<collide_box> out(n);
+    for (auto& b : out)
+        for (std::size_t i = 0; i < 3; ++i) {
+            b.lo[i] = rng.uniform01<double>() * (1 - s);
+            b.hi[i] = b.lo[i] + s;
+        }
+    return out;
+}
+
+struct context {
+    suite_options opt;
+    preset_config cfg;
+    std::string run_id;
+    progress prog;
+    std::vector<result_row> rows;
+    std::map<std::string, std::uint64_t> seeds;
+    bool wants(const std::string& s) const {
+        return opt.structures.empty() || std::find(opt.structures.begin(), opt.structures.end(), s) != opt.structures.end();
+    }
+    void add(const std::string& structure, const std::string& bv, const std::string& workload, std::size_t n,
+             const std::string& operation, const std::string& params, const std::string& metric, double value,
+             const std::string& unit, const timing_result* t = nullptr) {
+        result_row r;
+        r.suite = "collide";
+        r.structure = structure;
+        r.bv = bv;
+        r.workload = workload;
+        r.n = n;
+        r.dim = 3;
+        r.scalar = "double";
+        r.operation = operation;
+        r.params = params;
+        r.metric = metric;
+        r.value = value;
+        r.unit = unit;
+        r.validated = true;
+        r.run_id = run_id;
+        if (t) {
+            r.repetitions = t->repetitions;
+            r.min_value = t->min_seconds;
+            r.max_value = t->max_seconds;
+        }
+        rows.push_back(std::move(r));
+    }
+};
+
+// ---- validation --------------------------------------------------------------------------
+
+// Checks `pairs` (sorted, i < j) against brute force: all pairs when n <= brute_max_n, else
+// every pair of each sampled box (a linear scan per sampled box, both directions).
+void validate_pairs(const context& ctx, const std::vector<collide_box>& boxes, const std::vector<index_pair>& pairs,
+                    std::uint64_t sample_seed, const std::string& where) {
+    const std::size_t n = boxes.size();
+    if (!std::is_sorted(pairs.begin(), pairs.end()) || std::adjacent_find(pairs.begin(), pairs.end()) != pairs.end())
+        throw validation_error(where + ": pairs not sorted or reported twice");
+    if (n <= ctx.cfg.brute_max_n) {
+        std::vector<index_pair> want;
+        for (std::uint32_t i = 0; i < n; ++i)
+            for (std::uint32_t j = i + 1; j < n; ++j)
+                if (boxes_overlap(boxes[i], boxes[j])) want.emplace_back(i, j);
+        if (want != pairs)
+            throw validation_error(where + ": " + std::to_string(pairs.size()) + " pairs, brute force finds " +
+                                   std::to_string(want.size()) + " (or different ones)");
+        return;
+    }
+    datasets::random_stream rng(sample_seed);
+    std::vector<char> sampled(n, 0);
+    std::vector<std::uint32_t> sample;
+    for (std::size_t k = 0; k < ctx.cfg.oracle_sample; ++k) {
+        const auto i = static_cast<std::uint32_t>(rng.uniform_index(n));
+        if (!sampled[i]) sampled[i] = 1, sample.push_back(i);
+    }
+    std::vector<std::vector<std::uint32_t>> got(n);
+    for (const auto& [a, b] : pairs) {
+        if (a >= b || b >= n) throw validation_error(where + ": malformed pair");
+        if (sampled[a]) got[a].push_back(b);
+        if (sampled[b]) got[b].push_back(a);
+    }
+    for (std::uint32_t i : sample) {
+        std::vector<std::uint32_t> want;
+        for (std::uint32_t j = 0; j < n; ++j)
+            if (j != i && boxes_overlap(boxes[i], boxes[j])) want.push_back(j);
+        std::sort(got[i].begin(), got[i].end());
+        if (got[i] != want)
+            throw validation_error(where + ": box " + std::to_string(i) + " has " + std::to_string(got[i].size()) +
+                                   " partners, a linear scan finds " + std::to_string(want.size()));
+    }
+}
+
+// ---- participants -----------------------------------------------------------------------
+
+struct participant {
+    std::unique_ptr<collide_index> index;
+    std::string bv;  // "aabb" for bvh, "-" otherwise
+};
+
+template <class C>
+participant ours(const std::string& name, motion_strategy m = motion_strategy::automatic, std::string bv = "-") {
+    return {std::make_unique<container_collide_index<C>>(name, m), std::move(bv)};
+}
+
+// Every participant for n boxes; `moving` selects the motion variants of the bvh.
+std::vector<participant> participants(const context& ctx, std::size_t n, bool moving) {
+    using namespace spatial;
+    using B = collide_box3;
+    std::vector<participant> out;
+    out.push_back(ours<collision_grid<B>>("collision_grid"));
+    out.push_back(ours<uniform_grid<B>>("uniform_grid", motion_strategy::reinsert));
+    if (moving) {
+        out.push_back(ours<bvh<B>>("bvh_refit", motion_strategy::refit, "aabb"));
+        out.push_back(ours<bvh<B>>("bvh_rebuild", motion_strategy::rebuild, "aabb"));
+        out.push_back(ours<bvh<B>>("bvh_reinsert", motion_strategy::reinsert, "aabb"));
+        out.push_back(ours<bvh<B>>("bvh_automatic", motion_strategy::automatic, "aabb"));
+        out.push_back(ours<bvh<B, aabb<double, 3>, bvh_median_config<>>>("bvh_median_refit", motion_strategy::refit, "aabb"));
+    } else {
+        out.push_back(ours<bvh<B>>("bvh", motion_strategy::automatic, "aabb"));
+        out.push_back(ours<bvh<B, aabb<double, 3>, bvh_median_config<>>>("bvh_median", motion_strategy::automatic, "aabb"));
+    }
+    if (n <= ctx.cfg.slow_max_n / (moving ? 10 : 1)) {
+        out.push_back(ours<hashed_grid<B>>("hashed_grid", motion_strategy::reinsert));
+        out.push_back(ours<kd_tree<B>>("kd_tree", motion_strategy::reinsert));
+        out.push_back(ours<octree<B>>("octree", motion_strategy::reinsert));
+        out.push_back(ours<sweep_and_prune<B>>("sweep_and_prune"));
+    }
+    if (n <= ctx.cfg.brute_max_n / (moving ? 4 : 1)) out.push_back(ours<brute_force<B>>("brute_force"));
+    for (auto& p : make_peer_collide_indices()) {
+        const std::string name = p->name();
+        // FCL's SaP: building 1e5 boxes takes ~4 s and its incremental update ~0.85 s per step
+        // at 1e4 (~21 s at 1e5, superlinear inside FCL): static up to slow_max_n, moving up to
+        // a tenth of it.
+        if (name == "fcl_sap" && n > ctx.cfg.slow_max_n / (moving ? 10 : 1)) continue;
+        // FCL's spatial hashing: 5.6 s build + 19 s query at 1e6 (hash buckets per cell).
+        if (name == "fcl_spatial_hashing" && n > ctx.cfg.slow_max_n) continue;
+        out.push_back({std::move(p), "-"});
+    }
+    std::vector<participant> kept;
+    for (auto& p : out)
+        if (ctx.wants(p.index->name())) kept.push_back(std::move(p));
+    return kept;
+}
+
+// ---- static boxes -------------------------------------------------------------------------
+
+void run_static_boxes(context& ctx, std::size_t n) {
+    const std::string workload = "boxes";
+    const std::string params = "overlaps_per_box=2";
+    const auto boxes = random_cubes(n, ctx.opt.seed);
+    auto ps = participants(ctx, n, false);
+    if (ps.empty()) return;
+    // Validated run: the first participant against brute force / the sample, every other one
+    // against the first.
+    std::vector<index_pair> reference;
+    for (std::size_t i = 0; i < ps.size(); ++i) {
+        auto& p = *ps[i].index;
+        p.build(boxes);
+        auto pairs = p.self_pairs();
+        const std::string where = p.name() + " on boxes n=" + fmt_n(n);
+        if (i == 0) {
+            validate_pairs(ctx, boxes, pairs, datasets::derive_seed(ctx.opt.seed, 0xC1u), where);
+            reference = std::move(pairs);
+        } else if (pairs != reference) {
+            throw validation_error(where + ": " + std::to_string(pairs.size()) + " pairs, " + ps[0].index->name() +
+                                   " reports " + std::to_string(reference.size()) + " (or different ones)");
+        }
+    }
+    // Timed repetitions, interleaved across participants so that the shared machine's noise
+    // hits all alike; each must reproduce the validated set.
+    const std::size_t reps = n >= 1000000 ? std::max<std::size_t>(1, ctx.cfg.repetitions - 1) : ctx.cfg.repetitions;
+    std::vector<std::vector<double>> build_s(ps.size()), query_s(ps.size()), total_s(ps.size());
+    for (std::size_t r = 0; r < reps; ++r)
+        for (std::size_t i = 0; i < ps.size(); ++i) {
+            auto& p = *ps[i].index;
+            auto t0 = std::chrono::steady_clock::now();
+            p.build(boxes);
+            const double b = seconds_since(t0);
+            t0 = std::chrono::steady_clock::now();
+            const auto pairs = p.self_pairs();
+            const double q = seconds_since(t0);
+            if (pairs != reference) throw validation_error(p.name() + ": a timed query gave a different pair set");
+            build_s[i].push_back(b);
+            query_s[i].push_back(q);
+            total_s[i].push_back(b + q);
+        }
+    for (std::size_t i = 0; i < ps.size(); ++i) {
+        const std::string& name = ps[i].index->name();
+        const auto tb = summarize(build_s[i]), tq = summarize(query_s[i]), tt = summarize(total_s[i]);
+        ctx.add(name, ps[i].bv, workload, n, "build", params, "time", tb.median_seconds, "s", &tb);
+        ctx.add(name, ps[i].bv, workload, n, "self_pairs", params, "time", tq.median_seconds, "s", &tq);
+        ctx.add(name, ps[i].bv, workload, n, "build_and_self_pairs", params, "time", tt.median_seconds, "s", &tt);
+        ctx.add(name, ps[i].bv, workload, n, "self_pairs", params, "pairs", static_cast<double>(reference.size()), "count");
+        ctx.add(name, ps[i].bv, workload, n, "build", params, "memory", static_cast<double>(ps[i].index->memory_bytes()), "bytes");
+        ctx.prog.say("collide boxes n=" + fmt_n(n) + " " + name + ": build " + std::to_string(tb.median_seconds) +
+                     " s, pairs " + std::to_string(tq.median_seconds) + " s (" + std::to_string(reference.size()) + " pairs)");
+    }
+}
+
+// ---- moving boxes -------------------------------------------------------------------------
+
+// Linear motion with bounces: each cube moves by a quarter of its side per step in a random
+// direction; a cube leaving [0, 1]^3 has that velocity component reflected.
+struct moving_cubes {
+    std::vector<collide_box> boxes;
+    std::vector<std::array<double, 3>> velocity;
+    moving_cubes(std::size_t n, std::uint64_t seed) : boxes(random_cubes(n, seed)), velocity(n) {
+        datasets::random_stream rng(datasets::derive_seed(seed, 0xC2u /* stream: velocities */));
+        const double speed = cube_side(n) / 4;
+        for (auto& v : velocity) {
+            double l = 0;
+            do {
+                for (double& c : v) c = 2 * rng.uniform01<double>() - 1;
+                l = std::sqrt(v[0] * v[0] + v[1] * v[1] + v[2] * v[2]);
+            } while (l > 1 || l < 1e-3);
+            for (double& c : v) c *= speed / l;
+        }
+    }
+    void step() {
+        for (std::size_t k = 0; k < boxes.size(); ++k)
+            for (std::size_t i = 0; i < 3; ++i) {
+                auto& b = boxes[k];
+                const double e = b.hi[i] - b.lo[i];
+                b.lo[i] += velocity[k][i];
+                if (b.lo[i] < 0) b.lo[i] = -b.lo[i], velocity[k][i] = -velocity[k][i];
+                if (b.lo[i] + e > 1) b.lo[i] = 2 * (1 - e) - b.lo[i], velocity[k][i] = -velocity[k][i];
+                b.hi[i] = b.lo[i] + e;
+            }
+    }
+};
+
+void run_moving_boxes(context& ctx, std::size_t n) {
+    const std::string workload = "moving_boxes";
+    const std::string params = "overlaps_per_box=2;steps=" + std::to_string(ctx.cfg.steps) + ";speed=side/4";
+    moving_cubes scene(n, ctx.opt.seed);
+    auto ps = participants(ctx, n, true);
+    if (ps.empty()) return;
+    std::vector<double> build_s(ps.size());
+    std::vector<std::vector<double>> step_s(ps.size());
+    spatial::collide::pair_set_tracker<std::uint32_t> tracker;
+    std::vector<double> changed;
+    for (std::size_t i = 0; i < ps.size(); ++i) {
+        const auto t0 = std::chrono::steady_clock::now();
+        ps[i].index->build(scene.boxes);
+        build_s[i] = seconds_since(t0);
+    }
+    for (std::size_t s = 0; s < ctx.cfg.steps; ++s) {
+        scene.step();
+        std::vector<index_pair> reference;
+        for (std::size_t i = 0; i < ps.size(); ++i) {
+            auto& p = *ps[i].index;
+            const auto t0 = std::chrono::steady_clock::now();
+            p.update(scene.boxes);
+            auto pairs = p.self_pairs();
+            step_s[i].push_back(seconds_since(t0));
+            const std::string where = p.name() + " on moving_boxes n=" + fmt_n(n) + " step " + std::to_string(s + 1);
+            if (i == 0) {
+                validate_pairs(ctx, scene.boxes, pairs, datasets::derive_seed(ctx.opt.seed, 0xC300u + s), where);
+                reference = std::move(pairs);
+            } else if (pairs != reference) {
+                throw validation_error(where + ": " + std::to_string(pairs.size()) + " pairs, " + ps[0].index->name() +
+                                       " reports " + std::to_string(reference.size()) + " (or different ones)");
+            }
+            // The refitted trees' decay: quality (expected nodes entered per ray through the
+            // root; grows as a refitted tree ages) and this step's time.
+            if (auto* bv = dynamic_cast<container_collide_index<spatial::bvh<collide_box3>>*>(&p)) {
+                const std::string sp = params + ";step=" + std::to_string(s + 1);
+                ctx.add(p.name(), "aabb", workload, n, "update_and_self_pairs", sp, "quality", bv->container().quality(), "ratio");
+                ctx.add(p.name(), "aabb", workload, n, "update_and_self_pairs", sp, "time", step_s[i].back(), "s");
+            }
+        }
+        changed.push_back(static_cast<double>(tracker.step(reference)));
+    }
+    const auto tc = summarize(changed);
+    for (std::size_t i = 0; i < ps.size(); ++i) {
+        const std::string& name = ps[i].index->name();
+        const auto ts = summarize(step_s[i]);
+        double total = 0;
+        for (double x : step_s[i]) total += x;
+        ctx.add(name, ps[i].bv, workload, n, "build", params, "time", build_s[i], "s");
+        ctx.add(name, ps[i].bv, workload, n, "update_and_self_pairs", params, "time", ts.median_seconds, "s", &ts);
+        ctx.add(name, ps[i].bv, workload, n, "update_and_self_pairs", params, "steps_per_second",
+                static_cast<double>(step_s[i].size()) / total, "1/s");
+        ctx.add(name, ps[i].bv, workload, n, "update_and_self_pairs", params, "pairs_changed_per_step", tc.median_seconds,
+                "count");
+        ctx.prog.say("collide moving_boxes n=" + fmt_n(n) + " " + name + ": " + std::to_string(ts.median_seconds * 1e3) +
+                     " ms per step (median of " + std::to_string(step_s[i].size()) + ")");
+    }
+}
+
+// ---- triangles: BVH per bounding-volume type ----------------------------------------------
+
+using triangle3 = spatial::objects::triangle<double, 3>;
+
+std::vector<triangle3> random_triangles(std::size_t n, std::uint64_t seed) {
+    datasets::random_stream rng(datasets::derive_seed(seed, 0xC4u /* stream: collide triangles */));
+    // Vertices within +-h of a uniform centre; h chosen so a triangle meets a few others.
+    const double h = 0.6 * std::cbrt(1.0 / static_cast<double>(n));
+    std::vector<triangle3> out;
+    out.reserve(n);
+    for (std::size_t k = 0; k < n; ++k) {
+        spatial::point<double, 3> c, v[3];
+        for (std::size_t i = 0; i < 3; ++i) c[i] = h + rng.uniform01<double>() * (1 - 2 * h);
+        for (auto& p : v)
+            for (std::size_t i = 0; i < 3; ++i) p[i] = c[i] + h * (2 * rng.uniform01<double>() - 1);
+        out.emplace_back(v[0], v[1], v[2]);
+    }
+    return out;
+}
+
+template <class Tree>
+void bv_row(context& ctx, const std::string& bv, const std::vector<triangle3>& tris,
+            std::vector<std::pair<std::uint32_t, std::uint32_t>>& reference) {
+    const std::size_t n = tris.size();
+    const std::string name = "bvh_" + bv, workload = "triangles", params = "soup";
+    if (!ctx.wants(name) && !ctx.wants("bvh")) return;
+    Tree tree;
+    std::vector<double> build_s, cand_s, exact_s;
+    std::size_t candidates = 0, exact_pairs = 0;
+    for (std::size_t r = 0; r <= ctx.cfg.repetitions; ++r) {
+        tree.clear();
+        auto t0 = std::chrono::steady_clock::now();
+        tree.insert(tris.begin(), tris.end());
+        const double b = seconds_since(t0);
+        t0 = std::chrono::steady_clock::now();
+        const auto cand = tree.self_pairs(spatial::pair_filter::candidates);
+        const double c = seconds_since(t0);
+        t0 = std::chrono::steady_clock::now();
+        const auto exact = tree.self_pairs(spatial::pair_filter::exact);
+        const double e = seconds_since(t0);
+        std::vector<std::pair<std::uint32_t, std::uint32_t>> got;
+        for (const auto& [a, bb] : exact) got.emplace_back(a.slot(), bb.slot());  // slots = insertion order
+        if (reference.empty()) {
+            // The first tree's exact set against brute force (the O(n^2) narrow phase).
+            spatial::brute_force<triangle3> oracle(tris.begin(), tris.end());
+            if (n <= ctx.cfg.brute_max_n) {
+                std::vector<std::pair<std::uint32_t, std::uint32_t>> want;
+                for (const auto& [a, bb] : oracle.self_pairs()) want.emplace_back(a.slot(), bb.slot());
+                if (want != got) throw validation_error(name + " on triangles n=" + fmt_n(n) + ": exact pairs differ from brute force");
+            }
+            reference = got;
+        } else if (got != reference) {
+            throw validation_error(name + " on triangles n=" + fmt_n(n) + ": exact pairs differ from bvh_aabb's");
+        }
+        if (cand.size() < exact.size()) throw validation_error(name + ": fewer candidates than exact pairs");
+        candidates = cand.size();
+        exact_pairs = exact.size();
+        if (r == 0) continue;  // the validated warm-up run
+        build_s.push_back(b);
+        cand_s.push_back(c);
+        exact_s.push_back(e);
+    }
+    const auto tb = summarize(build_s), tc = summarize(cand_s), te = summarize(exact_s);
+    ctx.add(name, bv, workload, n, "build", params, "time", tb.median_seconds, "s", &tb);
+    ctx.add(name, bv, workload, n, "candidate_pairs", params, "time", tc.median_seconds, "s", &tc);
+    ctx.add(name, bv, workload, n, "exact_pairs", params, "time", te.median_seconds, "s", &te);
+    ctx.add(name, bv, workload, n, "candidate_pairs", params, "pairs", static_cast<double>(candidates), "count");
+    ctx.add(name, bv, workload, n, "exact_pairs", params, "pairs", static_cast<double>(exact_pairs), "count");
+    ctx.add(name, bv, workload, n, "candidate_pairs", params, "false_positive_ratio",
+            candidates ? static_cast<double>(candidates - exact_pairs) / static_cast<double>(candidates) : 0.0, "ratio");
+    ctx.prog.say("collide triangles n=" + fmt_n(n) + " " + name + ": " + std::to_string(candidates) + " candidates, " +
+                 std::to_string(exact_pairs) + " exact, " + std::to_string(te.median_seconds) + " s");
+}
+
+void run_triangles(context& ctx, std::size_t n) {
+    using namespace spatial;
+    using T = double;
+    const auto tris = random_triangles(n, ctx.opt.seed);
+    std::vector<std::pair<std::uint32_t, std::uint32_t>> reference;
+    bv_row<bvh<triangle3>>(ctx, "aabb", tris, reference);
+    bv_row<bvh<triangle3, sphere<T, 3>>>(ctx, "sphere", tris, reference);
+    bv_row<bvh<triangle3, obb<T, 3>>>(ctx, "obb", tris, reference);
+    bv_row<bvh<triangle3, kdop<T, 3, 14>>>(ctx, "kdop14", tris, reference);
+    bv_row<bvh<triangle3, kdop<T, 3, 26>>>(ctx, "kdop26", tris, reference);
+    bv_row<bvh<triangle3, ellipsoid<T, 3>>>(ctx, "ellipsoid", tris, reference);
+    bv_row<bvh<triangle3, convex_hull<T, 3>>>(ctx, "convex_hull", tris, reference);
+}
+
+}  // namespace
+
+void run_collide_suite(const suite_options& options) {
+    context ctx{options, preset(options.preset), make_run_id("collide", options.preset), progress(options.quiet), {}, {}};
+    std::vector<std::string> workloads = options.workloads;
+    if (workloads.empty()) workloads = {"boxes", "moving_boxes", "triangles"};
+    for (const auto& w : workloads)
+        if (w != "boxes" && w != "moving_boxes" && w != "triangles")
+            throw std::invalid_argument("unknown collide workload '" + w + "' (expected boxes, moving_boxes, triangles)");
+    ctx.seeds["data"] = options.seed;
+    const auto t0 = std::chrono::steady_clock::now();
+    auto sizes = [&](const std::vector<std::size_t>& preset_sizes) { return options.sizes.empty() ? preset_sizes : options.sizes; };
+    for (const auto& w : workloads) {
+        if (w == "boxes")
+            for (std::size_t n : sizes(ctx.cfg.static_sizes)) run_static_boxes(ctx, n);
+        if (w == "moving_boxes")
+            for (std::size_t n : sizes(ctx.cfg.moving_sizes)) run_moving_boxes(ctx, n);
+        if (w == "triangles")
+            for (std::size_t n : sizes(ctx.cfg.triangle_sizes)) run_triangles(ctx, n);
+    }
+    write_csv_atomically(options.results_dir / options.output_name, ctx.rows);
+    run_info info{ctx.run_id, "collide", options.preset, ctx.seeds, {}};
+    write_run_sidecar(options.results_dir, info, seconds_since(t0));
+    ctx.prog.say("wrote " + (options.results_dir / options.output_name).string() + " (" + std::to_string(ctx.rows.size()) +
+                 " rows), run " + ctx.run_id);
+}
+
+}  // namespace harness

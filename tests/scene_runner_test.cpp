@@ -1,0 +1,208 @@
+// The scene runner (harness/scene_runner.hpp) composes exactly the pipeline a scene asks for:
+// proved by counting the calls each stage makes. Also: every structure reports the same
+// exact pairs (the runner throws otherwise), churn and queries are counted, a structure that
+// cannot answer an effect is refused by name, a mesh file that cannot be loaded is reported
+// with the scene file and line, and every shipped scene runs (a few steps) and validates.
+
+#include <gtest/gtest.h>
+
+#include <filesystem>
+#include <string>
+
+#include "datasets/scene.hpp"
+#include "harness/scene_runner.hpp"
+#include "harness/validation.hpp"
+
+namespace {
+
+using harness::scene_counters;
+
+harness::scene_run_options quiet(std::vector<std::string> structures = {"bvh"}, std::size_t steps = 0) {
+    harness::scene_run_options o;
+    o.structures = std::move(structures);
+    o.steps = steps;
+    o.quiet = true;
+    o.run_id = "test";
+    return o;
+}
+
+scene_counters run(const std::string& toml, harness::scene_run_options o = quiet()) {
+    scene_counters k;
+    const auto rows = harness::run_scene(datasets::parse_scene(toml, "test.toml"), o, k);
+    EXPECT_FALSE(rows.empty());
+    for (const auto& r : rows) EXPECT_TRUE(r.validated);
+    return k;
+}
+
+const std::string boxes_set = R"(
+[[objects]]
+name = "boxes"
+kind = "box"
+count = 300
+size = 0.08
+)";
+
+TEST(scene_runner, a_static_scene_with_rays_only_moves_nothing_and_tests_no_pairs) {
+    const auto k = run(R"(
+[scene]
+steps = 4
+)" + boxes_set + R"(
+[effects.raycast]
+rays_per_step = 50
+)");
+    EXPECT_EQ(k.motion_steps, 0u);
+    EXPECT_EQ(k.index_updates, 0u);
+    EXPECT_EQ(k.index_builds, 1u);
+    EXPECT_EQ(k.broad_phase_queries, 0u);
+    EXPECT_EQ(k.narrow_phase_tests, 0u);
+    EXPECT_EQ(k.nearest_queries + k.range_queries + k.churn_inserts + k.churn_erases, 0u);
+    EXPECT_EQ(k.rays_cast, 4u * 50u);
+}
+
+TEST(scene_runner, candidate_pairs_run_no_narrow_phase_and_exact_pairs_do) {
+    const std::string moving = R"(
+[scene]
+steps = 5
+[[objects]]
+name = "boxes"
+kind = "box"
+count = 400
+size = 0.06
+motion = { kind = "linear", speed = 1.0 }
+)";
+    const auto candidates = run(moving + R"(
+[effects.collide]
+between = [["boxes", "boxes"]]
+filter = "candidates"
+)");
+    EXPECT_EQ(candidates.narrow_phase_tests, 0u);
+    EXPECT_EQ(candidates.broad_phase_queries, 5u);
+    EXPECT_EQ(candidates.motion_steps, 5u);
+    EXPECT_EQ(candidates.index_updates, 5u);
+    EXPECT_EQ(candidates.rays_cast, 0u);
+    const auto exact = run(moving + R"(
+[effects.collide]
+between = [["boxes", "boxes"]]
+filter = "exact"
+)");
+    EXPECT_GT(exact.narrow_phase_tests, 0u);
+    EXPECT_EQ(exact.broad_phase_queries, 5u);
+}
+
+TEST(scene_runner, no_index_for_a_set_nobody_queries_and_no_update_for_a_static_set) {
+    const auto k = run(R"(
+[scene]
+steps = 3
+[[objects]]
+name = "queried"
+kind = "sphere"
+count = 200
+size = 0.03
+motion = { kind = "random_walk", speed = 0.5 }
+[[objects]]
+name = "ignored"
+kind = "box"
+count = 500
+size = 0.05
+motion = { kind = "linear", speed = 0.5 }
+[[objects]]
+name = "still"
+kind = "point"
+count = 100
+[effects.nearest]
+target = "queried"
+queries_per_step = 20
+k = 4
+[effects.range]
+target = "still"
+queries_per_step = 10
+half_extent = 0.2
+)");
+    EXPECT_EQ(k.index_builds, 2u);      // "queried" and "still"; never "ignored"
+    EXPECT_EQ(k.motion_steps, 2u * 3u); // the two moving sets move (motion is the scene's)
+    EXPECT_EQ(k.index_updates, 3u);     // only the moving queried set's index follows
+    EXPECT_EQ(k.nearest_queries, 3u * 20u);
+    EXPECT_EQ(k.range_queries, 3u * 10u);
+    EXPECT_EQ(k.broad_phase_queries, 0u);
+}
+
+TEST(scene_runner, churn_is_counted_and_every_structure_reports_the_same_exact_pairs) {
+    const std::string scene = R"(
+[scene]
+steps = 4
+[[objects]]
+name = "balls"
+kind = "sphere"
+count = 300
+size = 0.04
+motion = { kind = "linear", speed = 0.8 }
+[[objects]]
+name = "boxes"
+kind = "box"
+count = 200
+size = 0.06
+[effects.churn]
+target = "balls"
+inserts_per_step = 7
+erases_per_step = 5
+[effects.collide]
+between = [["balls", "balls"], ["balls", "boxes"]]
+filter = "exact"
+)";
+    const auto k = run(scene, quiet({"all"}));  // throws validation_error if any two disagree
+    const std::size_t structures = harness::scene_structure_names().size();
+    EXPECT_EQ(k.churn_inserts, structures * 4u * 7u);
+    EXPECT_EQ(k.churn_erases, structures * 4u * 5u);
+    EXPECT_EQ(k.broad_phase_queries, structures * 4u * 2u);
+}
+
+TEST(scene_runner, structures_that_cannot_answer_an_effect_are_refused_by_name) {
+    const std::string scene = "[scene]\nsteps = 1\n" + boxes_set + "\n[effects.raycast]\nrays_per_step = 5\n";
+    scene_counters k;
+    const auto description = datasets::parse_scene(scene, "test.toml");
+    try {
+        harness::run_scene(description, quiet({"collision_grid"}), k);
+        FAIL() << "collision_grid cannot cast rays";
+    } catch (const std::invalid_argument& e) {
+        EXPECT_NE(std::string(e.what()).find("collision_grid"), std::string::npos) << e.what();
+    }
+    EXPECT_THROW(harness::run_scene(description, quiet({"no_such_tree"}), k), std::invalid_argument);
+}
+
+TEST(scene_runner, a_mesh_file_that_cannot_be_loaded_names_the_scene_line) {
+    const std::string scene = R"([scene]
+steps = 1
+
+[[objects]]
+name = "mesh"
+kind = "triangle"
+mesh = "does_not_exist.off"
+
+[effects.raycast]
+rays_per_step = 5
+)";
+    scene_counters k;
+    try {
+        harness::run_scene(datasets::parse_scene(scene, "meshy.toml"), quiet(), k);
+        FAIL() << "a missing mesh file must be an error";
+    } catch (const std::invalid_argument& e) {
+        const std::string what = e.what();
+        EXPECT_NE(what.find("meshy.toml:4"), std::string::npos) << what;
+        EXPECT_NE(what.find("does_not_exist.off"), std::string::npos) << what;
+    }
+}
+
+TEST(scene_runner, every_shipped_scene_runs_and_validates) {
+    for (const auto& entry : std::filesystem::directory_iterator(SPATIAL_SCENES_DIR)) {
+        if (entry.path().extension() != ".toml") continue;
+        SCOPED_TRACE(entry.path().string());
+        scene_counters k;
+        const auto description = datasets::load_scene(entry.path());
+        // Two steps; the 1e5-box scene on the collision grid only (the suite times it).
+        const bool big = description.objects.front().generator && description.objects.front().generator->count > 20000;
+        const auto rows = harness::run_scene(description, quiet({big ? "collision_grid" : "bvh"}, 2), k);
+        EXPECT_FALSE(rows.empty());
+    }
+}
+
+}  // namespace
