@@ -8,8 +8,9 @@ Run with Debian's interpreter (it sees python3-matplotlib and python3-numpy):
 Input: only the tidy CSV tables in --results (default <repo>/results), one figure per row with
 the columns
     suite,structure,bv,workload,n,dim,scalar,operation,params,metric,value,unit,validated,run_id
-(extra columns after them are ignored).  Files that are missing, empty, lack these columns, or
-hold malformed rows are skipped with a message; so are suites not listed in SUITES below.
+(extra columns after them are ignored; a `bv` of "-" means none, like an empty one).  Files
+that are missing, empty, lack these columns, or hold malformed rows are skipped with a message;
+so are suites not listed in SUITES below.
 
 Output, in --out (default <repo>/plots), each PNG written atomically (temp file + os.replace):
 
@@ -30,14 +31,28 @@ Output, in --out (default <repo>/plots), each PNG written atomically (temp file 
    each peer's time per (operation, params), one subplot per (workload, dim, scalar), each peer
    at the largest n it was measured at, with a line at 1.0 (log y axis when the ratios span
    more than a decade).
+5. Bounding volumes and the BVH: bv_tradeoff.png (bv suite) and bvh_tradeoff.png (raycast suite).
+6. Collision (collide suite; its rows and the scenes suite's are left out of 1, see
+   OWN_FIGURE_SUITES): collide_boxes.png (workload boxes: build + all pairs against n, log-log
+   with fitted exponents, and the speed-up time(cgal_box_intersection) / time at each n with the
+   5x target line), collide_moving.png (workload moving_boxes: steps per second per participant
+   and n, grouped log bars, 60 steps/s target line), collide_refit_decay.png (moving_boxes
+   per-step rows, params ...;step=K: tree quality and time against the step, one row of two
+   panels per n) and collide_bv_tradeoff.png (workload triangles: exact-pairs time and build
+   time against candidate pairs, one point per BVH volume type, per n).  A workload that is
+   missing is reported and its figure skipped.
+7. Scene pipelines (scenes suite): scenes.png, one subplot per scene, per structure a stacked
+   bar of the median per-step stage times (SCENE_STAGES), the whole step as a black mark.
 
-Validation rule: a timing row (time_per_op, build_time, time_ratio) whose `validated` column is
-not true is SKIPPED, because the harness never times a wrong answer and a row that was not
-checked against the oracle cannot be compared with one that was.  The number of skipped rows is
+Validation rule: a timing row (time_per_op, build_time, time_ratio; in the collide and scenes
+suites time and steps_per_second) whose `validated` column is not true is SKIPPED, because the
+harness never times a wrong answer and a row that was not checked against the oracle cannot be
+compared with one that was.  The number of skipped rows is
 reported.  With --include-unvalidated such rows are drawn instead, with hollow markers and dashed
 lines, labelled "[unvalidated]", and kept out of every other structure's fit.  Accuracy figures
-(recall) are plotted whatever their `validated` flag, since recall is itself the comparison with
-the oracle; the time that goes with them follows the timing rule.
+(recall; the collide suite's pair counts, false-positive ratios and tree quality) are plotted
+whatever their `validated` flag, since recall is itself the comparison with the oracle; the time
+that goes with them follows the timing rule.
 
 Duplicate measurements of the same point (several run_ids) are reduced to their median.
 """
@@ -55,6 +70,7 @@ import matplotlib
 
 matplotlib.use("Agg")  # no display; must precede pyplot
 import matplotlib.pyplot as plt  # noqa: E402
+import matplotlib.ticker  # noqa: E402
 import numpy as np  # noqa: E402
 
 # --------------------------------------------------------------------------------------------
@@ -68,11 +84,11 @@ SUITES = {
     "container": "insert / erase / find, hinted against unhinted, bulk against loop",
     "churn": "interleaved inserts and erases",
     "ray": "ray casting (first hit)",
-    "collide": "all intersecting pairs, within one container and between two",
+    "collide": "all intersecting pairs: static and moving boxes, triangles per BVH volume type",
     "bv": "bounding-volume fitting and tests",
     "raycast": "first-hit ray casting against triangle meshes (ours, Embree, CGAL AABB_tree)",
     "structures": "the knn suite's static queries on every structure of the library, with the peers",
-    "scene": "scene pipelines (TOML scenes)",
+    "scenes": "scene pipelines (TOML scenes): per-step stage times",
 }
 
 # Theoretical growth of the plotted time (per operation, or total for build_time) as a function
@@ -97,6 +113,10 @@ THEORY = {
     "erase_bulk":    {"*": "log n",         "brute_force": "n"},
     "churn":         {"*": "log n",         "brute_force": "n"},
     "collide":       {"*": "n log n",       "brute_force": "n^2"},  # all pairs, per step
+    # collide suite, boxes workload (collide_boxes.png): build + all pairs of n boxes with ~2
+    # overlaps each; the grids hash each box into O(1) cells, so they are linear.
+    "build_and_self_pairs": {"*": "n log n", "brute_force": "n^2", "collision_grid": "n",
+                             "uniform_grid": "n", "hashed_grid": "n", "fcl_spatial_hashing": "n"},
     "fit":           {"*": "n"},
     "*":             {"*": "log n",         "brute_force": "n"},  # any other per-op query
 }
@@ -114,6 +134,9 @@ COMPLEXITY_FUNCTIONS = {
 SERIES_PARAMS = {"bv": ("method",)}
 
 TIME_METRICS = {"time_per_op", "build_time", "fit_time"}
+# Suites drawn only by their own figures (section "Collision and scene pipelines" below), left
+# out of the generic complexity curves.
+OWN_FIGURE_SUITES = ("collide", "scenes")
 RATIO_METRIC = "time_ratio"
 RATIO_BASELINE = "kd_tree"  # time_ratio = time(RATIO_BASELINE) / time(peer)
 APPROX_OPERATION = "approx_knn"
@@ -203,6 +226,8 @@ def read_csv_file(path):
             bad += 1
             continue
         cells["validated"] = _parse_bool(cells["validated"])
+        if cells["bv"] == "-":  # the collide and scenes suites write "-" for "no volume type"
+            cells["bv"] = ""
         rows.append(Row(**cells))
     if bad:
         note(f"{path}: skipped {bad} malformed row(s)")
@@ -379,7 +404,8 @@ os.umask(_UMASK)
 def finish_figure(figure, title):
     """Figure title above the subplots' own titles, then a tight layout under it."""
     figure.suptitle(title)
-    top = 1.0 - 0.5 / figure.get_figheight()  # half an inch for the title
+    lines = title.count("\n") + 1
+    top = 1.0 - (0.5 + 0.25 * (lines - 1)) / figure.get_figheight()  # half an inch a line
     figure.tight_layout(rect=(0, 0, 1, top))
 
 
@@ -455,7 +481,10 @@ def fastest_series(series):
 
 
 def plot_complexity(rows, out_dir, styles, include_unvalidated):
-    timing = [row for row in rows if row.metric in TIME_METRICS]
+    # The collide and scenes suites mix totals, per-step medians and per-step series under one
+    # metric name ("time"); they get their own figures (OWN_FIGURE_SUITES), not these curves.
+    timing = [row for row in rows if row.metric in TIME_METRICS
+              and row.suite not in OWN_FIGURE_SUITES]
     non_positive = [row for row in timing if row.value <= 0]
     if non_positive:
         note(f"skipped {len(non_positive)} timing row(s) with value <= 0 (no place on log axes)")
@@ -1039,6 +1068,474 @@ def plot_bvh_tradeoff(rows, out_dir, include_unvalidated):
     return [save_atomically(figure, os.path.join(out_dir, BVH_TRADEOFF_FILE))]
 
 
+# --------------------------------------------------------------------------------------------
+# Collision (collide suite) and scene pipelines (scenes suite)
+# --------------------------------------------------------------------------------------------
+
+COLLIDE_SUITE = "collide"
+SCENES_SUITE = "scenes"
+COLLIDE_BOXES_FILE = "collide_boxes.png"
+COLLIDE_MOVING_FILE = "collide_moving.png"
+COLLIDE_DECAY_FILE = "collide_refit_decay.png"
+COLLIDE_BV_FILE = "collide_bv_tradeoff.png"
+SCENES_FILE = "scenes.png"
+COLLIDE_TIME = "time"  # these suites' time metric (median seconds; per step where stepped)
+COLLIDE_STEPS_PER_SECOND = "steps_per_second"
+COLLIDE_BASELINE = "cgal_box_intersection"  # speed-up = time(baseline) / time(participant)
+COLLIDE_SPEEDUP_TARGET = (5.0, "collision_grid", 1000000)  # the issue: >= 5x CGAL at 1e6
+COLLIDE_STEPS_TARGET = (60.0, 100000)  # the issue: >= 60 steps/s (update + pairs) at 1e5
+STEP_PARAM = "step"  # params key of the per-step rows of moving_boxes
+# Per-step stages of a scene, stacked bottom-up in this order; other operations with a time
+# row (except SCENE_SKIP) are stacked after them.  SCENE_TOTAL is their sum, drawn as a mark.
+SCENE_STAGES = ("motion", "churn", "update", "collide_broad_phase", "collide_narrow_phase",
+                "raycast", "nearest", "range")
+SCENE_TOTAL = "step"
+SCENE_SKIP = ("build",)  # once per scene, not per step
+SCENE_UNIT = "ms"
+
+
+def without_params(params, keys):
+    """params with the given keys removed: ('a=1;step=3', ('step',)) -> 'a=1'."""
+    return format_params([(k, v) for k, v in parse_params(params) if k not in keys])
+
+
+def collide_timing(rows, include_unvalidated, what, **selection):
+    """Rows of the collide/scenes suites matching selection (field=value; a tuple value means
+    any of), positive, following the validation rule."""
+    picked = [row for row in rows
+              if all(getattr(row, field) in value if isinstance(value, tuple)
+                     else getattr(row, field) == value for field, value in selection.items())
+              and row.value > 0]
+    return split_validated(picked, include_unvalidated, what)
+
+
+def median_points(series):
+    """{key: {x: [values]}} -> {key: {x: median}}."""
+    return {key: {x: median(values) for x, values in points.items()}
+            for key, points in series.items()}
+
+
+def validated_first(item):
+    """Sort key of ((label, validated), points) items: by label, validated before not."""
+    (label, validated), _ = item
+    return (label, not validated)
+
+
+def speedups(series, baseline=COLLIDE_BASELINE):
+    """{(label, validated): {n: time(baseline) / time(label)}} at every n both were measured.
+
+    series: {(label, validated): {n: time}}; the baseline is the series whose structure (label
+    without <bv>) is `baseline`, its validated series preferred.  The baseline itself is left
+    out; {} without a baseline."""
+    keys = [key for key in series if key[0].split("<")[0] == baseline]
+    if not keys:
+        return {}
+    base = series[max(keys, key=lambda key: key[1])]
+    out = {}
+    for key, points in series.items():
+        if key in keys:
+            continue
+        ratios = {n: base[n] / time for n, time in points.items() if n in base and time > 0}
+        if ratios:
+            out[key] = ratios
+    return out
+
+
+def collide_boxes_series(rows, include_unvalidated):
+    """{(params, dim, scalar): {(label, validated): {n: [time (s)]}}} of the static boxes
+    workload, operation build_and_self_pairs (build + all pairs)."""
+    timing = collide_timing(rows, include_unvalidated, "collide boxes timing", suite=COLLIDE_SUITE,
+                            workload="boxes", operation="build_and_self_pairs", metric=COLLIDE_TIME)
+    out = collections.defaultdict(lambda: collections.defaultdict(lambda: collections.defaultdict(list)))
+    for row in timing:
+        if row.unit not in UNIT_SECONDS:
+            continue
+        out[(row.params, row.dim, row.scalar)][(label_of(row), row.validated)][row.n].append(
+            convert(row.value, row.unit, "s"))
+    return out
+
+
+def emphasise(axis, structure):
+    """Thicker lines for the series of `structure` (the one a target is about)."""
+    for line in axis.get_lines():
+        if line.get_label().split("<")[0].split(" ")[0] == structure:
+            line.set_linewidth(2.5)
+            line.set_zorder(4)
+
+
+def plot_collide_boxes(rows, out_dir, styles, include_unvalidated):
+    data = collide_boxes_series(rows, include_unvalidated)
+    if not data:
+        note(f"skip {COLLIDE_BOXES_FILE}: no collide rows of workload boxes, "
+             f"operation build_and_self_pairs, metric time")
+        return []
+    configs = sorted(data, key=lambda k: tuple(map(str, k)))
+    entries = max(len(series) for series in data.values()) + 2
+    legend_inches = 0.2 * math.ceil(entries / LEGEND_COLUMNS) + 0.3
+    figure, axes = plt.subplots(len(configs), 2, squeeze=False,
+                                figsize=(13, (4.6 + legend_inches) * len(configs) + 0.6))
+    target, target_structure, target_n = COLLIDE_SPEEDUP_TARGET
+    for (left, right), config in zip(axes, configs):
+        params, dim, scalar = config
+        series = data[config]
+        where = f"boxes ({params}), {dim}D, {scalar}" if params else f"boxes, {dim}D, {scalar}"
+        draw_complexity_panel(left, series, "build_and_self_pairs", COLLIDE_TIME, "s", where, styles)
+        left.set_xlabel("n (boxes)")
+        left.set_ylabel("build + all pairs time (s)")
+        left.set_title(f"{where}\nbuild + self pairs, legend: fitted exponent", fontsize="medium")
+        emphasise(left, target_structure)
+        legend_below(left)
+
+        ratios = speedups(median_points(series))
+        if not ratios:
+            note(f"{COLLIDE_BOXES_FILE}: no {COLLIDE_BASELINE} rows for {where}, no speed-up panel")
+            right.set_axis_off()
+            right.text(0.5, 0.5, f"no {COLLIDE_BASELINE} rows:\nno speed-up", ha="center",
+                       va="center")
+            continue
+        for (label, validated), points in sorted(ratios.items(), key=validated_first):
+            ns = sorted(points)
+            colour, marker = styles(label)
+            right.plot(ns, [points[n] for n in ns], marker=marker, color=colour,
+                       linestyle="-" if validated else "--",
+                       markerfacecolor=colour if validated else "none",
+                       label=label + ("" if validated else " [unvalidated]"))
+            if label.split("<")[0] == target_structure:
+                for n in ns:
+                    right.annotate(f"{points[n]:.3g}x", (n, points[n]), fontsize=7, color=colour,
+                                   xytext=(0, 6), textcoords="offset points", ha="center")
+        right.axhline(1.0, color="grey", linestyle=":", linewidth=1.0,
+                      label=f"{COLLIDE_BASELINE} (1x)")
+        right.axhline(target, color="red", linestyle="--", linewidth=1.0,
+                      label=f"target: {target_structure} \u2265 {target:g}x at n={format_n(target_n)}")
+        right.set_xscale("log")
+        right.set_yscale("log")
+        right.margins(x=0.08, y=0.12)
+        emphasise(right, target_structure)
+        right.set_xlabel("n (boxes)")
+        right.set_ylabel(f"speed-up: {COLLIDE_BASELINE} time / time (ratio)")
+        right.set_title(f"{where}\nspeed-up over {COLLIDE_BASELINE} (above 1: faster)",
+                        fontsize="medium")
+        right.grid(True, which="major", alpha=0.5)
+        right.grid(True, which="minor", alpha=0.15)
+        legend_below(right)
+    finish_figure(figure, "collide: static self-intersection of n random boxes "
+                          "(build + all pairs, median of repetitions)")
+    return [save_atomically(figure, os.path.join(out_dir, COLLIDE_BOXES_FILE))]
+
+
+def collide_moving_bars(rows, include_unvalidated):
+    """Steps per second of moving_boxes (operation update_and_self_pairs, the rows without a
+    step= param): (groups [(n, params)] in order, {(label, validated): {group: median}},
+    {group: median pairs changed per step})."""
+    moving = [row for row in rows if row.suite == COLLIDE_SUITE and row.workload == "moving_boxes"
+              and row.operation == "update_and_self_pairs"
+              and STEP_PARAM not in dict(parse_params(row.params))]
+    rates = collide_timing(moving, include_unvalidated, "collide moving_boxes steps/s",
+                           metric=COLLIDE_STEPS_PER_SECOND)
+    values = collections.defaultdict(lambda: collections.defaultdict(list))
+    for row in rates:
+        values[(label_of(row), row.validated)][(row.n, row.params)].append(row.value)
+    changed = collections.defaultdict(list)
+    for row in moving:
+        if row.metric == "pairs_changed_per_step":
+            changed[(row.n, row.params)].append(row.value)
+    groups = sorted({group for points in values.values() for group in points})
+    return groups, median_points(values), {g: median(v) for g, v in changed.items()}
+
+
+def plot_collide_moving(rows, out_dir, styles, include_unvalidated):
+    groups, bars, changed = collide_moving_bars(rows, include_unvalidated)
+    if not groups:
+        note(f"skip {COLLIDE_MOVING_FILE}: no collide rows of workload moving_boxes with "
+             f"metric {COLLIDE_STEPS_PER_SECOND}")
+        return []
+    several_params = len({params for _, params in groups}) > 1
+    participants = sorted(bars, key=lambda key: (key[0], not key[1]))
+    # Each group packs only the participants measured at its n (peers may stop early), so
+    # every group is as wide as the widest one and the bars of a group are adjacent.
+    present = {group: [key for key in participants if group in bars[key]] for group in groups}
+    widest = max(len(keys) for keys in present.values())
+    width = 0.85 / widest
+    positions = np.arange(len(groups))
+    figure, axis = plt.subplots(figsize=(max(9.0, 1.5 + 0.32 * sum(map(len, present.values()))), 7.5))
+    for key in participants:
+        label, validated = key
+        xs, heights = [], []
+        for g, group in enumerate(groups):
+            if group in bars[key]:
+                i = present[group].index(key)
+                xs.append(positions[g] + (i - (len(present[group]) - 1) / 2) * width)
+                heights.append(bars[key][group])
+        colour, _ = styles(label)
+        drawn = axis.bar(xs, heights, width, color=colour, edgecolor=colour, fill=validated,
+                         hatch=None if validated else "//",
+                         label=label + ("" if validated else " [unvalidated]"))
+        axis.bar_label(drawn, labels=[f"{h:.3g}" for h in heights], fontsize=6, padding=1,
+                       rotation=90)
+    target, target_n = COLLIDE_STEPS_TARGET
+    axis.axhline(target, color="red", linestyle="--", linewidth=1.0,
+                 label=f"target: {target:g} steps/s at n={format_n(target_n)}")
+    ticks = []
+    for n, params in groups:
+        text = f"n={format_n(n)}"
+        if several_params:
+            text += "\n" + without_params(params, ("overlaps_per_box",))
+        if (n, params) in changed:
+            text += f"\n{changed[(n, params)]:,.0f} pairs changed/step"
+        ticks.append(text)
+    axis.set_xticks(positions)
+    axis.set_xticklabels(ticks, fontsize="small")
+    axis.set_yscale("log")
+    low, high = axis.get_ylim()
+    axis.set_ylim(low, high * 3)  # room for the value labels
+    axis.set_ylabel("steps per second (1 / median step time; update + all pairs)")
+    shared = "" if several_params else f" ({groups[0][1]})"
+    axis.set_title(f"moving_boxes{shared}: one step = move every box, update the structure, "
+                   f"report all overlapping pairs", fontsize="medium")
+    axis.grid(True, axis="y", which="both", alpha=0.3)
+    axis.legend(loc="upper center", bbox_to_anchor=(0.5, -0.14), ncol=4, fontsize="small",
+                frameon=False)
+    finish_figure(figure, "collide: steps per second on moving boxes (higher is better)")
+    return [save_atomically(figure, os.path.join(out_dir, COLLIDE_MOVING_FILE))]
+
+
+def refit_decay_series(rows, include_unvalidated):
+    """{(n, params without step): {metric: {(label, validated): {step: median}}}} of the
+    moving_boxes per-step rows (params with step=K), metrics quality and time.  Quality is a
+    property of the tree, not a timing: it is drawn whatever its validated flag."""
+    stepped = [row for row in rows if row.suite == COLLIDE_SUITE and row.workload == "moving_boxes"
+               and STEP_PARAM in dict(parse_params(row.params))]
+    timing = collide_timing(stepped, include_unvalidated, "collide per-step timing",
+                            metric=COLLIDE_TIME)
+    quality = [row for row in stepped if row.metric == "quality"]
+    out = collections.defaultdict(lambda: collections.defaultdict(
+        lambda: collections.defaultdict(lambda: collections.defaultdict(list))))
+    for row in timing + quality:
+        try:
+            step = int(float(dict(parse_params(row.params))[STEP_PARAM]))
+        except ValueError:
+            continue
+        if row.metric == COLLIDE_TIME and row.unit not in UNIT_SECONDS:
+            continue
+        value = convert(row.value, row.unit, "ms") if row.metric == COLLIDE_TIME else row.value
+        out[(row.n, without_params(row.params, (STEP_PARAM,)))][row.metric][
+            (label_of(row), row.validated)][step].append(value)
+    return {group: {metric: median_points(series) for metric, series in metrics.items()}
+            for group, metrics in out.items()}
+
+
+def plot_collide_refit_decay(rows, out_dir, styles, include_unvalidated):
+    data = refit_decay_series(rows, include_unvalidated)
+    if not data:
+        note(f"skip {COLLIDE_DECAY_FILE}: no per-step ({STEP_PARAM}=K) collide rows of "
+             f"workload moving_boxes")
+        return []
+    groups = sorted(data)
+    entries = max(len(series) for metrics in data.values() for series in metrics.values())
+    legend_inches = 0.2 * math.ceil(entries / LEGEND_COLUMNS) + 0.3
+    figure, axes = plt.subplots(len(groups), 2, squeeze=False,
+                                figsize=(13, (4.2 + legend_inches) * len(groups) + 0.6))
+    panels = (("quality", "quality: SAH node-area sum / root area (ratio)", "tree quality"),
+              (COLLIDE_TIME, "update + all pairs time (ms)", "time per step"))
+    for row_axes, group in zip(axes, groups):
+        n, params = group
+        for axis, (metric, ylabel, what) in zip(row_axes, panels):
+            series = data[group].get(metric, {})
+            title = f"n={format_n(n)} ({params}): {what}" if params else f"n={format_n(n)}: {what}"
+            if not series:
+                axis.set_axis_off()
+                axis.text(0.5, 0.5, f"{title}\nno {metric} rows", ha="center", va="center")
+                continue
+            values = []
+            for (label, validated), points in sorted(series.items(), key=validated_first):
+                steps = sorted(points)
+                colour, marker = styles(label)
+                values += [points[s] for s in steps]
+                axis.plot(steps, [points[s] for s in steps], marker=marker, markersize=4,
+                          color=colour, linestyle="-" if validated else "--",
+                          markerfacecolor=colour if validated else "none",
+                          label=label + ("" if validated else " [unvalidated]"))
+            positive = [v for v in values if v > 0]
+            if metric == COLLIDE_TIME and positive and max(positive) / min(positive) > 10:
+                axis.set_yscale("log")  # rebuild spikes would flatten the rest
+            axis.xaxis.set_major_locator(matplotlib.ticker.MaxNLocator(integer=True))
+            axis.set_xlabel("step")
+            axis.set_ylabel(ylabel)
+            axis.set_title(title, fontsize="medium")
+            axis.grid(True, which="major", alpha=0.5)
+            legend_below(axis)
+    finish_figure(figure, "collide: BVH update strategies on moving boxes, step by step "
+                          "(a refitted tree ages: its quality ratio grows)")
+    return [save_atomically(figure, os.path.join(out_dir, COLLIDE_DECAY_FILE))]
+
+
+def collide_bv_points(rows, include_unvalidated):
+    """{(params, n): [(label, candidate pairs, false-positive ratio, exact-pairs time (s),
+    build time (s))]} of workload triangles, one point per (structure, bv); nan where a figure
+    is missing (times follow the validation rule, pair counts and ratios do not)."""
+    triangles = [row for row in rows if row.suite == COLLIDE_SUITE and row.workload == "triangles"]
+    timing = collide_timing(triangles, include_unvalidated, "collide triangles timing",
+                            metric=COLLIDE_TIME, operation=("build", "exact_pairs"))
+    counts = [row for row in triangles if row.operation == "candidate_pairs"
+              and row.metric in ("pairs", "false_positive_ratio")]
+    cells = collections.defaultdict(lambda: collections.defaultdict(list))
+    for row in timing + counts:
+        if row.metric == COLLIDE_TIME and row.unit not in UNIT_SECONDS:
+            continue
+        value = convert(row.value, row.unit, "s") if row.metric == COLLIDE_TIME else row.value
+        label = row.bv if row.bv and row.structure == f"bvh_{row.bv}" else label_of(row)
+        if row.metric == COLLIDE_TIME and not row.validated:
+            label += " [unvalidated]"
+        cells[(row.params, row.n, label)][(row.operation, row.metric)].append(value)
+    out = collections.defaultdict(list)
+    for (params, n, label), metrics in sorted(cells.items()):
+        def get(operation, metric):
+            values = metrics.get((operation, metric))
+            return median(values) if values else float("nan")
+        out[(params, n)].append((label, get("candidate_pairs", "pairs"),
+                                 get("candidate_pairs", "false_positive_ratio"),
+                                 get("exact_pairs", COLLIDE_TIME), get("build", COLLIDE_TIME)))
+    return dict(out)
+
+
+def plot_collide_bv_tradeoff(rows, out_dir, include_unvalidated):
+    data = collide_bv_points(rows, include_unvalidated)
+    groups = [g for g in sorted(data) if any(p[1] > 0 for p in data[g])]
+    if not groups:
+        note(f"skip {COLLIDE_BV_FILE}: no collide rows of workload triangles with candidate pairs")
+        return []
+    figure, axes = plt.subplots(len(groups), 2, squeeze=False, figsize=(14, 6 * len(groups)))
+    for row_axes, group in zip(axes, groups):
+        params, n = group
+        where = f"{params} n={format_n(n)}" if params else f"n={format_n(n)}"
+
+        def points(index):
+            out = []
+            for label, candidates, fp, *times in data[group]:
+                if candidates > 0 and math.isfinite(times[index]) and times[index] > 0:
+                    text = label + (f" (fp {fp:.2f})" if math.isfinite(fp) else "")
+                    out.append((text, candidates, times[index]))
+            return out
+
+        for axis, index, what in ((row_axes[0], 0, "exact-pairs time"),
+                                  (row_axes[1], 1, "build time")):
+            drawn = points(index)
+            if not drawn:
+                axis.set_axis_off()
+                axis.text(0.5, 0.5, f"{where}: no {what} rows", ha="center", va="center")
+                continue
+            draw_tradeoff_panel(axis, drawn,
+                                "candidate pairs (BV overlaps reaching the exact test; "
+                                "fp = false-positive ratio)",
+                                f"{what} (s)", f"triangles {where}: {what} against candidate pairs")
+    figure.suptitle("collide: what bounding-volume accuracy costs in time (triangle soup self-"
+                    "intersection; one point per BVH volume type; lower-left is better)")
+    figure.tight_layout(rect=(0, 0, 1, 1.0 - 0.5 / figure.get_figheight()))
+    return [save_atomically(figure, os.path.join(out_dir, COLLIDE_BV_FILE))]
+
+
+def scene_stage_times(rows, include_unvalidated):
+    """{(scene, n): {(label, params, validated): {operation: median time (SCENE_UNIT)}}} of the
+    scenes suite's time rows (per-step medians; SCENE_SKIP left out), and {same keys:
+    steps_per_second} where measured."""
+    scenes = [row for row in rows if row.suite == SCENES_SUITE]
+    timing = collide_timing(scenes, include_unvalidated, "scenes timing", metric=COLLIDE_TIME)
+    times = collections.defaultdict(lambda: collections.defaultdict(lambda: collections.defaultdict(list)))
+    for row in timing:
+        if row.operation in SCENE_SKIP or row.unit not in UNIT_SECONDS:
+            continue
+        times[(row.workload, row.n)][(label_of(row), row.params, row.validated)][row.operation] \
+            .append(convert(row.value, row.unit, SCENE_UNIT))
+    rates = collections.defaultdict(lambda: collections.defaultdict(list))
+    for row in scenes:
+        if row.metric == COLLIDE_STEPS_PER_SECOND and (row.validated or include_unvalidated):
+            rates[(row.workload, row.n)][(label_of(row), row.params, row.validated)].append(row.value)
+    return ({scene: median_points(by_key) for scene, by_key in times.items()},
+            {scene: {key: median(v) for key, v in by_key.items()} for scene, by_key in rates.items()})
+
+
+def plot_scenes(rows, out_dir, include_unvalidated):
+    times, rates = scene_stage_times(rows, include_unvalidated)
+    panels = sorted(times, key=lambda k: (workload_sort_key(k[0]), k[1]))
+    panels = [p for p in panels if any(set(stages) - {SCENE_TOTAL} for stages in times[p].values())]
+    if not panels:
+        note(f"skip {SCENES_FILE}: no per-stage time rows in suite {SCENES_SUITE}")
+        return []
+    present = {op for p in panels for stages in times[p].values() for op in stages} - {SCENE_TOTAL}
+    order = [s for s in SCENE_STAGES if s in present] + sorted(present - set(SCENE_STAGES))
+    cmap = plt.get_cmap("tab10")  # one colour per stage, the same in every scene
+    known = list(SCENE_STAGES) + sorted(present - set(SCENE_STAGES))
+    colours = {stage: cmap(known.index(stage) % 10) for stage in order}
+    bars = max(len(times[p]) for p in panels)
+    columns = min(MAX_COLUMNS, len(panels))
+    nrows = math.ceil(len(panels) / columns)
+    legend_inches = 0.2 * math.ceil((len(order) + 1) / LEGEND_COLUMNS) + 0.3
+    figure, axes = plt.subplots(nrows, columns, squeeze=False,
+                                figsize=(max(6.5, 1.5 + 1.1 * bars) * columns,
+                                         (4.6 + legend_inches) * nrows + 0.6))
+    axes = axes.ravel()
+    for extra in axes[len(panels):]:
+        extra.set_visible(False)
+    for axis, panel in zip(axes, panels):
+        scene, n = panel
+        keys = sorted(times[panel], key=lambda k: (k[0], k[1], not k[2]))
+        params = {k[1] for k in keys}
+        shared = params.pop() if len(params) == 1 else None
+        positions = np.arange(len(keys))
+        bottom = np.zeros(len(keys))
+        for stage in order:
+            heights = np.array([times[panel][key].get(stage, 0.0) for key in keys])
+            if not heights.any():
+                continue
+            axis.bar(positions, heights, 0.6, bottom=bottom, color=colours[stage], label=stage)
+            bottom += heights
+        totals = [times[panel][key].get(SCENE_TOTAL, np.nan) for key in keys]
+        axis.scatter(positions, totals, marker="_", s=900, linewidths=2, color="black", zorder=3,
+                     label=f"{SCENE_TOTAL} (total, not stacked)")
+        tops = [max(t, b) if math.isfinite(t) else b for t, b in zip(totals, bottom)]
+        for x, top, key in zip(positions, tops, keys):
+            rate = rates.get(panel, {}).get(key)
+            if rate is not None:
+                axis.annotate(f"{rate:.3g} steps/s", (x, top), ha="center", fontsize=7,
+                              xytext=(0, 4), textcoords="offset points")
+        axis.set_ylim(0, max(tops) * 1.15)
+        axis.set_xticks(positions)
+        axis.set_xticklabels([label + ("" if shared is not None else f"\n{p}")
+                              + ("" if validated else "\n[unvalidated]")
+                              for label, p, validated in keys], fontsize="small")
+        axis.set_ylabel(f"median time per step ({SCENE_UNIT})")
+        title = f"{scene}, n={format_n(n)}"
+        if shared:
+            title += "\n" + shared
+        axis.set_title(title, fontsize="medium")
+        axis.grid(True, axis="y", alpha=0.5)
+        axis.legend(loc="upper center", bbox_to_anchor=(0.5, -0.16), ncol=LEGEND_COLUMNS,
+                    fontsize="small", frameon=False, markerscale=0.4)
+    finish_figure(figure, "scenes: median time per step by stage (stacked)\nblack mark: median "
+                          "whole step (not a sum of stage medians)")
+    return [save_atomically(figure, os.path.join(out_dir, SCENES_FILE))]
+
+
+def plot_collide(rows, out_dir, include_unvalidated):
+    """The collide suite's figures; notes (no crash) for workloads it lacks."""
+    collide = [row for row in rows if row.suite == COLLIDE_SUITE]
+    if not collide:
+        return []
+    # One style per participant across the collide figures (triangles are labelled by BV).
+    styles = StyleBook(label_of(row) for row in collide if row.workload != "triangles")
+    target = COLLIDE_SPEEDUP_TARGET[1]
+    for label in styles.styles:
+        if label.split("<")[0] == target:
+            styles.styles[label] = ("black", "*")  # the structure the targets are about
+    written = []
+    written += plot_collide_boxes(collide, out_dir, styles, include_unvalidated)
+    written += plot_collide_moving(collide, out_dir, styles, include_unvalidated)
+    written += plot_collide_refit_decay(collide, out_dir, styles, include_unvalidated)
+    written += plot_collide_bv_tradeoff(collide, out_dir, include_unvalidated)
+    return written
+
+
 def main(argv=None):
     repo = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
     parser = argparse.ArgumentParser(description=__doc__.split("\n")[0])
@@ -1064,6 +1561,9 @@ def main(argv=None):
     written += plot_ratios(rows, args.out, styles, args.include_unvalidated)
     written += plot_bv_tradeoff(rows, args.out, args.include_unvalidated)
     written += plot_bvh_tradeoff(rows, args.out, args.include_unvalidated)
+    written += plot_collide(rows, args.out, args.include_unvalidated)
+    if any(row.suite == SCENES_SUITE for row in rows):
+        written += plot_scenes(rows, args.out, args.include_unvalidated)
     note(f"{len(written)} PNG(s) written to {args.out}")
     return 0
 
