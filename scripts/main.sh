@@ -24,9 +24,10 @@ for suite in knn structures bv raycast collide; do
     ${data_dir:+--real-data "$data_dir"}
 done
 
-# Scenes: every structure that answers each scene's effects (the smoke preset: 3 steps each).
+# Scenes: every structure that answers each scene's effects (smoke: 3 steps each; quick: 30).
 scene_steps=()
 [[ "$preset" == smoke ]] && scene_steps=(--steps 3)
+[[ "$preset" == quick ]] && scene_steps=(--steps 30)
 ./build/release/harness/spatialbench scene datasets/scenes/*.toml --structure all --results results "${scene_steps[@]}"
 
 /usr/bin/python3 plots/plot_results.py --results results --out plots

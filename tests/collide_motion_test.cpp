@@ -9,6 +9,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <random>
 #include <set>
 #include <vector>
@@ -18,6 +19,7 @@
 #include "spatial/bv/sphere.hpp"
 #include "spatial/bvh/bvh.hpp"
 #include "spatial/collide/cell_sort_grid.hpp"
+#include "spatial/collide/collision_grid.hpp"
 #include "spatial/collide/pair_changes.hpp"
 #include "test_support.hpp"
 
@@ -242,6 +244,34 @@ TEST(bvh_motion_rules, a_nan_in_a_batch_leaves_the_tree_unchanged_and_refit_qual
     EXPECT_GT(tree.quality(), 2 * fresh);
     tree.rebuild();
     EXPECT_LT(tree.quality(), 1.2 * fresh);
+}
+
+TEST(collide_collision_grid_motion, a_bulk_move_is_all_or_nothing_and_pairs_follow_it) {
+    std::mt19937_64 rng(spatial_test::test_seed(205));
+    std::vector<B3> boxes;
+    for (int k = 0; k < 1500; ++k) boxes.push_back(random_object<B3>(rng));
+    collision_grid<B3> grid(boxes.begin(), boxes.end());
+    std::vector<std::pair<collision_grid<B3>::iterator, B3>> moves;
+    for (auto it = grid.begin(); it != grid.end(); ++it) moves.emplace_back(it, random_object<B3>(rng));
+    moves[700].second.hi[2] = std::numeric_limits<double>::infinity();
+    const auto before = grid.self_pairs();
+    EXPECT_THROW(grid.update(moves.begin(), moves.end()), std::invalid_argument);
+    EXPECT_EQ(grid.self_pairs(), before);
+    EXPECT_EQ(*moves[0].first, boxes[0]);
+    moves[700].second = random_object<B3>(rng);
+    grid.update(moves.begin(), moves.end());
+    brute_force<B3> oracle;
+    for (const auto& [it, v] : moves) {
+        EXPECT_EQ(*it, v);
+        oracle.insert(v);
+    }
+    // Both allocated slots in order, so pairs compare slot for slot.
+    auto slots = [](const auto& pairs) {
+        std::vector<pair32> out;
+        for (const auto& [a, b] : pairs) out.emplace_back(a.slot(), b.slot());
+        return out;
+    };
+    EXPECT_EQ(slots(grid.self_pairs()), slots(oracle.self_pairs()));
 }
 
 TEST(collide_pair_set_tracker, added_and_removed_are_the_set_differences) {

@@ -23,6 +23,7 @@
 #include "datasets/point_set_io.hpp"
 #include "harness/adapters.hpp"
 #include "harness/csv_writer.hpp"
+#include "harness/format.hpp"
 #include "harness/our_indexes.hpp"
 #include "harness/progress.hpp"
 #include "harness/run_info.hpp"
@@ -62,14 +63,6 @@ preset_config preset(const std::string& name) {
 template <class T>
 const char* scalar_name() {
     return std::is_same_v<T, float> ? "float" : "double";
-}
-
-std::string fmt_n(std::size_t n) {
-    std::ostringstream os;
-    const double l = std::log10(static_cast<double>(n));
-    if (std::abs(l - std::round(l)) < 1e-9) os << "1e" << static_cast<int>(std::round(l));
-    else os << n;
-    return os.str();
 }
 
 // Shared state of one suite run.

@@ -25,6 +25,26 @@
 #include "datasets/scene.hpp"
 #include "harness/validation.hpp"
 
+namespace {
+
+// Runs a command and maps its failures to the documented exit codes: 2 for a wrong answer
+// (nothing was written), 1 for bad usage or input.
+template <class F>
+int guarded(F&& command) {
+    try {
+        command();
+    } catch (const harness::validation_error& e) {
+        std::fprintf(stderr, "spatialbench: VALIDATION FAILED, nothing written: %s\n", e.what());
+        return 2;
+    } catch (const std::exception& e) {
+        std::fprintf(stderr, "spatialbench: error: %s\n", e.what());
+        return 1;
+    }
+    return 0;
+}
+
+}  // namespace
+
 int main(int argc, char** argv) {
     CLI::App app{"spatialbench: validated benchmarks of spatial data structures against CGAL, Embree and nanoflann"};
     app.require_subcommand(1);
@@ -77,8 +97,8 @@ int main(int argc, char** argv) {
         std::cout << '\n';
         return 0;
     }
-    if (*scene) {
-        try {
+    if (*scene)
+        return guarded([&] {
             scene_opt.run_id = harness::make_run_id("scenes", "scene");
             const auto t0 = std::chrono::steady_clock::now();
             std::vector<harness::result_row> rows;
@@ -94,15 +114,7 @@ int main(int argc, char** argv) {
             harness::write_run_sidecar(scene_results, info, harness::seconds_since(t0));
             if (!scene_opt.quiet)
                 std::fprintf(stderr, "spatialbench: wrote %s (%zu rows)\n", (scene_results / scene_output).c_str(), rows.size());
-        } catch (const harness::validation_error& e) {
-            std::fprintf(stderr, "spatialbench: VALIDATION FAILED, nothing written: %s\n", e.what());
-            return 2;
-        } catch (const std::exception& e) {
-            std::fprintf(stderr, "spatialbench: error: %s\n", e.what());
-            return 1;
-        }
-        return 0;
-    }
+        });
     opt.dynamic = !no_dynamic;
     opt.suite_name = suite;
     if (suite == "structures") {
@@ -110,7 +122,7 @@ int main(int argc, char** argv) {
         opt.dynamic = false;  // static queries on every structure; dynamic workloads: knn suite
     }
     opt.output_name = output_name.empty() ? suite + ".csv" : output_name;
-    try {
+    return guarded([&] {
         if (suite == "bv")
             harness::run_bv_suite(opt);
         else if (suite == "raycast")
@@ -119,12 +131,5 @@ int main(int argc, char** argv) {
             harness::run_collide_suite(opt);
         else
             harness::run_knn_suite(opt);
-    } catch (const harness::validation_error& e) {
-        std::fprintf(stderr, "spatialbench: VALIDATION FAILED, nothing written: %s\n", e.what());
-        return 2;
-    } catch (const std::exception& e) {
-        std::fprintf(stderr, "spatialbench: error: %s\n", e.what());
-        return 1;
-    }
-    return 0;
+    });
 }

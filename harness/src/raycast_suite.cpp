@@ -30,6 +30,7 @@
 #include "datasets/mesh_generators.hpp"
 #include "datasets/random.hpp"
 #include "harness/csv_writer.hpp"
+#include "harness/format.hpp"
 #include "harness/mesh_loading.hpp"
 #include "harness/our_ray_indexes.hpp"
 #include "harness/progress.hpp"
@@ -107,14 +108,6 @@ std::uint64_t fnv1a(const std::string& text) {
     std::uint64_t h = 14695981039346656037ull;
     for (unsigned char c : text) h = (h ^ c) * 1099511628211ull;
     return h;
-}
-
-std::string fmt_n(std::size_t n) {
-    std::ostringstream os;
-    const double l = std::log10(static_cast<double>(n));
-    if (std::abs(l - std::round(l)) < 1e-9) os << "1e" << static_cast<int>(std::round(l));
-    else os << n;
-    return os.str();
 }
 
 struct context {

@@ -7,7 +7,7 @@
 // (iterator) for the container's life, so pairs map back to indices.
 // update(): the moved boxes, restored as `motion` says:
 //   * bvh: bvh::update(first, last, strategy) — refit, rebuild, reinsert or automatic;
-//   * containers with update(pos, v) (collision_grid, sweep_and_prune): one O(1) move each;
+//   * collision_grid: its bulk update(first, last), O(m); sweep_and_prune: update(pos, v), O(1) each;
 //   * the others (kd_tree, octree, grids): erase + insert of every moved box (their
 //     incremental path), or with motion = rebuild, clear + bulk insert.
 // self_pairs(): the container's self_pairs(exact) (boxes: the narrow phase is the box test),
@@ -57,6 +57,11 @@ public:
             moves_.clear();
             for (std::size_t i = 0; i < boxes.size(); ++i) moves_.emplace_back(handles_[i], to_object(boxes[i]));
             last_motion_ = c_.update(moves_.begin(), moves_.end(), motion_);
+        } else if constexpr (requires { c_.update(moves_.begin(), moves_.end()); }) {  // collision_grid: bulk O(m)
+            moves_.clear();
+            for (std::size_t i = 0; i < boxes.size(); ++i) moves_.emplace_back(handles_[i], to_object(boxes[i]));
+            c_.update(moves_.begin(), moves_.end());
+            last_motion_ = spatial::motion_strategy::reinsert;
         } else if constexpr (requires { c_.update(handles_[0], collide_box3{}); }) {
             for (std::size_t i = 0; i < boxes.size(); ++i) c_.update(handles_[i], to_object(boxes[i]));
             last_motion_ = spatial::motion_strategy::reinsert;

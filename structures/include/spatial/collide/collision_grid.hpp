@@ -72,10 +72,18 @@ public:
     iterator update(const_iterator pos, const O& x) {
         detail::require_finite_object(x, "collision_grid::update");
         check(pos, "collision_grid::update");
-        const slot_index s = pos.slot();
-        slots_.release(s);
-        slots_.allocate(x, 1);  // LIFO free list: the same slot
-        return make(s);
+        slots_.replace(pos.slot(), x);
+        return pos;
+    }
+    // Moves many: [first, last) yields (iterator, new object) pairs. Every pair is validated
+    // before any object is replaced (a NaN leaves the grid unchanged). O(m).
+    template <class PairIt>
+    void update(PairIt first, PairIt last) {
+        for (auto it = first; it != last; ++it) {
+            detail::require_finite_object(it->second, "collision_grid::update(first, last)");
+            check(it->first, "collision_grid::update(first, last)");
+        }
+        for (auto it = first; it != last; ++it) slots_.replace(it->first.slot(), it->second);
     }
     void clear() { slots_.clear(); }
 

@@ -108,6 +108,12 @@ public:
 
     bool occupied(slot_index s) const { return s < meta_.size() && meta_[s] != vacant; }
     const Value& value(slot_index s) const { return values_[s]; }
+    // Replaces an occupied slot's value in place, keeping its meta word (for containers whose
+    // metadata does not depend on the value, e.g. collision_grid's O(1) moves).
+    void replace(slot_index s, const Value& v) {
+        assert(occupied(s));
+        values_[s] = v;
+    }
     meta_type meta(slot_index s) const { return meta_[s]; }
     void set_meta(slot_index s, meta_type m) { meta_[s] = m; }
 

@@ -1,0 +1,693 @@
+#pragma once
+// The scene runner's implementation (see scene_runner.cpp for the step pipeline), included by
+// the four translation units that instantiate it for (float | double) x (2D | 3D): one TU per
+// combination compiles in parallel (a single TU took 3 minutes of CI's build).
+#include "harness/scene_runner.hpp"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <map>
+#include <memory>
+#include <optional>
+#include <sstream>
+#include <stdexcept>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include "datasets/scene_motion.hpp"
+#include "datasets/scene_objects.hpp"
+#include "datasets/scene_queries.hpp"
+#include "harness/mesh_loading.hpp"
+#include "harness/progress.hpp"
+#include "harness/timing.hpp"
+#include "harness/validation.hpp"
+#include "spatial/brute/brute_force.hpp"
+#include "spatial/bvh/bvh.hpp"
+#include "spatial/collide/collision_grid.hpp"
+#include "spatial/collide/narrow_phase.hpp"
+#include "spatial/collide/pair_changes.hpp"
+#include "spatial/grid/uniform_grid.hpp"
+#include "spatial/kdtree/kd_tree.hpp"
+#include "spatial/octree/octree.hpp"
+
+namespace harness {
+namespace {
+
+using pair32 = std::pair<std::uint32_t, std::uint32_t>;
+constexpr std::size_t large_scene_objects = 20000;
+
+// ---- one structure over one set's objects ----------------------------------------------
+
+template <class O>
+struct structure_iface {
+    using T = typename O::scalar_type;
+    using P = spatial::point_type_of<O>;
+    virtual ~structure_iface() = default;
+    virtual void build(const std::vector<O>& objects) = 0;
+    // objects[i] changed for every i in `changed` (same count); restore the structure.
+    virtual void update(const std::vector<O>& objects, const std::vector<std::uint32_t>& changed,
+                        spatial::motion_strategy strategy) = 0;
+    virtual void erase_swap_pop(std::uint32_t index) = 0;  // as the runner's array does
+    virtual void append(const O& x) = 0;
+    virtual std::vector<pair32> self_candidates() = 0;     // (i < j), boxes or volumes overlap
+    virtual std::vector<std::uint32_t> in_box(const P& lo, const P& hi) = 0;
+    virtual std::optional<std::pair<std::uint32_t, T>> first_hit(const spatial::ray<P>& r) = 0;
+    virtual std::vector<T> nearest_distances(const P& q, std::size_t k, const std::vector<O>& objects) = 0;
+    virtual bool answers_queries() const = 0;  // rays, kNN, ranges
+};
+
+template <class C>
+class structure_impl final : public structure_iface<typename C::value_type> {
+public:
+    using O = typename C::value_type;
+    using T = typename O::scalar_type;
+    using P = spatial::point_type_of<O>;
+    static constexpr bool queries = requires(const C& c, P p, spatial::intersect_info<P> info) {
+        c.intersect_object(p, p, T(0), info);
+        c.find_nearest(p, std::size_t(1));
+    };
+
+    void build(const std::vector<O>& objects) override {
+        c_.clear();
+        handles_.clear();
+        if constexpr (requires { c_.update(handles_[0], objects[0]); } || !queries) {
+            for (const O& x : objects) handles_.push_back(c_.insert(x));  // handle containers: O(1) each
+        } else {
+            c_.insert(objects.begin(), objects.end());
+            map_by_value(objects);
+        }
+        remap();
+    }
+    void update(const std::vector<O>& objects, const std::vector<std::uint32_t>& changed,
+                spatial::motion_strategy strategy) override {
+        if constexpr (requires { c_.update(moves_.begin(), moves_.end(), strategy); }) {
+            moves_.clear();
+            for (std::uint32_t i : changed) moves_.emplace_back(handles_[i], objects[i]);
+            c_.update(moves_.begin(), moves_.end(), strategy);
+        } else if constexpr (requires { c_.update(handles_[0], objects[0]); }) {
+            for (std::uint32_t i : changed) c_.update(handles_[i], objects[i]);
+        } else {
+            if (strategy == spatial::motion_strategy::rebuild) {
+                build(objects);
+                return;
+            }
+            for (std::uint32_t i : changed) {
+                c_.erase(handles_[i]);
+                handles_[i] = c_.insert(objects[i]);
+            }
+            remap();
+        }
+    }
+    void erase_swap_pop(std::uint32_t index) override {
+        c_.erase(handles_[index]);
+        handles_[index] = handles_.back();
+        handles_.pop_back();
+        remap();
+    }
+    void append(const O& x) override {
+        handles_.push_back(c_.insert(x));
+        remap();
+    }
+    std::vector<pair32> self_candidates() override {
+        std::vector<pair32> out;
+        auto add = [&](const auto& a, const auto& b) {
+            const std::uint32_t i = index_[a.slot()], j = index_[b.slot()];
+            out.emplace_back(std::min(i, j), std::max(i, j));
+        };
+        // Unsorted when the structure offers it (collision_grid): the runner sorts by index.
+        if constexpr (requires { c_.for_each_self_pair(spatial::pair_filter::candidates, add); })
+            c_.for_each_self_pair(spatial::pair_filter::candidates, add);
+        else
+            for (const auto& [a, b] : c_.self_pairs(spatial::pair_filter::candidates)) add(a, b);
+        return out;
+    }
+    std::vector<std::uint32_t> in_box(const P& lo, const P& hi) override {
+        std::vector<std::uint32_t> out;
+        for (const auto& it : c_.find_in_box(lo, hi)) out.push_back(index_[it.slot()]);
+        return out;
+    }
+    std::optional<std::pair<std::uint32_t, T>> first_hit(const spatial::ray<P>& r) override {
+        if constexpr (queries) {
+            spatial::intersect_info<P> info;
+            const auto it = c_.intersect_object(r.origin, r.direction, r.thickness, info);
+            if (it == c_.end()) return std::nullopt;
+            return std::pair(index_[it.slot()], info.hit_time);
+        } else {
+            throw std::logic_error("no ray casts on this structure");
+        }
+    }
+    std::vector<T> nearest_distances(const P& q, std::size_t k, const std::vector<O>& objects) override {
+        if constexpr (queries) {
+            std::vector<T> out;
+            for (const auto& it : c_.find_nearest(q, k)) out.push_back(spatial::object_squared_distance(objects[index_[it.slot()]], q));
+            return out;
+        } else {
+            throw std::logic_error("no nearest-neighbour queries on this structure");
+        }
+    }
+    bool answers_queries() const override { return queries; }
+
+private:
+    // Containers whose bulk insert does not keep insertion order (kd_tree): handles matched
+    // to objects by position in the iteration, checked by value.
+    void map_by_value(const std::vector<O>& objects) {
+        for (auto it = c_.begin(); it != c_.end(); ++it) handles_.push_back(it);
+        bool in_order = handles_.size() == objects.size();
+        for (std::size_t i = 0; i < objects.size() && in_order; ++i) in_order = *handles_[i] == objects[i];
+        if (in_order) return;
+        // Fall back to one insert per object (keeps handles exact; duplicates stay distinct).
+        c_.clear();
+        handles_.clear();
+        for (const O& x : objects) handles_.push_back(c_.insert(x));
+    }
+    void remap() {
+        std::uint32_t top = 0;
+        for (const auto& h : handles_) top = std::max(top, static_cast<std::uint32_t>(h.slot()));
+        index_.assign(static_cast<std::size_t>(top) + 1, 0);
+        for (std::uint32_t i = 0; i < handles_.size(); ++i) index_[handles_[i].slot()] = i;
+    }
+
+    C c_;
+    std::vector<typename C::iterator> handles_;
+    std::vector<std::uint32_t> index_;
+    std::vector<std::pair<typename C::iterator, O>> moves_;
+};
+
+template <class O>
+std::unique_ptr<structure_iface<O>> make_structure(const std::string& name) {
+    using namespace spatial;
+    if (name == "bvh") return std::make_unique<structure_impl<bvh<O>>>();
+    if (name == "kd_tree") return std::make_unique<structure_impl<kd_tree<O>>>();
+    if (name == "octree") return std::make_unique<structure_impl<octree<O>>>();
+    if (name == "uniform_grid") return std::make_unique<structure_impl<uniform_grid<O>>>();
+    if (name == "collision_grid") return std::make_unique<structure_impl<collision_grid<O>>>();
+    if (name == "brute_force") return std::make_unique<structure_impl<brute_force<O>>>();
+    throw std::invalid_argument("unknown structure '" + name +
+                                "' (expected bvh, kd_tree, octree, uniform_grid, collision_grid, brute_force or all)");
+}
+
+// ---- one object set --------------------------------------------------------------------------
+
+template <class T, std::size_t D>
+struct set_base {
+    using P = spatial::point<T, D>;
+    virtual ~set_base() = default;
+    virtual std::size_t size() const = 0;
+    virtual bool moves() const = 0;
+    virtual void step_motion(double dt) = 0;
+    virtual void churn(const datasets::scene_description& scene, std::size_t step, scene_counters& k) = 0;
+    virtual void build(scene_counters& k) = 0;
+    virtual void update(spatial::motion_strategy strategy, scene_counters& k) = 0;
+    virtual bool indexed() const = 0;
+    virtual void make_index(const std::string& structure) = 0;
+    virtual bool answers_queries() const = 0;
+    virtual std::vector<pair32> self_candidates() = 0;
+    virtual std::vector<std::uint32_t> in_box(const P& lo, const P& hi) = 0;
+    virtual std::vector<std::uint32_t> brute_in_box(const P& lo, const P& hi) const = 0;
+    virtual void box_of(std::uint32_t i, P& lo, P& hi) const = 0;
+    virtual std::optional<std::pair<std::uint32_t, T>> first_hit(const spatial::ray<P>& r) = 0;
+    virtual std::optional<T> brute_first_hit(const spatial::ray<P>& r) const = 0;
+    virtual std::vector<T> nearest_distances(const P& q, std::size_t k) = 0;
+    virtual std::vector<T> brute_nearest_distances(const P& q, std::size_t k) const = 0;
+    // Narrow phase by double dispatch: narrow(i, other, j) asks other to test its object j
+    // against this set's object i, whatever the two object types.
+    virtual bool narrow(std::uint32_t i, const set_base& other, std::uint32_t j) const = 0;
+    virtual bool narrow_with(std::uint32_t j, const spatial::point<T, D>& x) const = 0;
+    virtual bool narrow_with(std::uint32_t j, const spatial::objects::box<T, D>& x) const = 0;
+    virtual bool narrow_with(std::uint32_t j, const spatial::objects::sphere<T, D>& x) const = 0;
+    virtual bool narrow_with(std::uint32_t j, const spatial::objects::triangle<T, D>& x) const = 0;
+};
+
+template <class O>
+class set_state final : public set_base<typename O::scalar_type, O::dimension> {
+public:
+    using T = typename O::scalar_type;
+    static constexpr std::size_t D = O::dimension;
+    using P = spatial::point<T, D>;
+
+    set_state(const datasets::scene_description& scene, std::size_t index, std::vector<O> objects)
+        : objects_(std::move(objects)), motion_(scene, index, objects_.size()) {}
+
+    std::size_t size() const override { return objects_.size(); }
+    bool moves() const override { return motion_.moves(); }
+    void step_motion(double dt) override {
+        motion_.step(std::span<O>(objects_), dt);
+        changed_all_ = true;
+    }
+    void churn(const datasets::scene_description& scene, std::size_t step, scene_counters& k) override {
+        for (std::size_t i : datasets::churn_erase_indices(scene, step, objects_.size())) {
+            objects_[i] = objects_.back();
+            objects_.pop_back();
+            motion_.erase(i);
+            if (index_) index_->erase_swap_pop(static_cast<std::uint32_t>(i));
+            ++k.churn_erases;
+        }
+        for (const O& x : datasets::generate_churn_objects<O>(scene, step)) {
+            objects_.push_back(x);
+            motion_.insert(1);
+            if (index_) index_->append(x);
+            ++k.churn_inserts;
+        }
+    }
+    bool indexed() const override { return index_ != nullptr; }
+    void make_index(const std::string& structure) override { index_ = make_structure<O>(structure); }
+    bool answers_queries() const override { return index_ && index_->answers_queries(); }
+    void build(scene_counters& k) override {
+        index_->build(objects_);
+        changed_all_ = false;
+        ++k.index_builds;
+    }
+    void update(spatial::motion_strategy strategy, scene_counters& k) override {
+        if (!changed_all_) return;
+        changed_.resize(objects_.size());
+        for (std::uint32_t i = 0; i < changed_.size(); ++i) changed_[i] = i;
+        index_->update(objects_, changed_, strategy);
+        changed_all_ = false;
+        ++k.index_updates;
+    }
+    std::vector<pair32> self_candidates() override { return index_->self_candidates(); }
+    std::vector<std::uint32_t> in_box(const P& lo, const P& hi) override { return index_->in_box(lo, hi); }
+    std::vector<std::uint32_t> brute_in_box(const P& lo, const P& hi) const override {
+        std::vector<std::uint32_t> out;
+        for (std::uint32_t i = 0; i < objects_.size(); ++i)
+            if (spatial::object_overlaps_box(objects_[i], lo, hi)) out.push_back(i);
+        return out;
+    }
+    void box_of(std::uint32_t i, P& lo, P& hi) const override {
+        for (std::size_t a = 0; a < D; ++a) lo[a] = spatial::object_lower(objects_[i], a), hi[a] = spatial::object_upper(objects_[i], a);
+    }
+    std::optional<std::pair<std::uint32_t, T>> first_hit(const spatial::ray<P>& r) override { return index_->first_hit(r); }
+    std::optional<T> brute_first_hit(const spatial::ray<P>& r) const override {
+        spatial::brute_force<O> b(objects_.begin(), objects_.end());
+        spatial::intersect_info<P> info;
+        if (b.intersect_object(r.origin, r.direction, r.thickness, info) == b.end()) return std::nullopt;
+        return info.hit_time;
+    }
+    std::vector<T> nearest_distances(const P& q, std::size_t k) override { return index_->nearest_distances(q, k, objects_); }
+    std::vector<T> brute_nearest_distances(const P& q, std::size_t k) const override {
+        std::vector<T> d;
+        for (const O& x : objects_) d.push_back(spatial::object_squared_distance(x, q));
+        std::sort(d.begin(), d.end());
+        d.resize(std::min(k, d.size()));
+        return d;
+    }
+    bool narrow(std::uint32_t i, const set_base<T, D>& other, std::uint32_t j) const override {
+        return other.narrow_with(j, objects_[i]);
+    }
+    bool narrow_with(std::uint32_t j, const spatial::point<T, D>& x) const override { return test(x, j); }
+    bool narrow_with(std::uint32_t j, const spatial::objects::box<T, D>& x) const override { return test(x, j); }
+    bool narrow_with(std::uint32_t j, const spatial::objects::sphere<T, D>& x) const override { return test(x, j); }
+    bool narrow_with(std::uint32_t j, const spatial::objects::triangle<T, D>& x) const override { return test(x, j); }
+
+private:
+    template <class X>
+    bool test(const X& x, std::uint32_t j) const {
+        return spatial::collide::narrow_phase(x, objects_[j]);
+    }
+
+    std::vector<O> objects_;
+    datasets::scene_motion<O> motion_;
+    std::unique_ptr<structure_iface<O>> index_;
+    bool changed_all_ = false;
+    std::vector<std::uint32_t> changed_;
+};
+
+// ---- the run -------------------------------------------------------------------------------
+
+spatial::motion_strategy to_motion(datasets::update_strategy s) {
+    switch (s) {
+        case datasets::update_strategy::refit: return spatial::motion_strategy::refit;
+        case datasets::update_strategy::rebuild: return spatial::motion_strategy::rebuild;
+        case datasets::update_strategy::reinsert: return spatial::motion_strategy::reinsert;
+        case datasets::update_strategy::automatic: break;
+    }
+    return spatial::motion_strategy::automatic;
+}
+
+struct stage_times {
+    std::map<std::string, std::vector<double>> seconds;
+    std::map<std::string, std::vector<double>> counts;
+};
+
+template <class T, std::size_t D>
+class scene_run {
+public:
+    using P = spatial::point<T, D>;
+    scene_run(const datasets::scene_description& scene, std::string structure, std::size_t steps, scene_counters& k,
+              const progress& prog)
+        : scene_(scene), structure_(std::move(structure)), steps_(steps), k_(k), prog_(prog) {}
+
+    // Per-stage seconds of every step, and the pairs per step (for the validation across
+    // structures: pair sets of each step in order).
+    stage_times times;
+    std::vector<std::vector<pair32>> pair_log;
+
+    void run() {
+        load_sets();
+        const bool any_queries = scene_.raycast || scene_.nearest || scene_.range;
+        std::vector<bool> queried(sets_.size(), false);
+        if (scene_.collide)
+            for (auto [a, b] : scene_.collide->between) queried[a] = queried[b] = true;
+        if (scene_.raycast)
+            for (std::size_t t : scene_.raycast->targets) queried[t] = true;
+        if (scene_.nearest) queried[scene_.nearest->target] = true;
+        if (scene_.range) queried[scene_.range->target] = true;
+        for (std::size_t s = 0; s < sets_.size(); ++s) {
+            if (!queried[s]) continue;  // no index for queries nobody makes
+            sets_[s]->make_index(structure_);
+            if (any_queries && !sets_[s]->answers_queries() && !only_collide_target(s))
+                throw std::invalid_argument(structure_ + " answers pair queries only; scene " + scene_.name +
+                                            " also casts rays or asks nearest/range queries (choose bvh, kd_tree, octree, uniform_grid or brute_force)");
+            const auto t0 = std::chrono::steady_clock::now();
+            sets_[s]->build(k_);
+            times.seconds["build"].push_back(seconds_since(t0));
+        }
+        const auto strategy = scene_.collide ? to_motion(scene_.collide->strategy) : spatial::motion_strategy::automatic;
+        std::vector<spatial::collide::pair_set_tracker<std::uint64_t>> trackers(scene_.collide ? scene_.collide->between.size() : 0);
+        for (std::size_t step = 0; step < steps_; ++step) {
+            step_seconds_ = 0;  // the sum of this step's timed stages (validation excluded)
+            if (scene_.moves()) {
+                const auto t0 = std::chrono::steady_clock::now();
+                for (auto& s : sets_)
+                    if (s->moves()) {
+                        s->step_motion(scene_.time_step);
+                        ++k_.motion_steps;
+                    }
+                record("motion", seconds_since(t0));
+            }
+            if (scene_.churn) {
+                const auto t0 = std::chrono::steady_clock::now();
+                sets_[scene_.churn->target]->churn(scene_, step, k_);
+                record("churn", seconds_since(t0));
+            }
+            if (scene_.moves()) {
+                const auto t0 = std::chrono::steady_clock::now();
+                for (auto& s : sets_)
+                    if (s->indexed() && s->moves()) s->update(strategy, k_);
+                record("update", seconds_since(t0));
+            }
+            if (scene_.collide) collide_step(step, trackers);
+            if (scene_.raycast) raycast_step(step);
+            if (scene_.nearest) nearest_step(step);
+            if (scene_.range) range_step(step);
+            times.seconds["step"].push_back(step_seconds_);
+            if ((step + 1) % std::max<std::size_t>(1, steps_ / 5) == 0 || step + 1 == steps_)
+                prog_.say("scene " + scene_.name + " [" + structure_ + "] step " + std::to_string(step + 1) + "/" +
+                          std::to_string(steps_));
+        }
+    }
+    std::size_t object_count() const {
+        std::size_t n = 0;
+        for (const auto& s : sets_) n += s->size();
+        return n;
+    }
+
+private:
+    void record(const std::string& stage, double seconds) {
+        times.seconds[stage].push_back(seconds);
+        step_seconds_ += seconds;
+    }
+    bool only_collide_target(std::size_t s) const {
+        if (scene_.raycast && std::find(scene_.raycast->targets.begin(), scene_.raycast->targets.end(), s) != scene_.raycast->targets.end())
+            return false;
+        if (scene_.nearest && scene_.nearest->target == s) return false;
+        if (scene_.range && scene_.range->target == s) return false;
+        return true;
+    }
+    void load_sets() {
+        for (std::size_t i = 0; i < scene_.objects.size(); ++i) {
+            const auto& set = scene_.objects[i];
+            datasets::with_object_type<T, D>(set.kind, [&](auto type) {
+                using O = typename decltype(type)::type;
+                std::vector<O> objects;
+                if constexpr (std::is_same_v<O, spatial::objects::triangle<T, 3>>) {
+                    if (set.mesh && set.mesh->from == datasets::mesh_source::origin::file) {
+                        try {
+                            objects = datasets::mesh_objects<T>(load_triangle_mesh(set.mesh->file), *set.mesh);
+                        } catch (const std::exception& e) {
+                            throw std::invalid_argument(scene_.file + ":" + std::to_string(set.position.line) + ": set '" +
+                                                        set.name + "': cannot load mesh " + set.mesh->file.string() + ": " + e.what());
+                        }
+                    }
+                }
+                if (objects.empty()) objects = datasets::generate_objects<O>(scene_, i);
+                sets_.push_back(std::make_unique<set_state<O>>(scene_, i, std::move(objects)));
+                return 0;
+            });
+        }
+    }
+
+    void collide_step(std::size_t step, std::vector<spatial::collide::pair_set_tracker<std::uint64_t>>& trackers) {
+        const bool exact = scene_.collide->filter == datasets::collide_filter::exact;
+        double broad = 0, narrow = 0;
+        std::size_t total = 0, changed = 0;
+        for (std::size_t e = 0; e < scene_.collide->between.size(); ++e) {
+            const auto [a, b] = scene_.collide->between[e];
+            auto t0 = std::chrono::steady_clock::now();
+            std::vector<pair32> cand;
+            if (a == b) {
+                cand = sets_[a]->self_candidates();
+            } else {
+                // Bipartite: each object of b against a's structure, by its box. The box query
+                // reports objects that meet the box by each object's own (floating-point) test,
+                // e.g. triangle-box; grown by a relative 2^-20 it cannot miss an object that
+                // truly touches the box, and the exact box filter below keeps the candidate
+                // set the same for every structure (boxes overlap).
+                P lo, hi;
+                for (std::uint32_t j = 0; j < sets_[b]->size(); ++j) {
+                    sets_[b]->box_of(j, lo, hi);
+                    P glo = lo, ghi = hi;
+                    for (std::size_t d = 0; d < D; ++d) {
+                        const T m = std::max({std::abs(lo[d]), std::abs(hi[d]), hi[d] - lo[d]}) * T(0x1p-20);
+                        glo[d] -= m;
+                        ghi[d] += m;
+                    }
+                    for (std::uint32_t i : sets_[a]->in_box(glo, ghi)) {
+                        P alo, ahi;
+                        sets_[a]->box_of(i, alo, ahi);
+                        bool overlap = true;  // candidates: boxes overlap (the same rule as self pairs)
+                        for (std::size_t d = 0; d < D; ++d) overlap &= !(ahi[d] < lo[d] || hi[d] < alo[d]);
+                        if (overlap) cand.emplace_back(i, j);
+                    }
+                }
+            }
+            ++k_.broad_phase_queries;
+            broad += seconds_since(t0);
+            t0 = std::chrono::steady_clock::now();
+            std::vector<pair32> pairs;
+            if (exact) {
+                for (const auto& [i, j] : cand) {
+                    ++k_.narrow_phase_tests;
+                    if (sets_[a]->narrow(i, *sets_[b], j)) pairs.push_back({i, j});
+                }
+            } else {
+                pairs = std::move(cand);
+            }
+            std::sort(pairs.begin(), pairs.end());
+            narrow += seconds_since(t0);
+            validate_pairs(a, b, pairs, step, exact);
+            std::vector<std::pair<std::uint64_t, std::uint64_t>> ids;
+            for (const auto& [i, j] : pairs) ids.emplace_back(i, j);
+            // Object indices are ids except across churn (swap-and-pop renames the last
+            // object): the pairs changed figure then also counts the renamed ones.
+            changed += trackers[e].step(std::move(ids));
+            total += pairs.size();
+            pair_log.push_back(std::move(pairs));
+        }
+        record("collide_broad_phase", broad);
+        if (exact) record("collide_narrow_phase", narrow);
+        times.counts["pairs"].push_back(static_cast<double>(total));
+        times.counts["pairs_changed"].push_back(static_cast<double>(changed));
+    }
+    // Against brute force's exact pairs, for every object of small sets, else for a sample:
+    // exact pairs must be equal; candidate pairs (each structure's own broad phase, so they
+    // differ between structures) must contain them.
+    void validate_pairs(std::size_t a, std::size_t b, const std::vector<pair32>& pairs, std::size_t step,
+                        bool exact) const {
+        const std::size_t na = sets_[a]->size(), nb = sets_[b]->size();
+        const std::size_t sample = na * nb <= 4000000 ? na : 64;
+        std::vector<std::vector<std::uint32_t>> got(na);
+        for (const auto& [i, j] : pairs) {
+            got[i].push_back(j);
+            if (a == b) got[j].push_back(i);
+        }
+        for (std::size_t s = 0; s < sample; ++s) {
+            const auto i = static_cast<std::uint32_t>(sample == na ? s : (s * 2654435761u + step) % na);
+            std::vector<std::uint32_t> want;
+            for (std::uint32_t j = 0; j < nb; ++j)
+                if ((a != b || j != i) && sets_[a]->narrow(i, *sets_[b], j)) want.push_back(j);
+            auto g = got[i];
+            std::sort(g.begin(), g.end());
+            g.erase(std::unique(g.begin(), g.end()), g.end());
+            if (exact ? g != want : !std::includes(g.begin(), g.end(), want.begin(), want.end()))
+                throw validation_error("scene " + scene_.name + " [" + structure_ + "] step " + std::to_string(step + 1) +
+                                       ": object " + std::to_string(i) + " of set '" + scene_.objects[a].name + "' has " +
+                                       std::to_string(g.size()) + " partners, brute force finds " + std::to_string(want.size()));
+        }
+    }
+    void raycast_step(std::size_t step) {
+        const auto rays = datasets::generate_rays<T, D>(scene_, step);
+        const auto t0 = std::chrono::steady_clock::now();
+        std::size_t hits = 0;
+        std::vector<std::optional<T>> first(rays.size());
+        for (std::size_t r = 0; r < rays.size(); ++r) {
+            for (std::size_t t : scene_.raycast->targets) {
+                const auto h = sets_[t]->first_hit(rays[r]);
+                if (h && (!first[r] || h->second < *first[r])) first[r] = h->second;
+            }
+            hits += first[r].has_value();
+            ++k_.rays_cast;
+        }
+        record("raycast", seconds_since(t0));
+        times.counts["ray_hits"].push_back(static_cast<double>(hits));
+        for (std::size_t r = step % 7; r < rays.size(); r += std::max<std::size_t>(1, rays.size() / 16)) {  // sampled check
+            std::optional<T> want;
+            for (std::size_t t : scene_.raycast->targets) {
+                const auto h = sets_[t]->brute_first_hit(rays[r]);
+                if (h && (!want || *h < *want)) want = h;
+            }
+            if (want.has_value() != first[r].has_value() || (want && !same_distance(*want, *first[r])))
+                throw validation_error("scene " + scene_.name + " [" + structure_ + "] step " + std::to_string(step + 1) +
+                                       ": ray " + std::to_string(r) + " disagrees with brute force");
+        }
+    }
+    void nearest_step(std::size_t step) {
+        const auto queries = datasets::generate_nearest_queries<T, D>(scene_, step);
+        auto& set = *sets_[scene_.nearest->target];
+        const std::size_t k = scene_.nearest->k;
+        const auto t0 = std::chrono::steady_clock::now();
+        std::vector<std::vector<T>> got;
+        for (const auto& q : queries) {
+            got.push_back(set.nearest_distances(q, k));
+            ++k_.nearest_queries;
+        }
+        record("nearest", seconds_since(t0));
+        for (std::size_t q = step % 5; q < queries.size(); q += std::max<std::size_t>(1, queries.size() / 16)) {
+            const auto want = set.brute_nearest_distances(queries[q], k);
+            bool ok = want.size() == got[q].size();
+            for (std::size_t i = 0; ok && i < want.size(); ++i) ok = same_distance(want[i], got[q][i]);
+            if (!ok)
+                throw validation_error("scene " + scene_.name + " [" + structure_ + "] step " + std::to_string(step + 1) +
+                                       ": nearest query " + std::to_string(q) + " disagrees with brute force");
+        }
+    }
+    void range_step(std::size_t step) {
+        const auto boxes = datasets::generate_range_queries<T, D>(scene_, step);
+        auto& set = *sets_[scene_.range->target];
+        const auto t0 = std::chrono::steady_clock::now();
+        std::vector<std::vector<std::uint32_t>> got;
+        std::size_t found = 0;
+        for (const auto& b : boxes) {
+            P lo, hi;
+            for (std::size_t d = 0; d < D; ++d) lo[d] = b.lo[d], hi[d] = b.hi[d];
+            got.push_back(set.in_box(lo, hi));
+            found += got.back().size();
+            ++k_.range_queries;
+        }
+        record("range", seconds_since(t0));
+        times.counts["range_results"].push_back(static_cast<double>(found));
+        for (std::size_t q = step % 5; q < boxes.size(); q += std::max<std::size_t>(1, boxes.size() / 16)) {
+            P lo, hi;
+            for (std::size_t d = 0; d < D; ++d) lo[d] = boxes[q].lo[d], hi[d] = boxes[q].hi[d];
+            auto g = got[q];
+            std::sort(g.begin(), g.end());
+            if (g != set.brute_in_box(lo, hi))
+                throw validation_error("scene " + scene_.name + " [" + structure_ + "] step " + std::to_string(step + 1) +
+                                       ": range query " + std::to_string(q) + " disagrees with brute force");
+        }
+    }
+
+    const datasets::scene_description& scene_;
+    std::string structure_;
+    std::size_t steps_;
+    scene_counters& k_;
+    const progress& prog_;
+    std::vector<std::unique_ptr<set_base<T, D>>> sets_;
+    double step_seconds_ = 0;
+};
+
+}  // namespace
+
+namespace scene_detail {
+
+// One scene in scalar T and dimension D (explicitly instantiated in scene_runner_<D>d_<T>.cpp).
+template <class T, std::size_t D>
+std::vector<result_row> run_typed(const datasets::scene_description& scene, const scene_run_options& opt,
+                                  scene_counters& k) {
+    progress prog(opt.quiet);
+    std::vector<std::string> structures = opt.structures;
+    if (structures.empty()) structures = {"bvh"};
+    if (structures.size() == 1 && structures[0] == "all") {
+        structures = scene_structure_names();
+        if (scene.raycast || scene.nearest || scene.range)  // collision_grid answers pairs only
+            structures.erase(std::remove(structures.begin(), structures.end(), "collision_grid"), structures.end());
+        std::size_t objects = 0;
+        for (const auto& set : scene.objects) objects += set.generator ? set.generator->count : 0;
+        if (objects > large_scene_objects) {
+            // brute_force is O(n^2) per step; kd_tree, octree and uniform_grid follow motion
+            // by erasing and inserting every moved object: minutes per large scene. 'all'
+            // keeps the two structures with a dedicated path for moving scenes.
+            std::erase_if(structures, [](const std::string& s) { return s != "bvh" && s != "collision_grid"; });
+            prog.say("scene " + scene.name + ": 'all' means bvh and collision_grid above " +
+                     std::to_string(large_scene_objects) + " objects (" + std::to_string(objects) + " here)");
+        }
+    }
+    const std::size_t steps = opt.steps ? opt.steps : scene.steps;
+    std::vector<result_row> rows;
+    std::vector<std::vector<pair32>> reference_pairs;
+    std::string reference_name;
+    for (const auto& name : structures) {
+        scene_run<T, D> run(scene, name, steps, k, prog);
+        run.run();
+        const bool exact = scene.collide && scene.collide->filter == datasets::collide_filter::exact;
+        if (reference_name.empty()) {
+            reference_name = name;
+            reference_pairs = run.pair_log;
+        } else if (exact && run.pair_log != reference_pairs) {
+            throw validation_error("scene " + scene.name + ": " + name + " and " + reference_name +
+                                   " report different pair sets");
+        }
+        auto row = [&](const std::string& op, const std::string& metric, double value, const std::string& unit,
+                       const timing_result* t) {
+            result_row r;
+            r.suite = "scenes";
+            r.structure = name;
+            r.bv = name == "bvh" ? "aabb" : "-";
+            r.workload = scene.name;
+            r.n = run.object_count();
+            r.dim = D;
+            r.scalar = std::is_same_v<T, float> ? "float" : "double";
+            r.operation = op;
+            r.params = "steps=" + std::to_string(steps) +
+                       (scene.collide ? ";strategy=" + std::string(datasets::to_string(scene.collide->strategy)) +
+                                            ";filter=" + std::string(datasets::to_string(scene.collide->filter))
+                                      : "");
+            r.metric = metric;
+            r.value = value;
+            r.unit = unit;
+            r.validated = true;
+            r.run_id = opt.run_id;
+            if (t) r.repetitions = t->repetitions, r.min_value = t->min_seconds, r.max_value = t->max_seconds;
+            rows.push_back(std::move(r));
+        };
+        for (const auto& [stage, secs] : run.times.seconds) {
+            const auto t = summarize(secs);
+            row(stage, "time", t.median_seconds, "s", &t);
+        }
+        for (const auto& [what, counts] : run.times.counts) {
+            const auto t = summarize(counts);
+            row("step", what, t.median_seconds, "count", nullptr);
+        }
+        const auto& step_s = run.times.seconds["step"];
+        double total = 0;
+        for (double s : step_s) total += s;
+        if (total > 0) row("step", "steps_per_second", static_cast<double>(step_s.size()) / total, "1/s", nullptr);
+    }
+    return rows;
+}
+
+}  // namespace scene_detail
+
+}  // namespace harness
