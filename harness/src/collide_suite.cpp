@@ -68,7 +68,7 @@ preset_config preset(const std::string& name) {
     if (name == "smoke") return {{1000, 5000}, {2000}, {2000}, 5, 2, 64, 5000, 5000};
     // quick (the main job): the 1e5 moving-box target and everything up to 1e5 except the BVH
     // volume study at 1e5 (k-DOP builds take 2-10 s there); full: the 1e6 static target too
-    // (results/collide_full.csv).
+    // (results/collide_1e6.csv: --preset full --workload boxes --n 1000000).
     if (name == "quick") return {{10000, 100000}, {10000, 100000}, {10000}, 30, 3, 200, 20000, 100000};
     if (name == "full") return {{10000, 100000, 1000000}, {10000, 100000}, {10000, 100000}, 30, 3, 400, 20000, 100000};
     throw std::invalid_argument("unknown preset '" + name + "' (expected smoke, quick or full)");
