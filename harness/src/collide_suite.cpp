@@ -74,12 +74,6 @@ preset_config preset(const std::string& name) {
     throw std::invalid_argument("unknown preset '" + name + "' (expected smoke, quick or full)");
 }
 
-bool boxes_overlap(const collide_box& a, const collide_box& b) {
-    for (std::size_t i = 0; i < 3; ++i)
-        if (a.hi[i] < b.lo[i] || b.hi[i] < a.lo[i]) return false;
-    return true;
-}
-
 // Cubes of side s = (2 / n)^(1/3) / 2 with lower corners uniform in [0, 1)^3: the expected
 // number of other cubes overlapping one is n (2s)^3 = 2.
 double cube_side(std::size_t n) { return std::cbrt(2.0 / static_cast<double>(n)) / 2; }
@@ -145,7 +139,7 @@ void validate_pairs(const context& ctx, const std::vector<collide_box>& boxes, c
         std::vector<index_pair> want;
         for (std::uint32_t i = 0; i < n; ++i)
             for (std::uint32_t j = i + 1; j < n; ++j)
-                if (boxes_overlap(boxes[i], boxes[j])) want.emplace_back(i, j);
+                if (closed_boxes_overlap(boxes[i], boxes[j])) want.emplace_back(i, j);
         if (want != pairs)
             throw validation_error(where + ": " + std::to_string(pairs.size()) + " pairs, brute force finds " +
                                    std::to_string(want.size()) + " (or different ones)");
@@ -167,7 +161,7 @@ void validate_pairs(const context& ctx, const std::vector<collide_box>& boxes, c
     for (std::uint32_t i : sample) {
         std::vector<std::uint32_t> want;
         for (std::uint32_t j = 0; j < n; ++j)
-            if (j != i && boxes_overlap(boxes[i], boxes[j])) want.push_back(j);
+            if (j != i && closed_boxes_overlap(boxes[i], boxes[j])) want.push_back(j);
         std::sort(got[i].begin(), got[i].end());
         if (got[i] != want)
             throw validation_error(where + ": box " + std::to_string(i) + " has " + std::to_string(got[i].size()) +
