@@ -107,9 +107,12 @@ void check_cell_sort_grid(std::uint64_t seed) {
             EXPECT_TRUE(std::adjacent_find(bi.begin(), bi.end()) == bi.end()) << "a pair reported twice";
             EXPECT_EQ(bi, brute_pairs(boxes, &other));
         }
-    // Identical boxes: every pair once.
-    const std::vector<collide::box_bounds<T, D>> same(40, hard_boxes<T, D>(rng, 1, false)[0]);
-    EXPECT_EQ(grid_self(g, same).size(), 40u * 39u / 2u);
+    // Identical boxes: every pair once, in one cell. 31 to 33 straddle the largest cell that
+    // is joined in a local SIMD block (32 entries); 40 takes the plain loop.
+    for (std::size_t m : {3u, 4u, 5u, 31u, 32u, 33u, 40u}) {
+        const std::vector<collide::box_bounds<T, D>> same(m, hard_boxes<T, D>(rng, 1, false)[0]);
+        EXPECT_EQ(grid_self(g, same).size(), m * (m - 1) / 2) << m << " identical boxes";
+    }
     // All boxes the same point: the mean edge is 0, the grid must still work.
     collide::box_bounds<T, D> p;
     p.lo.fill(T(3));
@@ -123,6 +126,9 @@ TEST(collide_cell_sort_grid, equals_the_quadratic_loop_on_hard_inputs) {
     check_cell_sort_grid<double, 3>(seed);
     check_cell_sort_grid<float, 3>(seed);
     check_cell_sort_grid<double, 2>(seed);
+    check_cell_sort_grid<float, 2>(seed);
+    check_cell_sort_grid<double, 4>(seed);  // the last dimension with 32-bit entries
+    check_cell_sort_grid<double, 5>(seed);  // 64-bit entries, no small-span tables
 }
 
 TEST(collide_cell_sort_grid, memory_stays_linear_when_boxes_are_spread_out) {

@@ -22,22 +22,36 @@
 //     without a seen-set. The cell of a coordinate is floor((x - origin) / h) clamped to
 //     the grid, a monotone function of x even in floating point, so that corner's cell lies
 //     in both boxes' cell ranges and the rule never drops a pair.
+//     The rule costs one OR per pair: each entry carries D bits, bit i set when the cell is
+//     the box's FIRST cell along axis i. Both boxes contain the cell, so max(first_a, first_b)
+//     equals the cell's coordinate on axis i exactly when one of them has bit i set: the pair
+//     belongs to this cell iff (bits_a | bits_b) has all D bits.
+//  4. A cell of at most `block_size` entries (nearly all of them) is copied into a small
+//     structure-of-arrays block and joined 4 candidates at a time with SIMD compares (AVX
+//     for double, SSE for float; a scalar loop elsewhere); the per-pair work is then a few
+//     compares on data in L1, with one branch per 4 candidates.
 // Cost: O(n + e + sum over cells of m_c^2) with m_c entries in cell c; for boxes of similar
 // size O(n + k) with k overlapping pairs. Boxes much larger than h occupy many cells (a
 // heavy-tailed size distribution costs their volume in cells, bounded by the cell cap).
-// Memory: O(n + cells + e) 32-bit words plus one copy of the boxes, all reused across
-// queries (buffers keep their capacity).
+// Memory: O(n + cells + e) 32-bit words (64-bit entries for D > 4) plus one copy of the
+// boxes, all reused across queries (buffers keep their capacity).
 // Exactness: every overlap decision is the closed box test in T; the grid only decides which
 // pairs are looked at, and no overlapping pair can be skipped (step 3).
 
 #include <algorithm>
 #include <array>
+#include <bit>
 #include <cmath>
 #include <cstddef>
 #include <cstdint>
 #include <limits>
 #include <stdexcept>
+#include <type_traits>
 #include <vector>
+
+#if defined(__AVX__)
+#include <immintrin.h>
+#endif
 
 namespace spatial::collide {
 
@@ -95,14 +109,25 @@ public:
 
     const query_stats& last_query_stats() const { return stats_; }
     std::size_t memory_bytes() const {
-        return sizeof(*this) + (starts_.capacity() + cursors_.capacity() + entries_.capacity()) * sizeof(std::uint32_t) +
-               (corner_.capacity() + ids_.capacity()) * sizeof(std::uint32_t) +
-               (sorted_.capacity() + combined_.capacity()) * sizeof(bounds) +
-               first_cell_.capacity() * sizeof(std::array<std::uint32_t, D>) +
-               last_cell_.capacity() * sizeof(std::array<std::uint32_t, D>);
+        return sizeof(*this) +
+               (starts_.capacity() + cursors_.capacity() + corner_.capacity() + ids_.capacity() + sorted_corner_.capacity()) *
+                   sizeof(std::uint32_t) +
+               entries_.capacity() * sizeof(entry_type) + (sorted_.capacity() + combined_.capacity()) * sizeof(bounds) +
+               (span_.capacity() + sorted_span_.capacity()) * sizeof(std::array<std::uint32_t, D>);
     }
 
 private:
+    // Entry = (sorted box index << D) | first-cell bits (step 3). 32 bits while that fits.
+    using entry_type = std::conditional_t<(D <= 4), std::uint32_t, std::uint64_t>;
+    static constexpr entry_type axis_bits = (entry_type(1) << D) - 1;
+    // Cells with at most this many entries are joined in a local block (step 4); 32 covers
+    // every cell of the benchmarks' workloads, larger cells take the plain double loop.
+    static constexpr std::uint32_t block_size = 32;
+    static constexpr std::uint32_t lanes = 4;
+    // Boxes entering at most 2 cells per axis take a table-driven path in fill(); the tables
+    // have 2^D x 2^D entries, so only for small D.
+    static constexpr bool small_span_tables = D <= 4;
+
     // boxes [0, split) and [split, n) are two sets; pairs within the second set are not
     // reported (split == n: one set, every pair).
     template <class Emit>
@@ -110,47 +135,129 @@ private:
         stats_ = {};
         const std::size_t n = boxes.size();
         if (n < 2) return;
-        if (n > std::numeric_limits<std::uint32_t>::max())
-            throw std::length_error("cell_sort_grid: more than 2^32 - 1 boxes");
+        if (n > std::numeric_limits<std::uint32_t>::max() || n > (std::numeric_limits<entry_type>::max() >> D))
+            throw std::length_error("cell_sort_grid: too many boxes for 32-bit box indices");
         layout(boxes);
         sort_by_corner_cell(boxes);
         fill();
         if (split == n) join_cells<false>(static_cast<std::uint32_t>(split), emit);
         else join_cells<true>(static_cast<std::uint32_t>(split), emit);
     }
-    // Step 3, cell by cell in coordinate order. The reporting rule is checked first, on
-    // integers: the intersection's lower corner lies in cell max(first_a, first_b) per axis
-    // (first = the cell of a box's lower corner; cell_coordinate is monotone), so a pair is
-    // looked at only in that cell and the box test runs once per pair sharing cells, not
-    // once per shared cell. Both tests are computed without branches (their outcomes are
-    // unpredictable) and combined into one rarely-taken branch.
+
+    // The local copy of one cell (step 4): coordinates per axis in lanes, the first-cell bits
+    // (plus, for bipartite joins, bit D = "from the second set"), the caller's indices.
+    // Padded by `lanes` entries that overlap nothing (lo = +inf, hi = -inf).
+    struct cell_block {
+        alignas(32) std::array<std::array<T, block_size + lanes>, D> lo, hi;
+        alignas(16) std::array<std::uint32_t, block_size + lanes> bits;
+        std::array<std::uint32_t, block_size + lanes> id;
+    };
+
+    // Bit j set when candidate (x, x_next + j) passes the closed box test and belongs to this
+    // cell (and, bipartite, joins the two sets).
+    template <bool Bipartite>
+    static unsigned candidate_lanes(const cell_block& k, std::uint32_t x, std::uint32_t y) {
+        constexpr std::uint32_t need = static_cast<std::uint32_t>(axis_bits) | (Bipartite ? (1u << D) : 0u);
+#if defined(__AVX__)
+        if constexpr (std::is_same_v<T, double> || std::is_same_v<T, float>) {
+            __m128i both;
+            if constexpr (Bipartite) {
+                const __m128i a = _mm_set1_epi32(static_cast<int>(k.bits[x]));
+                const __m128i b = _mm_loadu_si128(reinterpret_cast<const __m128i*>(&k.bits[y]));
+                // axis bits OR-ed, the set bit XOR-ed: all of `need` set.
+                both = _mm_or_si128(_mm_and_si128(_mm_or_si128(a, b), _mm_set1_epi32(static_cast<int>(axis_bits))),
+                                    _mm_andnot_si128(_mm_set1_epi32(static_cast<int>(axis_bits)), _mm_xor_si128(a, b)));
+            } else {
+                both = _mm_or_si128(_mm_set1_epi32(static_cast<int>(k.bits[x])),
+                                    _mm_loadu_si128(reinterpret_cast<const __m128i*>(&k.bits[y])));
+            }
+            const __m128i here = _mm_cmpeq_epi32(both, _mm_set1_epi32(static_cast<int>(need)));
+            unsigned ok = static_cast<unsigned>(_mm_movemask_ps(_mm_castsi128_ps(here)));
+            if constexpr (std::is_same_v<T, double>) {
+                __m256d m = _mm256_castsi256_pd(_mm256_set1_epi64x(-1));  // all lanes true
+                for (std::size_t i = 0; i < D; ++i) {
+                    const __m256d lo_y = _mm256_loadu_pd(&k.lo[i][y]), hi_y = _mm256_loadu_pd(&k.hi[i][y]);
+                    m = _mm256_and_pd(m, _mm256_cmp_pd(_mm256_set1_pd(k.hi[i][x]), lo_y, _CMP_GE_OQ));
+                    m = _mm256_and_pd(m, _mm256_cmp_pd(hi_y, _mm256_set1_pd(k.lo[i][x]), _CMP_GE_OQ));
+                }
+                ok &= static_cast<unsigned>(_mm256_movemask_pd(m));
+            } else {
+                __m128 m = _mm_castsi128_ps(_mm_set1_epi32(-1));
+                for (std::size_t i = 0; i < D; ++i) {
+                    const __m128 lo_y = _mm_loadu_ps(&k.lo[i][y]), hi_y = _mm_loadu_ps(&k.hi[i][y]);
+                    m = _mm_and_ps(m, _mm_cmp_ps(_mm_set1_ps(k.hi[i][x]), lo_y, _CMP_GE_OQ));
+                    m = _mm_and_ps(m, _mm_cmp_ps(hi_y, _mm_set1_ps(k.lo[i][x]), _CMP_GE_OQ));
+                }
+                ok &= static_cast<unsigned>(_mm_movemask_ps(m));
+            }
+            return ok;
+        } else
+#endif
+        {
+            unsigned ok = 0;
+            for (std::uint32_t j = 0; j < lanes; ++j) {
+                const std::uint32_t b = y + j;
+                bool overlap = true;
+                for (std::size_t i = 0; i < D; ++i) overlap &= (k.lo[i][b] <= k.hi[i][x]) & (k.lo[i][x] <= k.hi[i][b]);
+                std::uint32_t both = (k.bits[x] | k.bits[b]) & static_cast<std::uint32_t>(axis_bits);
+                if constexpr (Bipartite) both |= (k.bits[x] ^ k.bits[b]) & (1u << D);
+                ok |= static_cast<unsigned>(overlap & (both == need)) << j;
+            }
+            return ok;
+        }
+    }
+
+    // Steps 3 and 4, cell by cell. Every box test is the closed test in T (NaN cannot occur:
+    // callers store finite boxes).
     template <bool Bipartite, class Emit>
     void join_cells(std::uint32_t split, Emit& emit) {
-        std::array<std::uint32_t, D> at{};
         const std::size_t cells = starts_.size() - 1;
+        std::size_t candidates = 0;
         for (std::size_t c = 0; c < cells; ++c) {
-            if (c != 0)
-                for (std::size_t i = 0; i < D && ++at[i] == dims_[i]; ++i) at[i] = 0;  // next cell's coordinates
             const std::uint32_t first = starts_[c], last = starts_[c + 1];
-            if (last - first < 2) continue;
-            for (std::uint32_t x = first; x + 1 < last; ++x) {
-                const std::uint32_t a = entries_[x];
-                const bounds& ba = sorted_[a];
-                const auto& fa = first_cell_[a];
-                stats_.candidate_tests += last - x - 1;
-                for (std::uint32_t y = x + 1; y < last; ++y) {
-                    const std::uint32_t b = entries_[y];
-                    const auto& fb = first_cell_[b];
-                    const bounds& bb = sorted_[b];
-                    bool here = true, apart = false;
-                    for (std::size_t i = 0; i < D; ++i) {
-                        here &= std::max(fa[i], fb[i]) == at[i];
-                        apart |= (ba.hi[i] < bb.lo[i]) | (bb.hi[i] < ba.lo[i]);
-                    }
-                    if constexpr (Bipartite) here &= (ids_[a] < split) != (ids_[b] < split);
-                    // One rarely-taken branch: the tests are computed branch-free.
-                    if (here & !apart) emit(ids_[a], ids_[b]);
-                }
+            const std::uint32_t m = last - first;
+            if (m < 2) continue;
+            candidates += static_cast<std::size_t>(m) * (m - 1) / 2;
+            if (m <= block_size) join_block<Bipartite>(first, m, split, emit);
+            else join_large<Bipartite>(first, last, split, emit);
+        }
+        stats_.candidate_tests = candidates;
+    }
+    template <bool Bipartite, class Emit>
+    void join_block(std::uint32_t first, std::uint32_t m, std::uint32_t split, Emit& emit) {
+        cell_block& k = block_;
+        for (std::uint32_t j = 0; j < m; ++j) {
+            const entry_type e = entries_[first + j];
+            const bounds& b = sorted_[static_cast<std::size_t>(e >> D)];
+            for (std::size_t i = 0; i < D; ++i) k.lo[i][j] = b.lo[i], k.hi[i][j] = b.hi[i];
+            k.id[j] = ids_[static_cast<std::size_t>(e >> D)];
+            k.bits[j] = static_cast<std::uint32_t>(e & axis_bits);
+            if constexpr (Bipartite) k.bits[j] |= static_cast<std::uint32_t>(k.id[j] >= split) << D;
+        }
+        for (std::uint32_t j = m; j < m + lanes; ++j) {
+            for (std::size_t i = 0; i < D; ++i)
+                k.lo[i][j] = std::numeric_limits<T>::infinity(), k.hi[i][j] = -std::numeric_limits<T>::infinity();
+            k.bits[j] = 0;
+        }
+        for (std::uint32_t x = 0; x + 1 < m; ++x)
+            for (std::uint32_t y = x + 1; y < m; y += lanes)
+                for (unsigned hits = candidate_lanes<Bipartite>(k, x, y); hits != 0; hits &= hits - 1)
+                    emit(k.id[x], k.id[y + static_cast<std::uint32_t>(std::countr_zero(hits))]);
+    }
+    template <bool Bipartite, class Emit>
+    void join_large(std::uint32_t first, std::uint32_t last, std::uint32_t split, Emit& emit) {
+        for (std::uint32_t x = first; x + 1 < last; ++x) {
+            const entry_type ea = entries_[x];
+            const bounds& ba = sorted_[static_cast<std::size_t>(ea >> D)];
+            const std::uint32_t ia = ids_[static_cast<std::size_t>(ea >> D)];
+            for (std::uint32_t y = x + 1; y < last; ++y) {
+                const entry_type eb = entries_[y];
+                const bounds& bb = sorted_[static_cast<std::size_t>(eb >> D)];
+                const std::uint32_t ib = ids_[static_cast<std::size_t>(eb >> D)];
+                bool here = ((ea | eb) & axis_bits) == axis_bits, apart = false;
+                for (std::size_t i = 0; i < D; ++i) apart |= (ba.hi[i] < bb.lo[i]) | (bb.hi[i] < ba.lo[i]);
+                if constexpr (Bipartite) here &= (ia < split) != (ib < split);
+                if (here & !apart) emit(ia, ib);
             }
         }
     }
@@ -183,119 +290,153 @@ private:
             if (cells <= max_cells) break;
             h *= std::pow(cells / max_cells, 1.0 / static_cast<double>(D)) * 1.0001;
         }
+        std::size_t stride = 1;
         for (std::size_t i = 0; i < D; ++i) {
             origin_[i] = all.lo[i];
             dims_[i] = static_cast<std::uint32_t>(std::floor(span[i] / h)) + 1;
+            stride_[i] = stride;
+            stride *= dims_[i];
         }
         inv_h_ = 1.0 / h;
         stats_.cell_size = h;
+        stats_.cells = stride;
     }
     // floor((x - origin) / h) clamped to [0, dims - 1]: monotone in x.
     std::uint32_t cell_coordinate(T x, std::size_t axis) const {
         const double c = std::floor((static_cast<double>(x) - static_cast<double>(origin_[axis])) * inv_h_);
-        if (!(c > 0)) return 0;
         const double top = static_cast<double>(dims_[axis] - 1);
-        return static_cast<std::uint32_t>(std::min(c, top));
-    }
-    std::size_t linear_cell(const std::array<std::uint32_t, D>& c) const {
-        std::size_t id = c[D - 1];
-        for (std::size_t i = D - 1; i-- > 0;) id = id * dims_[i] + c[i];
-        return id;
+        return static_cast<std::uint32_t>(std::min(std::max(c, 0.0), top));
     }
     // Locality: a copy of the boxes ordered by the cell of their lower corner (a counting
     // sort, O(n + cells)), so the boxes met in one cell, and in consecutive cells, sit close
     // together in memory. In the caller's (random) order every candidate test was a cache
-    // miss; this halves the query time at 1e6 boxes.
+    // miss; this halves the query time at 1e6 boxes. Each box's cell range is computed here,
+    // once: its first cell (linear index) and how many further cells it spans per axis.
     void sort_by_corner_cell(const std::vector<bounds>& boxes) {
-        std::size_t cells = 1;
-        for (std::size_t i = 0; i < D; ++i) cells *= dims_[i];
-        stats_.cells = cells;
+        const std::size_t cells = stats_.cells;
         const std::size_t n = boxes.size();
         starts_.assign(cells + 1, 0);
         corner_.resize(n);
-        for (std::size_t b = 0; b < n; ++b) {
-            std::array<std::uint32_t, D> c;
-            for (std::size_t i = 0; i < D; ++i) c[i] = cell_coordinate(boxes[b].lo[i], i);
-            corner_[b] = static_cast<std::uint32_t>(linear_cell(c));
-            ++starts_[corner_[b] + 1];
-        }
-        for (std::size_t c = 0; c < cells; ++c) starts_[c + 1] += starts_[c];
-        sorted_.resize(n);
-        ids_.resize(n);
-        for (std::size_t b = 0; b < n; ++b) {
-            const std::uint32_t at = starts_[corner_[b]]++;
-            sorted_[at] = boxes[b];
-            ids_[at] = static_cast<std::uint32_t>(b);
-        }
-    }
-    // Counting sort of the (cell, box) entries into entries_, grouped by cell.
-    void fill() {
-        const std::vector<bounds>& boxes = sorted_;
-        const std::size_t cells = stats_.cells;
-        starts_.assign(cells + 1, 0);
-        const std::size_t n = boxes.size();
-        first_cell_.resize(n);
-        last_cell_.resize(n);
+        span_.resize(n);
         std::size_t total = 0;
         for (std::size_t b = 0; b < n; ++b) {
-            std::size_t spanned = 1;
+            std::size_t corner = 0, spanned = 1;
+            auto& extra = span_[b];
             for (std::size_t i = 0; i < D; ++i) {
-                first_cell_[b][i] = cell_coordinate(boxes[b].lo[i], i);
-                last_cell_[b][i] = cell_coordinate(boxes[b].hi[i], i);
-                spanned *= last_cell_[b][i] - first_cell_[b][i] + 1;
+                const std::uint32_t first = cell_coordinate(boxes[b].lo[i], i);
+                extra[i] = cell_coordinate(boxes[b].hi[i], i) - first;
+                corner += first * stride_[i];
+                spanned *= static_cast<std::size_t>(extra[i]) + 1;
             }
             total += spanned;
-            for_each_cell(b, [&](std::size_t c) { ++starts_[c + 1]; });
+            corner_[b] = static_cast<std::uint32_t>(corner);
+            ++starts_[corner + 1];
         }
         if (total > std::numeric_limits<std::uint32_t>::max())
             throw std::length_error("cell_sort_grid: more than 2^32 - 1 (cell, box) entries");
         stats_.entries = total;
         for (std::size_t c = 0; c < cells; ++c) starts_[c + 1] += starts_[c];
-        entries_.resize(total);
+        sorted_.resize(n);
+        ids_.resize(n);
+        sorted_corner_.resize(n);
+        sorted_span_.resize(n);
+        for (std::size_t b = 0; b < n; ++b) {
+            const std::uint32_t at = starts_[corner_[b]]++;
+            sorted_[at] = boxes[b];
+            ids_[at] = static_cast<std::uint32_t>(b);
+            sorted_corner_[at] = corner_[b];
+            sorted_span_[at] = span_[b];
+        }
+    }
+    // Counting sort of the (cell, box) entries into entries_, grouped by cell, each tagged
+    // with its first-cell bits (step 3).
+    void fill() {
+        if constexpr (small_span_tables) build_small_span_tables();
+        const std::size_t cells = stats_.cells;
+        starts_.assign(cells + 1, 0);
+        const std::size_t n = sorted_.size();
+        for (std::size_t b = 0; b < n; ++b) for_each_cell(b, [&](std::size_t c, entry_type) { ++starts_[c + 1]; });
+        for (std::size_t c = 0; c < cells; ++c) starts_[c + 1] += starts_[c];
+        entries_.resize(stats_.entries);
         // Each cell is filled from its end down (cursor = the next cell's start), boxes in
         // decreasing order, so every cell lists its boxes in increasing order.
         cursors_.assign(starts_.begin() + 1, starts_.end());
         for (std::size_t b = n; b-- > 0;)
-            for_each_cell(b, [&](std::size_t c) { entries_[--cursors_[c]] = static_cast<std::uint32_t>(b); });
+            for_each_cell(b, [&](std::size_t c, entry_type first_bits) {
+                entries_[--cursors_[c]] = static_cast<entry_type>(b) << D | first_bits;
+            });
     }
-
+    // Boxes spanning at most 2 cells on every axis (nearly all: h is twice the mean edge) are
+    // entered from a table indexed by which axes they span 2 cells on: cell offsets from the
+    // first cell and their first-cell bits. One loop of 1, 2, 4 or 8 trips instead of D
+    // nested loops whose trip counts the branch predictor cannot guess.
+    void build_small_span_tables() {
+        for (std::uint32_t code = 0; code <= axis_bits; ++code) {
+            std::uint32_t k = 0;
+            for (std::uint32_t o = 0; o <= axis_bits; ++o) {
+                if ((o & ~code) != 0) continue;
+                std::size_t offset = 0;
+                for (std::size_t i = 0; i < D; ++i)
+                    if ((o >> i) & 1u) offset += stride_[i];
+                small_offset_[code][k] = offset;
+                small_bits_[code][k] = static_cast<entry_type>(~o & axis_bits);
+                ++k;
+            }
+            small_count_[code] = k;
+        }
+    }
+    // f(cell, first-cell bits) for every cell box b (sorted order) overlaps.
     template <class F>
     void for_each_cell(std::size_t b, F&& f) const {
-        const auto& lo = first_cell_[b];
-        const auto& hi = last_cell_[b];
-        if constexpr (D == 2) {
-            for (std::uint32_t y = lo[1]; y <= hi[1]; ++y)
-                for (std::uint32_t x = lo[0]; x <= hi[0]; ++x) f(static_cast<std::size_t>(y) * dims_[0] + x);
-        } else if constexpr (D == 3) {
-            for (std::uint32_t z = lo[2]; z <= hi[2]; ++z)
-                for (std::uint32_t y = lo[1]; y <= hi[1]; ++y) {
-                    const std::size_t row = (static_cast<std::size_t>(z) * dims_[1] + y) * dims_[0];
-                    for (std::uint32_t x = lo[0]; x <= hi[0]; ++x) f(row + x);
-                }
-        } else {
-            std::array<std::uint32_t, D> c = lo;
-            for (;;) {
-                f(linear_cell(c));
-                std::size_t i = 0;
-                for (; i < D; ++i) {
-                    if (c[i] < hi[i]) {
-                        ++c[i];
-                        break;
-                    }
-                    c[i] = lo[i];
-                }
-                if (i == D) break;
+        const auto& extra = sorted_span_[b];
+        const std::size_t base = sorted_corner_[b];
+        if constexpr (small_span_tables) {
+            std::uint32_t code = 0;
+            bool small = true;
+            for (std::size_t i = 0; i < D; ++i) {
+                code |= static_cast<std::uint32_t>(extra[i] != 0) << i;
+                small &= extra[i] <= 1;
             }
+            if (small) {
+                for (std::uint32_t k = 0; k < small_count_[code]; ++k) f(base + small_offset_[code][k], small_bits_[code][k]);
+                return;
+            }
+        }
+        std::array<std::uint32_t, D> at{};  // offsets from the first cell, per axis
+        for (;;) {
+            std::size_t offset = 0;
+            entry_type first_bits = 0;
+            for (std::size_t i = 0; i < D; ++i) {
+                offset += at[i] * stride_[i];
+                first_bits |= static_cast<entry_type>(at[i] == 0) << i;
+            }
+            f(base + offset, first_bits);
+            std::size_t i = 0;
+            for (; i < D; ++i) {
+                if (at[i] < extra[i]) {
+                    ++at[i];
+                    break;
+                }
+                at[i] = 0;
+            }
+            if (i == D) break;
         }
     }
 
+    static constexpr std::size_t table_size = small_span_tables ? (std::size_t(1) << D) : 1;
     cell_sort_grid_config config_;
     std::array<T, D> origin_{};
     std::array<std::uint32_t, D> dims_{};
+    std::array<std::size_t, D> stride_{};
     double inv_h_ = 1;
-    std::vector<std::uint32_t> starts_, cursors_, entries_, corner_, ids_;
+    std::vector<std::uint32_t> starts_, cursors_, corner_, ids_, sorted_corner_;
+    std::vector<entry_type> entries_;
     std::vector<bounds> sorted_, combined_;
-    std::vector<std::array<std::uint32_t, D>> first_cell_, last_cell_;
+    std::vector<std::array<std::uint32_t, D>> span_, sorted_span_;
+    std::array<std::array<std::size_t, table_size>, table_size> small_offset_{};
+    std::array<std::array<entry_type, table_size>, table_size> small_bits_{};
+    std::array<std::uint32_t, table_size> small_count_{};
+    cell_block block_;
     query_stats stats_;
 };
 
