@@ -79,14 +79,8 @@ struct make_object<point<T, 3>> {
     }
 };
 
-using slot_pair = std::pair<slot_index, slot_index>;
-
-template <class Pairs>
-std::vector<slot_pair> slots_of(const Pairs& pairs) {
-    std::vector<slot_pair> out;
-    for (const auto& [a, b] : pairs) out.emplace_back(a.slot(), b.slot());
-    return out;
-}
+using spatial_test::slot_pair;
+using spatial_test::slots_of;
 
 template <class Pairs>
 void expect_well_formed(const Pairs& pairs, bool self) {
@@ -196,29 +190,8 @@ TYPED_TEST(collide_pairs, bipartite_pairs_equal_brute_force) {
     EXPECT_TRUE(std::includes(cand.begin(), cand.end(), want.begin(), want.end()));
 }
 
-// Containers allocate slots in their own order (kd_tree's bulk build does not follow the
-// input order), so across containers pair sets are compared as multisets of pairs of
-// object signatures (bounds per axis; identical objects are interchangeable).
-template <class Pairs>
-std::vector<std::pair<std::vector<double>, std::vector<double>>> signature_pairs(const Pairs& pairs) {
-    auto sig = [](const auto& x) {
-        std::vector<double> v;
-        for (std::size_t i = 0; i < std::decay_t<decltype(x)>::dimension; ++i)
-            v.push_back(static_cast<double>(object_lower(x, i))), v.push_back(static_cast<double>(object_upper(x, i)));
-        return v;
-    };
-    std::vector<std::pair<std::vector<double>, std::vector<double>>> out;
-    for (const auto& [a, b] : pairs) {
-        auto x = sig(*a), y = sig(*b);
-        if (y < x) std::swap(x, y);
-        out.emplace_back(std::move(x), std::move(y));
-    }
-    std::sort(out.begin(), out.end());
-    return out;
-}
-
-// Every other structure, through its box queries: the same exact sets as brute force,
-// before and after erases and inserts, and bipartite with brute force.
+// Every other structure (tree descents, cell joins, box queries): the same exact sets as
+// brute force, before and after erases and inserts, and bipartite with brute force.
 template <class C>
 class collide_pairs_other : public ::testing::Test {};
 using others = ::testing::Types<kd_tree<B3>, octree<B3>, uniform_grid<B3>, hashed_grid<B3>,
@@ -240,9 +213,9 @@ TYPED_TEST(collide_pairs_other, self_and_bipartite_pairs_equal_brute_force) {
     auto check = [&] {
         const auto exact = c.self_pairs();
         expect_well_formed(exact, true);
-        const auto want = signature_pairs(oracle.self_pairs());
-        EXPECT_EQ(signature_pairs(exact), want);
-        const auto cand = signature_pairs(c.self_pairs(pair_filter::candidates));
+        const auto want = spatial_test::signature_pairs(oracle.self_pairs());
+        EXPECT_EQ(spatial_test::signature_pairs(exact), want);
+        const auto cand = spatial_test::signature_pairs(c.self_pairs(pair_filter::candidates));
         EXPECT_TRUE(std::includes(cand.begin(), cand.end(), want.begin(), want.end()));
         return want.size();
     };
@@ -266,7 +239,7 @@ TYPED_TEST(collide_pairs_other, self_and_bipartite_pairs_equal_brute_force) {
     for (int k = 0; k < 300; ++k) more.push_back(make_object<O>::random(rng, k + 2));
     brute_force<O> other;
     other.insert(more.begin(), more.end());
-    EXPECT_EQ(signature_pairs(c.pairs_with(other)), signature_pairs(oracle.pairs_with(other)));
+    EXPECT_EQ(spatial_test::signature_pairs(c.pairs_with(other)), spatial_test::signature_pairs(oracle.pairs_with(other)));
 }
 
 // The handle structures (sweep_and_prune, collision_grid) keep slots in step with
@@ -368,7 +341,7 @@ TEST(collide_sweep_and_prune, coherent_motion_needs_few_swaps_and_the_axis_follo
     }
     brute_force<B3> oracle;
     for (auto it = sap.begin(); it != sap.end(); ++it) oracle.insert(*it);
-    EXPECT_EQ(signature_pairs(sap.self_pairs()), signature_pairs(oracle.self_pairs()));
+    EXPECT_EQ(spatial_test::signature_pairs(sap.self_pairs()), spatial_test::signature_pairs(oracle.self_pairs()));
     EXPECT_LE(sap.last_repair_swaps(), 500u);  // each moved box passes at most one neighbour
     // Turn the row along z: the sweep axis changes and the answers stay right.
     for (std::size_t i = 0; i < handles.size(); ++i) {

@@ -19,7 +19,7 @@ spatial_add_test(bvh_contract_test bvh_contract_test.cpp)
 # Loose/classic octree and the uniform and hashed grids (shared hard cases: octree_grid_checks.hpp).
 spatial_add_test(octree_test octree_test.cpp)
 # The octree's own broad phase (self_pairs / pairs_with descents) against brute force.
-spatial_add_test(octree_pairs_test octree_pairs_test.cpp)
+spatial_add_test(tree_pairs_test tree_pairs_test.cpp)
 spatial_add_test(grid_test grid_test.cpp)
 # kd_tree over objects with extent (skd-tree): contract suite and hard cases; differential tests.
 spatial_add_test(kd_tree_objects_test kd_tree_objects_test.cpp)

@@ -12,11 +12,14 @@
 #include <cstdlib>
 #include <random>
 #include <string>
+#include <type_traits>
+#include <utility>
 #include <vector>
 
 #include "spatial/core/distance.hpp"
 #include "spatial/core/object_geometry.hpp"
 #include "spatial/core/point.hpp"
+#include "spatial/core/slot_storage.hpp"
 #include "spatial/objects/box.hpp"
 #include "spatial/objects/sphere.hpp"
 #include "spatial/objects/triangle.hpp"
@@ -301,6 +304,38 @@ std::vector<std::vector<double>> contents(const C& c) {
     }
     std::sort(v.begin(), v.end());
     return v;
+}
+
+// A list of pairs of container iterators as their (slot, slot) pairs, in the list's order.
+using slot_pair = std::pair<spatial::slot_index, spatial::slot_index>;
+template <class Pairs>
+std::vector<slot_pair> slots_of(const Pairs& pairs) {
+    std::vector<slot_pair> out;
+    for (const auto& [a, b] : pairs) out.emplace_back(a.slot(), b.slot());
+    return out;
+}
+
+// A list of object pairs as a sorted multiset of pairs of object signatures (bounds per axis,
+// the lower signature first). Containers allocate slots in their own order (kd_tree's bulk
+// build stores objects in leaf order), so pair sets are compared across containers this way;
+// identical objects are interchangeable.
+template <class Pairs>
+std::vector<std::pair<std::vector<double>, std::vector<double>>> signature_pairs(const Pairs& pairs) {
+    auto sig = [](const auto& x) {
+        std::vector<double> v;
+        for (std::size_t i = 0; i < std::decay_t<decltype(x)>::dimension; ++i)
+            v.push_back(static_cast<double>(spatial::object_lower(x, i))),
+                v.push_back(static_cast<double>(spatial::object_upper(x, i)));
+        return v;
+    };
+    std::vector<std::pair<std::vector<double>, std::vector<double>>> out;
+    for (const auto& [a, b] : pairs) {
+        auto x = sig(*a), y = sig(*b);
+        if (y < x) std::swap(x, y);
+        out.emplace_back(std::move(x), std::move(y));
+    }
+    std::sort(out.begin(), out.end());
+    return out;
 }
 
 }  // namespace spatial_test

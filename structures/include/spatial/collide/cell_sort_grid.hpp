@@ -53,19 +53,9 @@
 #include <immintrin.h>
 #endif
 
+#include "spatial/collide/box_bounds.hpp"
+
 namespace spatial::collide {
-
-template <class T, std::size_t D>
-struct box_bounds {
-    std::array<T, D> lo{}, hi{};
-};
-
-template <class T, std::size_t D>
-bool closed_boxes_overlap(const box_bounds<T, D>& a, const box_bounds<T, D>& b) {
-    for (std::size_t i = 0; i < D; ++i)
-        if (a.hi[i] < b.lo[i] || b.hi[i] < a.lo[i]) return false;
-    return true;
-}
 
 struct cell_sort_grid_config {
     // h = factor * mean box edge: 2 measured fastest on cubes of equal size (each box spans

@@ -53,6 +53,7 @@
 #include <vector>
 
 #include "spatial/collide/pairs.hpp"
+#include "spatial/collide/tree_pair_snapshot.hpp"
 #include "spatial/core/container_concept.hpp"
 #include "spatial/core/input_checks.hpp"
 #include "spatial/core/intersect_info.hpp"
@@ -423,7 +424,7 @@ public:
             }
             for (std::size_t b = 0; b < fanout; ++b) {
                 const node_index c = nd.first_child + static_cast<node_index>(b);
-                if (is_empty(lay.subtree[c])) continue;
+                if (lay.subtree[c].is_empty()) continue;
                 selves.push_back(c);
                 for (std::size_t b2 = b + 1; b2 < fanout; ++b2) {
                     const node_index c2 = nd.first_child + static_cast<node_index>(b2);
@@ -924,9 +925,7 @@ private:
     }
 
     // ================= collision pairs (the descent of self_pairs / pairs_with) ============
-    struct bounds {
-        coords lo, hi;
-    };
+    using bounds = collide::box_bounds<T, D>;
     struct node_pair {
         node_index a, b;  // a in this tree, b in the other (the same tree for self pairs)
     };
@@ -934,63 +933,22 @@ private:
         std::vector<node_pair> crosses;  // cross(a, b) still to open
         std::vector<node_index> nodes;   // one object's walk over subtrees
     };
-    // A query's snapshot of the tree: the objects' slots and bounding boxes copied in pre-order
-    // of their nodes (node n's items at positions first[n] ...), so that a node's objects are
-    // read in sequence rather than scattered by slot and their boxes computed once, and each
-    // node's subtree box (by node index; an empty subtree gets an inverted box that overlaps
-    // nothing). The boxes are min / max of object_lower / object_upper, hence exact: every
-    // object's box lies inside its subtrees' boxes. Pruning by these tight boxes rather than
-    // by the loose cells that contain them cuts the node pairs: a loose cell is up to k times
-    // wider than what its subtree occupies. O(n + nodes) time and memory.
-    struct pair_layout {
-        std::vector<slot_index> slot;
-        std::vector<bounds> box;
-        std::vector<std::uint32_t> first;  // by node index
-        std::vector<bounds> subtree;       // by node index
-    };
+    // A query's snapshot (collide/tree_pair_snapshot.hpp): the objects' boxes in pre-order of
+    // their nodes and each node's exact subtree box, by which the descent prunes instead of
+    // the loose cells (up to k times wider than what a subtree occupies).
+    using pair_layout = collide::tree_pair_snapshot<T, D>;
     pair_layout pair_layout_of() const {
-        pair_layout lay;
         std::vector<node_index> order{root_};  // pre-order
         for (std::size_t k = 0; k < order.size(); ++k)
             if (!nodes_[order[k]].is_leaf()) push_children(nodes_[order[k]], order);
-        lay.slot.reserve(slots_.size());
-        lay.box.reserve(slots_.size());
-        lay.first.assign(nodes_.size(), 0);
-        bounds empty;
-        empty.lo.fill(std::numeric_limits<T>::infinity());
-        empty.hi.fill(-std::numeric_limits<T>::infinity());
-        lay.subtree.assign(nodes_.size(), empty);
-        for (node_index n : order) {
-            lay.first[n] = static_cast<std::uint32_t>(lay.slot.size());
-            for (slot_index s : nodes_[n].items) {
-                bounds b;
-                for (std::size_t i = 0; i < D; ++i) {
-                    b.lo[i] = object_lower(slots_.value(s), i);
-                    b.hi[i] = object_upper(slots_.value(s), i);
-                }
-                lay.slot.push_back(s);
-                lay.box.push_back(b);
-                grow_to_contain(lay.subtree[n], b);
-            }
-        }
-        for (std::size_t k = order.size(); k-- > 1;)  // children after their parent in pre-order
-            grow_to_contain(lay.subtree[nodes_[order[k]].parent], lay.subtree[order[k]]);
-        return lay;
+        return pair_layout(
+            order, nodes_.size(), slots_.size(),
+            [this](node_index n, auto&& f) {
+                for (slot_index s : nodes_[n].items) f(s);
+            },
+            [this](node_index n) { return nodes_[n].parent; }, [this](slot_index s) -> const O& { return slots_.value(s); });
     }
-    static void grow_to_contain(bounds& a, const bounds& b) {
-        for (std::size_t i = 0; i < D; ++i) {
-            a.lo[i] = std::min(a.lo[i], b.lo[i]);
-            a.hi[i] = std::max(a.hi[i], b.hi[i]);
-        }
-    }
-    // Closed overlap, the comparisons of object_boxes_overlap: exact, and objects inside two
-    // boxes can only overlap if the boxes do.
-    static bool bounds_overlap(const bounds& a, const bounds& b) {
-        for (std::size_t i = 0; i < D; ++i)
-            if (a.hi[i] < b.lo[i] || b.hi[i] < a.lo[i]) return false;
-        return true;
-    }
-    static bool is_empty(const bounds& b) { return b.hi[0] < b.lo[0]; }
+    static bool bounds_overlap(const bounds& a, const bounds& b) { return collide::closed_boxes_overlap(a, b); }
     static void push_children(const node& nd, std::vector<node_index>& stack) {
         for (std::size_t b = 0; b < fanout; ++b) stack.push_back(nd.first_child + static_cast<node_index>(b));
     }
