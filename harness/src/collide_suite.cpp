@@ -308,62 +308,77 @@ struct moving_cubes {
     }
 };
 
+// Each participant runs all its steps back to back, as a simulation loop would (motion,
+// update, pairs; only update + pairs timed): interleaving the participants step by step
+// would start every timed step with caches emptied by the others and by the validation.
+// Each step's answer is kept (moved, not copied) and validated after the loop, BEFORE any
+// row is recorded: the first participant's against brute force on the replayed scene, every
+// other's against the first's, step by step.
 void run_moving_boxes(context& ctx, std::size_t n) {
     const std::string workload = "moving_boxes";
     const std::string params = "overlaps_per_box=2;steps=" + std::to_string(ctx.cfg.steps) + ";speed=side/4";
-    moving_cubes scene(n, ctx.opt.seed);
     auto ps = participants(ctx, n, true);
     if (ps.empty()) return;
-    std::vector<double> build_s(ps.size());
-    std::vector<std::vector<double>> step_s(ps.size());
-    spatial::collide::pair_set_tracker<std::uint32_t> tracker;
+    const std::size_t steps = ctx.cfg.steps;
+    std::vector<std::vector<index_pair>> reference(steps);  // the first participant's, validated
+    const std::string reference_name = ps[0].index->name();
     std::vector<double> changed;
     for (std::size_t i = 0; i < ps.size(); ++i) {
-        const auto t0 = std::chrono::steady_clock::now();
-        ps[i].index->build(scene.boxes);
-        build_s[i] = seconds_since(t0);
-    }
-    for (std::size_t s = 0; s < ctx.cfg.steps; ++s) {
-        scene.step();
-        std::vector<index_pair> reference;
-        for (std::size_t i = 0; i < ps.size(); ++i) {
-            auto& p = *ps[i].index;
-            const auto t0 = std::chrono::steady_clock::now();
+        auto& p = *ps[i].index;
+        auto* refitted = dynamic_cast<container_collide_index<spatial::bvh<collide_box3>>*>(&p);
+        moving_cubes scene(n, ctx.opt.seed);  // the same motion for every participant
+        auto t0 = std::chrono::steady_clock::now();
+        p.build(scene.boxes);
+        const double build_s = seconds_since(t0);
+        std::vector<double> step_s, quality;
+        std::vector<std::vector<index_pair>> answers(steps);
+        step_s.reserve(steps);
+        for (std::size_t s = 0; s < steps; ++s) {
+            scene.step();
+            t0 = std::chrono::steady_clock::now();
             p.update(scene.boxes);
-            auto pairs = p.self_pairs();
-            step_s[i].push_back(seconds_since(t0));
+            answers[s] = p.self_pairs();
+            step_s.push_back(seconds_since(t0));
+            // The refitted trees' decay: quality (expected nodes entered per ray through the
+            // root; grows as a refitted tree ages), recorded with this step's time below.
+            if (refitted) quality.push_back(refitted->container().quality());
+        }
+        // Validation, before any row of this participant is recorded.
+        moving_cubes replay(n, ctx.opt.seed);
+        for (std::size_t s = 0; s < steps; ++s) {
+            replay.step();
             const std::string where = p.name() + " on moving_boxes n=" + fmt_n(n) + " step " + std::to_string(s + 1);
             if (i == 0) {
-                validate_pairs(ctx, scene.boxes, pairs, datasets::derive_seed(ctx.opt.seed, 0xC300u + s), where);
-                reference = std::move(pairs);
-            } else if (pairs != reference) {
-                throw validation_error(where + ": " + std::to_string(pairs.size()) + " pairs, " + ps[0].index->name() +
-                                       " reports " + std::to_string(reference.size()) + " (or different ones)");
-            }
-            // The refitted trees' decay: quality (expected nodes entered per ray through the
-            // root; grows as a refitted tree ages) and this step's time.
-            if (auto* bv = dynamic_cast<container_collide_index<spatial::bvh<collide_box3>>*>(&p)) {
-                const std::string sp = params + ";step=" + std::to_string(s + 1);
-                ctx.add(p.name(), "aabb", workload, n, "update_and_self_pairs", sp, "quality", bv->container().quality(), "ratio");
-                ctx.add(p.name(), "aabb", workload, n, "update_and_self_pairs", sp, "time", step_s[i].back(), "s");
+                validate_pairs(ctx, replay.boxes, answers[s], datasets::derive_seed(ctx.opt.seed, 0xC300u + s), where);
+                reference[s] = std::move(answers[s]);
+            } else if (answers[s] != reference[s]) {
+                throw validation_error(where + ": " + std::to_string(answers[s].size()) + " pairs, " + reference_name +
+                                       " reports " + std::to_string(reference[s].size()) + " (or different ones)");
             }
         }
-        changed.push_back(static_cast<double>(tracker.step(reference)));
-    }
-    const auto tc = summarize(changed);
-    for (std::size_t i = 0; i < ps.size(); ++i) {
-        const std::string& name = ps[i].index->name();
-        const auto ts = summarize(step_s[i]);
+        if (i == 0) {
+            spatial::collide::pair_set_tracker<std::uint32_t> tracker;
+            for (const auto& r : reference) changed.push_back(static_cast<double>(tracker.step(r)));
+        }
+        const std::string name = p.name();
+        for (std::size_t s = 0; s < quality.size(); ++s) {
+            const std::string sp = params + ";step=" + std::to_string(s + 1);
+            ctx.add(name, "aabb", workload, n, "update_and_self_pairs", sp, "quality", quality[s], "ratio");
+            ctx.add(name, "aabb", workload, n, "update_and_self_pairs", sp, "time", step_s[s], "s");
+        }
+        const auto ts = summarize(step_s);
+        const auto tc = summarize(changed);
         double total = 0;
-        for (double x : step_s[i]) total += x;
-        ctx.add(name, ps[i].bv, workload, n, "build", params, "time", build_s[i], "s");
+        for (double x : step_s) total += x;
+        ctx.add(name, ps[i].bv, workload, n, "build", params, "time", build_s, "s");
         ctx.add(name, ps[i].bv, workload, n, "update_and_self_pairs", params, "time", ts.median_seconds, "s", &ts);
         ctx.add(name, ps[i].bv, workload, n, "update_and_self_pairs", params, "steps_per_second",
-                static_cast<double>(step_s[i].size()) / total, "1/s");
+                static_cast<double>(step_s.size()) / total, "1/s");
         ctx.add(name, ps[i].bv, workload, n, "update_and_self_pairs", params, "pairs_changed_per_step", tc.median_seconds,
                 "count");
         ctx.prog.say("collide moving_boxes n=" + fmt_n(n) + " " + name + ": " + std::to_string(ts.median_seconds * 1e3) +
-                     " ms per step (median of " + std::to_string(step_s[i].size()) + ")");
+                     " ms per step (median of " + std::to_string(step_s.size()) + ")");
+        ps[i].index.reset();  // free its memory before the next participant runs
     }
 }
 
