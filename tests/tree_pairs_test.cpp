@@ -156,8 +156,9 @@ using tree_pair_types = ::testing::Types<
 #else
 using tree_pair_types =
     ::testing::Types<octree<objects::box<double, 3>>, octree<objects::box<float, 2>, cfg<1, 1.0>>,
-                     octree<objects::sphere<double, 3>, cfg<2, 2.0>>, octree<objects::triangle<float, 3>, classic_octree_config>,
-                     octree<point<double, 2>, cfg<1, 2.0>>, kd_tree<objects::box<double, 3>, kd_cfg<2>>,
+                     octree<objects::sphere<double, 3>, cfg<2, 2.0>>,
+                     octree<objects::triangle<float, 3>, classic_octree_config>, octree<point<double, 2>, cfg<1, 2.0>>,
+                     kd_tree<objects::box<double, 3>, kd_cfg<2>>,
                      kd_tree<objects::triangle<float, 2>, kd_cfg<3, midpoint_of_max_spread>>>;
 #endif
 TYPED_TEST_SUITE(tree_pairs, tree_pair_types);
@@ -282,7 +283,8 @@ TYPED_TEST(tree_pairs, after_erases_and_inserts_and_bipartite_equal_brute_force)
         const auto got = slots_of(pairs);
         EXPECT_TRUE(std::is_sorted(got.begin(), got.end()));
         EXPECT_EQ(std::set<slot_pair>(got.begin(), got.end()).size(), got.size()) << "a pair reported twice";
-        EXPECT_EQ(spatial_test::signature_pairs(pairs), spatial_test::signature_pairs(oracle.pairs_with(other_oracle, f)));
+        EXPECT_EQ(spatial_test::signature_pairs(pairs),
+                  spatial_test::signature_pairs(oracle.pairs_with(other_oracle, f)));
     }
     EXPECT_EQ(spatial_test::signature_pairs(tree.pairs_with(other_oracle)),
               spatial_test::signature_pairs(oracle.pairs_with(other_oracle)));

@@ -376,8 +376,9 @@ void run_moving_boxes(context& ctx, std::size_t n) {
                 static_cast<double>(step_s.size()) / total, "1/s");
         ctx.add(name, ps[i].bv, workload, n, "update_and_self_pairs", params, "pairs_changed_per_step", tc.median_seconds,
                 "count");
-        ctx.prog.say("collide moving_boxes n=" + fmt_n(n) + " " + name + ": " + std::to_string(ts.median_seconds * 1e3) +
-                     " ms per step (median of " + std::to_string(step_s.size()) + ")");
+        ctx.prog.say("collide moving_boxes n=" + fmt_n(n) + " " + name + ": " +
+                     std::to_string(ts.median_seconds * 1e3) + " ms per step (median of " +
+                     std::to_string(step_s.size()) + ")");
         ps[i].index.reset();  // free its memory before the next participant runs
     }
 }

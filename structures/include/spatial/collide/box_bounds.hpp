@@ -1,9 +1,9 @@
 #pragma once
 // spatial::collide::box_bounds<T, D> — a closed axis-aligned box as plain arrays, the unit of
 // work of the broad phases (cell_sort_grid, collision_grid, the trees' pair descents; also
-// the kd-tree's node extents), and
-// the one closed-overlap test they all use. Exact: comparisons only, nothing rounded, so two
-// objects inside two boxes can overlap only if the boxes do.
+// the kd-tree's node extents), and the one closed-overlap test they all use. Exact:
+// comparisons only, nothing rounded, so two objects inside two boxes can overlap only if the
+// boxes do.
 
 #include <array>
 #include <cstddef>

@@ -464,7 +464,7 @@ public:
             if (slots_.size() < 2) return out;
             const pair_layout lay = pair_layout_of();
             auto emit = [&](std::uint32_t i, std::uint32_t j) {
-                if (!boxes_overlap(lay.box[i], lay.box[j])) return;
+                if (!collide::closed_boxes_overlap(lay.box[i], lay.box[j])) return;
                 slot_index s = lay.slot[i], t = lay.slot[j];
                 if (filter == pair_filter::exact && !collide::narrow_phase(slots_.value(s), slots_.value(t))) return;
                 if (s > t) std::swap(s, t);
@@ -485,7 +485,7 @@ public:
                         for (std::uint32_t j = i + 1; j < last; ++j) emit(i, j);
                     continue;
                 }
-                if (boxes_overlap(lay.subtree[nd.first], lay.subtree[nd.first + 1]))
+                if (collide::closed_boxes_overlap(lay.subtree[nd.first], lay.subtree[nd.first + 1]))
                     todo.push_back({nd.first, nd.first + 1});
                 todo.push_back({nd.first + 1, nd.first + 1});
                 todo.push_back({nd.first, nd.first});
@@ -508,13 +508,14 @@ public:
             if (slots_.size() == 0 || other.slots_.size() == 0) return out;
             const pair_layout mine = pair_layout_of(), theirs = other.pair_layout_of();
             auto emit = [&](std::uint32_t i, std::uint32_t j) {
-                if (!boxes_overlap(mine.box[i], theirs.box[j])) return;
+                if (!collide::closed_boxes_overlap(mine.box[i], theirs.box[j])) return;
                 const slot_index s = mine.slot[i], t = theirs.slot[j];
-                if (filter == pair_filter::exact && !collide::narrow_phase(slots_.value(s), other.slots_.value(t))) return;
+                if (filter == pair_filter::exact && !collide::narrow_phase(slots_.value(s), other.slots_.value(t)))
+                    return;
                 out.emplace_back(make(s), other.make(t));
             };
             std::vector<node_pair> todo;
-            if (boxes_overlap(mine.subtree[root], theirs.subtree[root])) todo.push_back({root, root});
+            if (collide::closed_boxes_overlap(mine.subtree[root], theirs.subtree[root])) todo.push_back({root, root});
             while (!todo.empty()) {
                 const node_pair p = todo.back();
                 todo.pop_back();
@@ -1169,7 +1170,8 @@ private:
     pair_layout pair_layout_of() const {
         std::vector<node_index> order{root};  // pre-order: a parent before its children
         for (std::size_t k = 0; k < order.size(); ++k)
-            if (!nodes_[order[k]].is_leaf) order.push_back(nodes_[order[k]].first), order.push_back(nodes_[order[k]].first + 1);
+            if (!nodes_[order[k]].is_leaf)
+                order.push_back(nodes_[order[k]].first), order.push_back(nodes_[order[k]].first + 1);
         return pair_layout(
             order, nodes_.size(), slots_.size(),
             [this](node_index n, auto&& f) {
@@ -1177,9 +1179,9 @@ private:
                 if (!nd.is_leaf) return;
                 for (std::uint32_t i = 0; i < nd.count; ++i) f(buckets_[nd.first].items[i]);
             },
-            [this](node_index n) { return nodes_[n].parent; }, [this](slot_index s) -> const O& { return slots_.value(s); });
+            [this](node_index n) { return nodes_[n].parent; },
+            [this](slot_index s) -> const O& { return slots_.value(s); });
     }
-    static bool boxes_overlap(const extent& a, const extent& b) { return collide::closed_boxes_overlap(a, b); }
     static T half_perimeter(const extent& e) {
         T s = 0;
         for (std::size_t i = 0; i < D; ++i) s += e.hi[i] - e.lo[i];
@@ -1201,9 +1203,9 @@ private:
             std::array<std::uint32_t, leaf_capacity> as, bs;
             std::size_t ma = 0, mb = 0;
             for (std::uint32_t i = mine.first[p.a], end = i + na.count; i < end; ++i)
-                if (boxes_overlap(mine.box[i], theirs.subtree[p.b])) as[ma++] = i;
+                if (collide::closed_boxes_overlap(mine.box[i], theirs.subtree[p.b])) as[ma++] = i;
             for (std::uint32_t j = theirs.first[p.b], end = j + nb.count; j < end; ++j)
-                if (boxes_overlap(theirs.box[j], mine.subtree[p.a])) bs[mb++] = j;
+                if (collide::closed_boxes_overlap(theirs.box[j], mine.subtree[p.a])) bs[mb++] = j;
             for (std::size_t i = 0; i < ma; ++i)
                 for (std::size_t j = 0; j < mb; ++j) emit(as[i], bs[j]);
             return;
@@ -1212,10 +1214,10 @@ private:
             !na.is_leaf && (nb.is_leaf || half_perimeter(mine.subtree[p.a]) >= half_perimeter(theirs.subtree[p.b]));
         if (open_a) {
             for (node_index c = na.first; c <= na.first + 1; ++c)
-                if (boxes_overlap(mine.subtree[c], theirs.subtree[p.b])) todo.push_back({c, p.b});
+                if (collide::closed_boxes_overlap(mine.subtree[c], theirs.subtree[p.b])) todo.push_back({c, p.b});
         } else {
             for (node_index c = nb.first; c <= nb.first + 1; ++c)
-                if (boxes_overlap(mine.subtree[p.a], theirs.subtree[c])) todo.push_back({p.a, c});
+                if (collide::closed_boxes_overlap(mine.subtree[p.a], theirs.subtree[c])) todo.push_back({p.a, c});
         }
     }
 

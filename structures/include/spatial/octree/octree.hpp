@@ -396,7 +396,7 @@ public:
         if (slots_.size() < 2) return out;
         const pair_layout lay = pair_layout_of();
         auto emit = [&](std::uint32_t i, std::uint32_t j) {
-            if (!bounds_overlap(lay.box[i], lay.box[j])) return;
+            if (!collide::closed_boxes_overlap(lay.box[i], lay.box[j])) return;
             slot_index s = lay.slot[i], t = lay.slot[j];
             if (filter == pair_filter::exact && !collide::narrow_phase(slots_.value(s), slots_.value(t))) return;
             if (s > t) std::swap(s, t);
@@ -428,7 +428,7 @@ public:
                 selves.push_back(c);
                 for (std::size_t b2 = b + 1; b2 < fanout; ++b2) {
                     const node_index c2 = nd.first_child + static_cast<node_index>(b2);
-                    if (bounds_overlap(lay.subtree[c], lay.subtree[c2])) walk.crosses.push_back({c, c2});
+                    if (collide::closed_boxes_overlap(lay.subtree[c], lay.subtree[c2])) walk.crosses.push_back({c, c2});
                 }
             }
         }
@@ -449,13 +449,15 @@ public:
             if (slots_.size() == 0 || other.slots_.size() == 0) return out;
             const pair_layout mine = pair_layout_of(), theirs = other.pair_layout_of();
             auto emit = [&](std::uint32_t i, std::uint32_t j) {
-                if (!bounds_overlap(mine.box[i], theirs.box[j])) return;
+                if (!collide::closed_boxes_overlap(mine.box[i], theirs.box[j])) return;
                 const slot_index s = mine.slot[i], t = theirs.slot[j];
-                if (filter == pair_filter::exact && !collide::narrow_phase(slots_.value(s), other.slots_.value(t))) return;
+                if (filter == pair_filter::exact && !collide::narrow_phase(slots_.value(s), other.slots_.value(t)))
+                    return;
                 out.emplace_back(make(s), other.make(t));
             };
             pair_descent walk;
-            if (bounds_overlap(mine.subtree[root_], theirs.subtree[other.root_])) walk.crosses.push_back({root_, other.root_});
+            if (collide::closed_boxes_overlap(mine.subtree[root_], theirs.subtree[other.root_]))
+                walk.crosses.push_back({root_, other.root_});
             while (!walk.crosses.empty()) {
                 const node_pair p = walk.crosses.back();
                 walk.crosses.pop_back();
@@ -946,21 +948,21 @@ private:
             [this](node_index n, auto&& f) {
                 for (slot_index s : nodes_[n].items) f(s);
             },
-            [this](node_index n) { return nodes_[n].parent; }, [this](slot_index s) -> const O& { return slots_.value(s); });
+            [this](node_index n) { return nodes_[n].parent; },
+            [this](slot_index s) -> const O& { return slots_.value(s); });
     }
-    static bool bounds_overlap(const bounds& a, const bounds& b) { return collide::closed_boxes_overlap(a, b); }
     static void push_children(const node& nd, std::vector<node_index>& stack) {
         for (std::size_t b = 0; b < fanout; ++b) stack.push_back(nd.first_child + static_cast<node_index>(b));
     }
     // hit(j) for the layout position j of every object of `tree` stored below the nodes on
     // `stack` (emptied) in a subtree whose box meets `box`; the caller tests the objects.
     template <class Hit>
-    static void walk_subtrees(const octree& tree, const pair_layout& lay, const bounds& box, std::vector<node_index>& stack,
-                              Hit&& hit) {
+    static void walk_subtrees(const octree& tree, const pair_layout& lay, const bounds& box,
+                              std::vector<node_index>& stack, Hit&& hit) {
         while (!stack.empty()) {
             const node_index n = stack.back();
             stack.pop_back();
-            if (!bounds_overlap(box, lay.subtree[n])) continue;
+            if (!collide::closed_boxes_overlap(box, lay.subtree[n])) continue;
             const node& nd = tree.nodes_[n];
             const std::uint32_t first = lay.first[n], last = first + static_cast<std::uint32_t>(nd.items.size());
             for (std::uint32_t j = first; j < last; ++j) hit(j);
@@ -998,8 +1000,10 @@ private:
         }
         if (open_b) {
             for (std::uint32_t j = b0; j < b1; ++j) {
-                if (open_a) push_children(na, walk.nodes);
-                else walk.nodes.push_back(p.a);
+                if (open_a)
+                    push_children(na, walk.nodes);
+                else
+                    walk.nodes.push_back(p.a);
                 walk_subtrees(*this, mine, theirs.box[j], walk.nodes, [&](std::uint32_t i) { emit(i, j); });
             }
         }
@@ -1010,11 +1014,12 @@ private:
         const std::size_t mb = meeting_children(nb, p.b, theirs, mine.subtree[p.a], open_b, bs);
         for (std::size_t i = 0; i < ma; ++i)
             for (std::size_t j = 0; j < mb; ++j)
-                if (bounds_overlap(mine.subtree[as[i]], theirs.subtree[bs[j]])) walk.crosses.push_back({as[i], bs[j]});
+                if (collide::closed_boxes_overlap(mine.subtree[as[i]], theirs.subtree[bs[j]]))
+                    walk.crosses.push_back({as[i], bs[j]});
     }
     // n's children whose subtree box meets `box` if n is opened, else n itself.
-    static std::size_t meeting_children(const node& nd, node_index n, const pair_layout& lay, const bounds& box, bool opened,
-                                        std::array<node_index, fanout>& out) {
+    static std::size_t meeting_children(const node& nd, node_index n, const pair_layout& lay, const bounds& box,
+                                        bool opened, std::array<node_index, fanout>& out) {
         if (!opened) {
             out[0] = n;
             return 1;
@@ -1022,7 +1027,7 @@ private:
         std::size_t m = 0;
         for (std::size_t b = 0; b < fanout; ++b) {
             const node_index c = nd.first_child + static_cast<node_index>(b);
-            if (bounds_overlap(lay.subtree[c], box)) out[m++] = c;
+            if (collide::closed_boxes_overlap(lay.subtree[c], box)) out[m++] = c;
         }
         return m;
     }
