@@ -1110,12 +1110,44 @@ private:
                               const point_type& direction, T thickness, info_type& info, bvh_stats& st) const {
         std::size_t visited = 0, tested = 0;
         typename wide_layout::object_index hit;
-        if constexpr (requires { typename O::prepared_ray; }) {
+        using object_index = typename wide_layout::object_index;
+        constexpr object_index none = wide_layout::no_object;
+        if constexpr (wide_layout::has_ray_forms) {
+            // Thin rays on the compact blocks alone; thick rays on the stored objects.
             const typename O::prepared_ray ray(origin, direction);
-            hit = w.intersect(r, info, [&](const O& x) { return x.intersect(ray, thickness, info); }, visited, tested);
+            if (thickness == T(0))
+                hit = w.intersect(
+                    r, info,
+                    [&](object_index first, std::size_t count) { return w.intersect_forms(first, count, ray, info); },
+                    visited, tested);
+            else
+                hit = w.intersect(
+                    r, info,
+                    [&](object_index first, std::size_t count) {
+                        object_index h = none;
+                        for (object_index i = first; i < first + count; ++i)
+                            if (slots_.value(w.slot_of(i)).intersect(ray, thickness, info)) h = i;
+                        return h;
+                    },
+                    visited, tested);
         } else {
-            hit = w.intersect(r, info, [&](const O& x) { return x.intersect(origin, direction, thickness, info); },
-                              visited, tested);
+            // The objects' own test, with the ray prepared once where the object offers it.
+            auto run = [&](const auto& ray_or_origin, auto&&... direction_if_unprepared) {
+                return w.intersect(
+                    r, info,
+                    [&](object_index first, std::size_t count) {
+                        object_index h = none;
+                        for (object_index i = first; i < first + count; ++i)
+                            if (w.object(i).intersect(ray_or_origin, direction_if_unprepared..., thickness, info))
+                                h = i;
+                        return h;
+                    },
+                    visited, tested);
+            };
+            if constexpr (requires { typename O::prepared_ray; })
+                hit = run(typename O::prepared_ray(origin, direction));
+            else
+                hit = run(origin, direction);
         }
         st.nodes_visited = visited;
         st.objects_tested = tested;

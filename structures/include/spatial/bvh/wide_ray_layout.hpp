@@ -6,27 +6,30 @@
 //    "Getting rid of packets"): the binary tree is collapsed by repeatedly opening the child
 //    of largest surface area until a node has W children, so one SIMD slab test per axis
 //    tests W boxes and a ray visits far fewer nodes (log_W instead of log_2 levels);
-//  * the child boxes in single precision, stored axis by axis (lo[axis][lane],
-//    hi[axis][lane]), rounded OUTWARD from the double boxes (a float box always contains
-//    the double one): 128 (W = 4) or 256 (W = 8) bytes per node, a quarter of the memory
-//    traffic of W double boxes;
-//  * the objects COPIED in leaf order, so a leaf's objects are contiguous in memory (no
-//    per-object indirection through the stable slot storage), with their slot ids alongside
-//    so a hit is reported as the container's iterator; children about to be visited are
-//    prefetched (incoherent rays are bound by cache misses).
+//  * the child boxes quantised to 8 bits per plane relative to a per-node float frame
+//    (Ylitie, Karras & Laine 2017), rounded OUTWARD from the double boxes (a quantised box
+//    always contains the double one): 128 bytes per 8-wide node (64 for W = 4), half of a
+//    node with float boxes;
+//  * small subtrees (at most merged_leaf_objects objects) merged into one leaf lane, so
+//    leaves are fuller and the bottom of the tree has no nearly empty wide nodes;
+//  * the leaves' objects contiguous in leaf order, with their slot ids alongside so a hit is
+//    reported as the container's iterator: a COPY of each object, or, where the object has
+//    a compact ray form (compact_ray_form.hpp: triangles as SIMD blocks of 4, 72 bytes of
+//    vertices each instead of 120), only that form; children about to be visited are
+//    prefetched (incoherent rays are bound by cache misses);
+//  * the arrays on transparent huge pages (core/huge_page_allocator.hpp): fewer TLB misses.
 // Answers are exactly those of the binary tree: the leaves run the same exact object test
-// (O::intersect, in T) and boxes are only ever grown. The float slab test is conservative
-// by growth: each box is grown by the caller's thickness-and-rounding slack plus
-// 2^-18 (|origin|_inf + |scene|_inf), which bounds the float rounding of the origin, of
-// the direction's reciprocal and of the slab parameters (a few 2^-24 relative each; see
-// docs/design.md §12.6). Rays or scenes outside float's comfortable range (coordinates
-// above 1e30, nonzero direction components outside [1e-30, 1e30]) are refused by
-// accepts() and take the binary double path instead.
+// (in T, with the same floating-point operations) and boxes are only ever grown. The float
+// slab test is conservative by growth: each box is grown by the caller's
+// thickness-and-rounding slack plus 2^-18 (|origin|_inf + |scene|_inf), which bounds the
+// float rounding of the origin, of the node frame, of the direction's reciprocal and of the
+// slab parameters (a few 2^-24 relative each; see docs/design.md §12.6). Rays or scenes
+// outside float's comfortable range (coordinates above 1e30, nonzero direction components
+// outside [1e-30, 1e30]) are refused by accepts() and take the binary double path instead.
 //
 // Built in O(n) from a binary tree (collapse + copy) and immutable afterwards; the bvh
 // rebuilds it lazily after any change (see bvh::prepare_rays). Memory: one wide node per
-// about (W - 1) / W of the binary inner nodes' worth of levels (roughly n / (leaf_size W / 2)
-// nodes) plus a copy of every object and a 32-bit id.
+// about W - 1 binary inner nodes, plus per object its copy (or compact form) and a 32-bit id.
 
 #include <algorithm>
 #include <array>
@@ -43,7 +46,9 @@
 #endif
 
 #include "spatial/bv/rounding.hpp"
+#include "spatial/bvh/compact_ray_form.hpp"
 #include "spatial/bvh/traversal_stack.hpp"
+#include "spatial/core/huge_page_allocator.hpp"
 
 namespace spatial::bvh_detail {
 
@@ -51,6 +56,10 @@ namespace spatial::bvh_detail {
 // to SSE / AVX / NEON as the target allows).
 typedef float float_lanes4 __attribute__((vector_size(16)));
 typedef float float_lanes8 __attribute__((vector_size(32)));
+typedef std::int32_t int_lanes4 __attribute__((vector_size(16)));
+typedef std::int32_t int_lanes8 __attribute__((vector_size(32)));
+typedef std::uint8_t byte_lanes4 __attribute__((vector_size(4)));
+typedef std::uint8_t byte_lanes8 __attribute__((vector_size(8)));
 
 #if defined(__AVX__)
 inline constexpr std::size_t default_wide_ray_width = 8;
@@ -69,21 +78,35 @@ public:
     // ends at 3.4e38; the margin keeps every intermediate finite).
     static constexpr double float_range = 1e30;
 
+    // Child boxes quantised to 8 bits per plane (Ylitie, Karras & Laine 2017, "Efficient
+    // incoherent ray traversal on GPUs through compressed wide BVHs"): on axis a, lane i's box
+    // is origin[a] + [q_lo[a][i], q_hi[a][i]] * 2^exponent[a], rounded OUTWARD from the
+    // child's double box, so it contains it. 128 bytes for W = 8 (two cache lines; a quarter
+    // of W double boxes, half of W float boxes), 64 for W = 4 in 3D.
     struct alignas(64) wide_node {
-        float lo[D][width];           // empty lane: +inf (its slab interval is empty)
-        float hi[D][width];           // empty lane: -inf
-        std::uint32_t child[width];   // inner lane: wide node index; leaf lane: first object
-        std::uint8_t count[width];    // 0: inner lane (or empty); k > 0: a leaf of k objects
+        float origin[D];          // rounded down from the lower corner of the union
+        std::int8_t exponent[D];  // scale 2^exponent, a normal float: in [-126, 127]
+        std::uint8_t lanes = 0;   // bit i: lane i holds a child (empty lanes never hit)
+        std::uint8_t q_lo[D][width];
+        std::uint8_t q_hi[D][width];
+        std::uint32_t child[width];  // inner lane: wide node index; leaf lane: first object
+        std::uint8_t count[width];   // 0: inner lane; k > 0: a leaf of k objects
     };
+    // A binary subtree of at most this many objects becomes one leaf lane when it is not
+    // opened to fill a node: fewer, fuller leaves (the binary SAH stops at 1-2 triangles) and
+    // no nearly empty wide nodes at the bottom of the tree.
+    static constexpr std::size_t merged_leaf_objects = 4;
 
     // Collapses a binary tree. Tree provides: root(), is_leaf(n), left(n) (right = left + 1),
     // lower(n, axis) / upper(n, axis) of node n's box, leaf_size(n), leaf_slot(n, i),
     // value(slot) and object_count(). Leaves hold at most 255 objects. O(nodes + objects).
     template <class Tree>
     void build(const Tree& tree) {
+        using node_index = typename Tree::node_index;
         nodes_.clear();
         objects_.clear();
         slots_.clear();
+        forms_.clear();
         magnitude_ = 0;
         usable_ = false;
         if (tree.is_leaf(tree.root()) && tree.leaf_size(tree.root()) == 0) return;  // empty: never queried
@@ -91,25 +114,36 @@ public:
             magnitude_ = std::max({magnitude_, std::abs(static_cast<double>(tree.lower(tree.root(), a))),
                                    std::abs(static_cast<double>(tree.upper(tree.root(), a)))});
         usable_ = magnitude_ <= float_range;
-        objects_.reserve(tree.object_count());
-        slots_.reserve(tree.object_count());
-        nodes_.reserve(tree.object_count() / 4 + 1);
+        if (!usable_) return;  // every ray takes the double path
+        if constexpr (has_ray_forms) {
+            // Leaves padded to whole blocks: about a quarter more slots than objects.
+            const std::size_t padded = tree.object_count() + tree.object_count() / 4 + form_lanes;
+            slots_.reserve(padded);
+            forms_.reserve(padded / form_lanes);
+        } else {
+            objects_.reserve(tree.object_count());
+            slots_.reserve(tree.object_count());
+        }
+        const std::vector<std::size_t> objects_below = subtree_object_counts(tree);
+        auto is_lane_leaf = [&](node_index n) { return tree.is_leaf(n) || objects_below[n] <= merged_leaf_objects; };
         struct task {
-            typename Tree::node_index binary;
+            node_index binary;
             std::uint32_t wide;
         };
         std::vector<task> todo;
-        nodes_.push_back(empty_node());
+        nodes_.push_back(wide_node{});
         if (tree.is_leaf(tree.root())) {
-            set_lane(tree, 0, 0, tree.root(), todo);
+            const std::array<node_index, width> only{tree.root()};
+            fill_node(tree, 0, only, 1, is_lane_leaf, todo);
         } else {
             todo.push_back({tree.root(), 0});
         }
         while (!todo.empty()) {
             const task tk = todo.back();
             todo.pop_back();
-            // Open the largest-area inner child until there are `width` children.
-            std::array<typename Tree::node_index, width> kids{};
+            // Open the largest-area inner child until there are `width` children (small
+            // subtrees are opened too while there is room: lanes are tested together anyway).
+            std::array<node_index, width> kids{};
             std::size_t k = 2;
             kids[0] = tree.left(tk.binary);
             kids[1] = tree.left(tk.binary) + 1;
@@ -126,23 +160,47 @@ public:
                 kids[best] = tree.left(opened);
                 kids[k++] = tree.left(opened) + 1;
             }
-            for (std::size_t i = 0; i < k; ++i) set_lane(tree, tk.wide, i, kids[i], todo);
+            fill_node(tree, tk.wide, kids, k, is_lane_leaf, todo);
         }
     }
 
     bool empty() const { return nodes_.empty(); }
     std::size_t node_count() const { return nodes_.size(); }
     std::size_t memory_bytes() const {
-        return nodes_.capacity() * sizeof(wide_node) + objects_.capacity() * sizeof(O) +
-               slots_.capacity() * sizeof(std::uint32_t);
+        std::size_t b = nodes_.capacity() * sizeof(wide_node) + objects_.capacity() * sizeof(O) +
+                        slots_.capacity() * sizeof(std::uint32_t);
+        if constexpr (has_ray_forms) b += forms_.capacity() * sizeof(typename ray_form::block);
+        return b;
     }
-    // The slot id (container handle) of a copied object.
+    // Objects with a compact ray form (compact_ray_form.hpp) are kept as blocks of
+    // form_lanes objects tested together (each leaf padded to whole blocks) instead of copies.
+    using ray_form = compact_ray_form<O>;
+    static constexpr bool has_ray_forms = ray_form::enabled;
+    static constexpr std::size_t form_lanes = ray_form::lanes;
+    // The slot id (container handle) of object i (in leaf order), and its copy (objects
+    // without a compact ray form only).
     std::uint32_t slot_of(object_index i) const { return slots_[i]; }
+    const O& object(object_index i) const requires(!has_ray_forms) { return objects_[i]; }
+    // The thin-ray test of the leaf of objects [first, first + count) on their blocks, in
+    // object order: the object hit (info lowered) or no_object. O::prepared_ray ray.
+    template <class Ray, class Info>
+    object_index intersect_forms(object_index first, std::size_t count, const Ray& ray,
+                                 Info& info) const requires has_ray_forms {
+        object_index hit = no_object;
+        for (std::size_t j = 0; j < count; j += form_lanes) {
+            const int lane =
+                ray_form::intersect(forms_[(first + j) / form_lanes], std::min(form_lanes, count - j), ray, info);
+            if (lane >= 0) hit = static_cast<object_index>(first + j + static_cast<std::size_t>(lane));
+        }
+        return hit;
+    }
 
     // A ray prepared for the float slab tests; see accepts().
     struct float_ray {
         std::array<float, D> near_origin, far_origin, inverse;
-        std::array<bool, D> negative;
+        // Byte offsets in a wide_node of the near and far planes' bytes per axis: q_lo and
+        // q_hi, swapped where the direction is negative (no branch on the sign per node).
+        std::array<std::uint32_t, D> near_planes, far_planes;
     };
     // Whether the float path is exact-safe for this ray (see the header comment), and if so
     // its float form. grow: the caller's growth of every box (thickness + rounding slack).
@@ -159,22 +217,28 @@ public:
         if (!(g <= float_range)) return false;
         for (std::size_t a = 0; a < D; ++a) {
             const double o = static_cast<double>(origin[a]), d = static_cast<double>(direction[a]);
-            r.negative[a] = std::signbit(d);
+            const bool negative = std::signbit(d);
             // near plane of a grown box: lo - g (hi + g when the direction is negative), so
             // (near - origin) * inverse = (box bound - shifted origin) * inverse.
-            r.near_origin[a] = static_cast<float>(r.negative[a] ? o - g : o + g);
-            r.far_origin[a] = static_cast<float>(r.negative[a] ? o + g : o - g);
+            r.near_origin[a] = static_cast<float>(negative ? o - g : o + g);
+            r.far_origin[a] = static_cast<float>(negative ? o + g : o - g);
+            const auto lo_planes = static_cast<std::uint32_t>(offsetof(wide_node, q_lo) + a * width);
+            const auto hi_planes = static_cast<std::uint32_t>(offsetof(wide_node, q_hi) + a * width);
+            r.near_planes[a] = negative ? hi_planes : lo_planes;
+            r.far_planes[a] = negative ? lo_planes : hi_planes;
             r.inverse[a] = 1.0f / static_cast<float>(d);  // +-inf for a +-0 component
         }
         return true;
     }
 
-    // The nearest hit before info.hit_time: index of the object hit or no_object. test(obj)
-    // runs the exact object test (which lowers info.hit_time on a hit). visited counts the
-    // child boxes the ray entered (as the binary tree counts its nodes), tested the objects
-    // tested.
-    template <class Info, class Test>
-    object_index intersect(const float_ray& r, Info& info, Test&& test, std::size_t& visited,
+    // The nearest hit before info.hit_time: index of the object hit or no_object.
+    // test_leaf(first, count) runs the exact test of the leaf's objects [first, first +
+    // count) in order (lowering info.hit_time on a hit) and returns the object hit or
+    // no_object: on object(i), or on the blocks with intersect_forms (what the leaves then
+    // prefetch). visited counts the child boxes the ray entered (as the binary tree counts
+    // its nodes), tested the objects tested.
+    template <class Info, class TestLeaf>
+    object_index intersect(const float_ray& r, Info& info, TestLeaf&& leaf_test, std::size_t& visited,
                            std::size_t& tested) const {
         using lanes = std::conditional_t<width == 8, float_lanes8, float_lanes4>;
         struct entry {
@@ -187,48 +251,73 @@ public:
         float limit = detail_rounding::round_up<float>(static_cast<double>(info.hit_time));
         auto test_leaf = [&](std::uint32_t first, std::uint32_t count) {
             tested += count;
-            for (std::uint32_t i = first; i < first + count; ++i)
-                if (test(objects_[i])) hit = i;
-            if (hit != no_object) limit = detail_rounding::round_up<float>(static_cast<double>(info.hit_time));
+            const object_index h = leaf_test(first, count);
+            if (h != no_object) {
+                hit = h;
+                limit = detail_rounding::round_up<float>(static_cast<double>(info.hit_time));
+            }
         };
+        // The ray's per-axis constants, broadcast once.
+        lanes inverse[D];
+        float near_origin[D], far_origin[D];
+        std::uint32_t near_planes[D], far_planes[D];
+        for (std::size_t a = 0; a < D; ++a) {
+            inverse[a] = lanes{} + r.inverse[a];
+            near_origin[a] = r.near_origin[a], far_origin[a] = r.far_origin[a];
+            near_planes[a] = r.near_planes[a], far_planes[a] = r.far_planes[a];
+        }
         entry cur{0, 0, 0.0f};
         for (;;) {
             if (cur.count != 0) {
                 test_leaf(cur.ref, cur.count);
             } else {
                 const wide_node& nd = nodes_[cur.ref];
+                const auto* node_bytes = reinterpret_cast<const std::uint8_t*>(&nd);
                 lanes tmin = lanes{} + 0.0f;
                 lanes tmax = lanes{} + limit;
                 for (std::size_t a = 0; a < D; ++a) {
-                    lanes near_plane, far_plane;
-                    std::memcpy(&near_plane, r.negative[a] ? nd.hi[a] : nd.lo[a], sizeof(lanes));
-                    std::memcpy(&far_plane, r.negative[a] ? nd.lo[a] : nd.hi[a], sizeof(lanes));
-                    const lanes tn = (near_plane - r.near_origin[a]) * r.inverse[a];
-                    const lanes tf = (far_plane - r.far_origin[a]) * r.inverse[a];
+                    // The planes relative to the shifted origins: q 2^e (exact in float) plus
+                    // (node origin - shifted ray origin), one rounding each (docs/design.md §12.6).
+                    const float scale = power_of_two(nd.exponent[a]);
+                    const lanes tn = exact_product_plus(to_lanes(node_bytes + near_planes[a]), scale,
+                                                        nd.origin[a] - near_origin[a]) *
+                                     inverse[a];
+                    const lanes tf =
+                        exact_product_plus(to_lanes(node_bytes + far_planes[a]), scale, nd.origin[a] - far_origin[a]) *
+                        inverse[a];
                     // A NaN (0 * inf: the origin on a slab plane of a parallel ray) fails
                     // both comparisons and leaves the interval as it was.
                     tmin = tn > tmin ? tn : tmin;
                     tmax = tf < tmax ? tf : tmax;
                 }
-                const auto inside = tmin <= tmax;
                 // One bit per lane hit; the lanes are then read without a branch per lane
                 // (whether a lane is hit is unpredictable for incoherent rays).
-                unsigned mask = lane_mask(inside);
-                float entry_t[width];
-                std::memcpy(entry_t, &tmin, sizeof(entry_t));
-                entry near_hits[width];
-                std::size_t h = 0;
-                for (; mask != 0; mask &= mask - 1) {
-                    const auto i = static_cast<std::size_t>(__builtin_ctz(mask));
-                    near_hits[h++] = {nd.child[i], nd.count[i], entry_t[i]};
-                    prefetch(nd.child[i], nd.count[i]);
-                }
-                visited += h;
-                // Nearest first: push the others farthest first, go on with the nearest.
-                for (std::size_t i = 1; i < h; ++i)
-                    for (std::size_t j = i; j > 0 && near_hits[j].t < near_hits[j - 1].t; --j)
-                        std::swap(near_hits[j], near_hits[j - 1]);
-                if (h > 0) {
+                unsigned mask = lane_mask(tmin <= tmax) & nd.lanes;
+                if (mask != 0) {
+                    float entry_t[width];
+                    std::memcpy(entry_t, &tmin, sizeof(entry_t));
+                    auto lane_entry = [&](unsigned i) { return entry{nd.child[i], nd.count[i], entry_t[i]}; };
+                    const auto first = static_cast<unsigned>(__builtin_ctz(mask));
+                    mask &= mask - 1;
+                    if (mask == 0) {  // one child hit (the common case deep in the tree): go there
+                        ++visited;
+                        cur = lane_entry(first);
+                        continue;
+                    }
+                    // Several: start loading them all, then go on with the nearest and push
+                    // the others farthest first.
+                    entry near_hits[width];
+                    near_hits[0] = lane_entry(first);
+                    prefetch(near_hits[0]);
+                    std::size_t h = 1;
+                    for (; mask != 0; mask &= mask - 1) {
+                        near_hits[h] = lane_entry(static_cast<unsigned>(__builtin_ctz(mask)));
+                        prefetch(near_hits[h++]);
+                    }
+                    visited += h;
+                    for (std::size_t i = 1; i < h; ++i)
+                        for (std::size_t j = i; j > 0 && near_hits[j].t < near_hits[j - 1].t; --j)
+                            std::swap(near_hits[j], near_hits[j - 1]);
                     for (std::size_t i = h; i-- > 1;) stack.push(near_hits[i]);
                     cur = near_hits[0];
                     continue;
@@ -259,27 +348,179 @@ private:
     }
     // Incoherent rays are bound by cache misses: start loading every child that will be
     // visited (its node, or its leaf's objects) while the nearest one is processed.
-    void prefetch(std::uint32_t ref, std::uint32_t count) const {
+    template <class Entry>
+    void prefetch(const Entry& e) const {
+        const std::uint32_t ref = e.ref, count = e.count;
         const char* p;
         std::size_t bytes;
         if (count == 0) {
             p = reinterpret_cast<const char*>(&nodes_[ref]);
             bytes = sizeof(wide_node);
+        } else if constexpr (has_ray_forms) {
+            p = reinterpret_cast<const char*>(&forms_[ref / form_lanes]);
+            bytes = (count + form_lanes - 1) / form_lanes * sizeof(typename ray_form::block);
         } else {
             p = reinterpret_cast<const char*>(&objects_[ref]);
             bytes = count * sizeof(O);
         }
         for (std::size_t off = 0; off < bytes; off += 64) __builtin_prefetch(p + off);
     }
-    static wide_node empty_node() {
-        wide_node n;
-        for (std::size_t a = 0; a < D; ++a)
-            for (std::size_t i = 0; i < width; ++i) {
-                n.lo[a][i] = std::numeric_limits<float>::infinity();
-                n.hi[a][i] = -std::numeric_limits<float>::infinity();
+    // q * scale + offset with one rounding, q * scale being exact (8-bit integers times a power
+    // of two): a fused multiply-add where the target has one (the same value either way).
+    template <class Lanes>
+    static Lanes exact_product_plus(Lanes q, float scale, float offset) {
+#if defined(__FMA__)
+        if constexpr (width == 8)
+            return reinterpret_cast<Lanes>(
+                _mm256_fmadd_ps(reinterpret_cast<__m256>(q), _mm256_set1_ps(scale), _mm256_set1_ps(offset)));
+        else
+            return reinterpret_cast<Lanes>(
+                _mm_fmadd_ps(reinterpret_cast<__m128>(q), _mm_set1_ps(scale), _mm_set1_ps(offset)));
+#else
+        return q * scale + offset;
+#endif
+    }
+    // 2^e as a float, e in [-126, 127], from its bits (no ldexp in the inner loop).
+    static float power_of_two(std::int8_t e) {
+        const std::uint32_t bits = static_cast<std::uint32_t>(static_cast<int>(e) + 127) << 23;
+        float f;
+        std::memcpy(&f, &bits, sizeof f);
+        return f;
+    }
+    // W bytes to W floats (exact).
+    static auto to_lanes(const std::uint8_t* q) {
+        using lanes = std::conditional_t<width == 8, float_lanes8, float_lanes4>;
+#if defined(__AVX2__)
+        // One widening load and one conversion (the generic form below is assembled byte by
+        // byte through scalar registers by GCC 12).
+        if constexpr (width == 8)
+            return reinterpret_cast<lanes>(
+                _mm256_cvtepi32_ps(_mm256_cvtepu8_epi32(_mm_loadl_epi64(reinterpret_cast<const __m128i*>(q)))));
+#endif
+#if defined(__SSE4_1__)
+        if constexpr (width == 4) {
+            std::int32_t four;
+            std::memcpy(&four, q, sizeof four);
+            return reinterpret_cast<lanes>(_mm_cvtepi32_ps(_mm_cvtepu8_epi32(_mm_cvtsi32_si128(four))));
+        }
+#endif
+        using byte_lanes = std::conditional_t<width == 8, byte_lanes8, byte_lanes4>;
+        using int_lanes = std::conditional_t<width == 8, int_lanes8, int_lanes4>;
+        byte_lanes b;
+        std::memcpy(&b, q, sizeof b);
+        return __builtin_convertvector(__builtin_convertvector(b, int_lanes), lanes);
+    }
+    // Objects below every binary node (indexed by node), without recursion (a degenerate
+    // tree can be as deep as it has nodes).
+    template <class Tree>
+    static std::vector<std::size_t> subtree_object_counts(const Tree& tree) {
+        std::vector<typename Tree::node_index> order{tree.root()};  // parents before children
+        std::size_t largest = tree.root();
+        for (std::size_t i = 0; i < order.size(); ++i) {
+            const auto n = order[i];
+            largest = std::max<std::size_t>(largest, n);
+            if (!tree.is_leaf(n)) order.push_back(tree.left(n)), order.push_back(tree.left(n) + 1);
+        }
+        std::vector<std::size_t> count(largest + 1, 0);
+        for (std::size_t i = order.size(); i-- > 0;) {
+            const auto n = order[i];
+            count[n] = tree.is_leaf(n) ? tree.leaf_size(n) : count[tree.left(n)] + count[tree.left(n) + 1];
+        }
+        return count;
+    }
+    // Fills wide node `at` with the binary nodes kids[0, k): quantises their boxes, copies
+    // the objects of leaf lanes (a leaf, or a small subtree gathered into one leaf) and
+    // queues a wide node for every other lane.
+    template <class Tree, class IsLaneLeaf, class Task>
+    void fill_node(const Tree& tree, std::size_t at, const std::array<typename Tree::node_index, width>& kids,
+                   std::size_t k, IsLaneLeaf&& is_lane_leaf, std::vector<Task>& todo) {
+        // The quantisation frame per axis: origin = the union's lower corner rounded down to
+        // float; 2^e the smallest power of two (a normal float) with 255 2^e >= the union's
+        // extent from origin, rounded up.
+        wide_node& nd = nodes_[at];
+        for (std::size_t a = 0; a < D; ++a) {
+            double lo = std::numeric_limits<double>::infinity(), hi = -lo;
+            for (std::size_t i = 0; i < k; ++i) {
+                lo = std::min(lo, static_cast<double>(tree.lower(kids[i], a)));
+                hi = std::max(hi, static_cast<double>(tree.upper(kids[i], a)));
             }
-        for (std::size_t i = 0; i < width; ++i) n.child[i] = 0, n.count[i] = 0;
-        return n;
+            const float origin = detail_rounding::round_down<float>(lo);
+            const double span = up(hi - static_cast<double>(origin));
+            int e = -126;
+            if (span > 0) {
+                std::frexp(up(span / 255), &e);  // span / 255 < 2^e
+                e = std::max(e, -126);
+            }
+            nd.origin[a] = origin;
+            nd.exponent[a] = static_cast<std::int8_t>(e);
+            for (std::size_t i = 0; i < k; ++i) {
+                // Lower plane rounded down, upper rounded up; both within [0, 255] because
+                // origin <= lower and upper - origin <= span <= 255 2^e.
+                const double l = std::max(0.0, down(static_cast<double>(tree.lower(kids[i], a)) - origin));
+                const double h = up(static_cast<double>(tree.upper(kids[i], a)) - origin);
+                nd.q_lo[a][i] = static_cast<std::uint8_t>(std::floor(std::ldexp(l, -e)));
+                nd.q_hi[a][i] = static_cast<std::uint8_t>(std::min(255.0, std::ceil(std::ldexp(h, -e))));
+            }
+        }
+        for (std::size_t i = 0; i < k; ++i) {  // by index from here: nodes_ may grow (and move)
+            nodes_[at].lanes |= static_cast<std::uint8_t>(1u << i);
+            if (is_lane_leaf(kids[i])) {
+                const std::size_t first = slots_.size();  // slots_ grows with objects_ or forms_
+                const std::size_t count = gather_objects(tree, kids[i]);
+                nodes_[at].child[i] = static_cast<std::uint32_t>(first);
+                nodes_[at].count[i] = static_cast<std::uint8_t>(count);
+            } else {
+                const auto w = static_cast<std::uint32_t>(nodes_.size());
+                nodes_[at].child[i] = w;
+                nodes_[at].count[i] = 0;
+                todo.push_back({kids[i], w});
+                nodes_.push_back(wide_node{});
+            }
+        }
+    }
+    // Stores the objects below binary node n (at most 255: a leaf or a merged subtree): their
+    // copies, or their blocks (padded with copies of the block's first object, which are
+    // never tested), and their slot ids. Returns how many objects there are.
+    template <class Tree>
+    std::size_t gather_objects(const Tree& tree, typename Tree::node_index n) {
+        std::vector<typename Tree::node_index> stack{n};
+        std::vector<std::uint32_t> leaf_slots;
+        while (!stack.empty()) {
+            const auto m = stack.back();
+            stack.pop_back();
+            if (!tree.is_leaf(m)) {
+                stack.push_back(tree.left(m) + 1);
+                stack.push_back(tree.left(m));
+                continue;
+            }
+            for (std::size_t j = 0; j < tree.leaf_size(m); ++j)
+                leaf_slots.push_back(static_cast<std::uint32_t>(tree.leaf_slot(m, j)));
+        }
+        if constexpr (has_ray_forms) {
+            // Only thick rays need the objects themselves: they read them from the container.
+            for (std::size_t j = 0; j < leaf_slots.size(); j += form_lanes) {
+                typename ray_form::block b;
+                for (std::size_t lane = 0; lane < form_lanes; ++lane) {
+                    const std::uint32_t s = leaf_slots[j + lane < leaf_slots.size() ? j + lane : j];
+                    ray_form::set(b, lane, tree.value(s));
+                    slots_.push_back(s);
+                }
+                forms_.push_back(b);
+            }
+        } else {
+            for (const std::uint32_t s : leaf_slots) {
+                objects_.push_back(tree.value(s));
+                slots_.push_back(s);
+            }
+        }
+        return leaf_slots.size();
+    }
+    // The neighbours of a double: at or above, at or below the exact value it was rounded from.
+    static double up(double v) {
+        return std::nextafter(v, std::numeric_limits<double>::infinity());
+    }
+    static double down(double v) {
+        return std::nextafter(v, -std::numeric_limits<double>::infinity());
     }
     template <class Tree>
     static double half_area(const Tree& tree, typename Tree::node_index n) {
@@ -294,37 +535,16 @@ private:
             return s;
         }
     }
-    // Fills lane i of wide node `parent` with binary node n: a leaf's objects are copied now,
-    // an inner node gets a wide node of its own (filled later from `todo`).
-    template <class Tree, class Task>
-    void set_lane(const Tree& tree, std::size_t parent, std::size_t i, typename Tree::node_index n,
-                  std::vector<Task>& todo) {
-        // By index: nodes_ may grow (and move) below.
-        for (std::size_t a = 0; a < D; ++a) {
-            nodes_[parent].lo[a][i] = detail_rounding::round_down<float>(static_cast<double>(tree.lower(n, a)));
-            nodes_[parent].hi[a][i] = detail_rounding::round_up<float>(static_cast<double>(tree.upper(n, a)));
-        }
-        if (tree.is_leaf(n)) {
-            const std::size_t m = tree.leaf_size(n);
-            nodes_[parent].child[i] = static_cast<std::uint32_t>(objects_.size());
-            nodes_[parent].count[i] = static_cast<std::uint8_t>(m);
-            for (std::size_t j = 0; j < m; ++j) {
-                const auto s = tree.leaf_slot(n, j);
-                objects_.push_back(tree.value(s));
-                slots_.push_back(static_cast<std::uint32_t>(s));
-            }
-        } else {
-            const auto w = static_cast<std::uint32_t>(nodes_.size());
-            nodes_.push_back(empty_node());
-            nodes_[parent].child[i] = w;
-            nodes_[parent].count[i] = 0;
-            todo.push_back({n, w});
-        }
-    }
-
-    std::vector<wide_node> nodes_;
-    std::vector<O> objects_;
-    std::vector<std::uint32_t> slots_;
+    // On transparent huge pages where available: see core/huge_page_allocator.hpp.
+    template <class E>
+    using ray_vector = std::vector<E, huge_page_allocator<E>>;
+    ray_vector<wide_node> nodes_;
+    ray_vector<O> objects_;  // empty with compact ray forms
+    ray_vector<std::uint32_t> slots_;
+    struct no_forms {
+        void clear() {}
+    };
+    std::conditional_t<has_ray_forms, ray_vector<typename ray_form::block>, no_forms> forms_;
     double magnitude_ = 0;
     bool usable_ = false;
 };

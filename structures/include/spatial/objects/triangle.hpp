@@ -160,15 +160,63 @@ public:
             if (!detail::first_capsule_contact(lo_.data(), hi_.data(), D, origin, direction, thickness, info.hit_time,
                                                [&](T s) { return squared_distance(at(origin, direction, s)); }, t))
                 return false;
+        } else if constexpr (D == 3) {
+            return intersect_thin(v_, ray, info);
         } else {
-            bool hit;
-            if constexpr (D == 3) hit = watertight_3d(ray, t);
-            else hit = clip_2d(origin, direction, t);
-            if (!hit || !(t < info.hit_time)) return false;
+            if (!clip_2d(origin, direction, t) || !(t < info.hit_time)) return false;
         }
         info.hit_time = t;
         info.hit_location = at(origin, direction, t);
         return true;
+    }
+    // intersect(ray, 0, info) of the 3D triangle with these vertices, for containers that
+    // keep a compact copy of the vertices for ray casting (bvh/compact_ray_form.hpp).
+    template <class Info>
+    static bool intersect_thin(const std::array<point_type, 3>& vertex, const prepared_ray& ray,
+                               Info& info) requires(D == 3) {
+        T t;
+        if (!watertight_hit(vertex, ray, t) || !(t < info.hit_time)) return false;
+        info.hit_time = t;
+        info.hit_location = at(ray.origin_, ray.direction_, t);
+        return true;
+    }
+    // intersect_thin on the triangles in lanes [0, count) of SIMD vectors (GCC/Clang vector
+    // extensions of T, one triangle per lane; vertex[k][axis][lane]), as if called on each in
+    // lane order: the index of the lane hit (lowering info.hit_time), or -1. Every lane runs
+    // the scalar test's floating-point operations (watertight_edges is shared, the rest is
+    // the same expressions lane-wise), so the answers are bit-identical; a lane on an edge in
+    // T takes the scalar test with its extended-precision fallback.
+    template <class Lanes, class Info>
+    static int intersect_thin_lanes(const Lanes (&vertex)[3][3], std::size_t count, const prepared_ray& ray,
+                                    Info& info) requires(D == 3) {
+        const auto e = watertight_edges<Lanes>(
+            [&](std::size_t k, std::size_t axis) -> const Lanes& { return vertex[k][axis]; }, ray);
+        const auto on_edge = (e.u == T(0)) | (e.v == T(0)) | (e.w == T(0));
+        const auto negative = (e.u < T(0)) | (e.v < T(0)) | (e.w < T(0));
+        const auto positive = (e.u > T(0)) | (e.v > T(0)) | (e.w > T(0));
+        const Lanes det = e.u + e.v + e.w;
+        const Lanes az = ray.sz_ * e.Az, bz = ray.sz_ * e.Bz, cz = ray.sz_ * e.Cz;
+        const Lanes t_scaled = e.u * az + e.v * bz + e.w * cz;
+        const Lanes t = t_scaled / det;  // inf or NaN in lanes that are rejected anyway
+        const auto hit = ~(negative & positive) & (det != T(0)) & (t >= T(0));
+        int best = -1;
+        T best_t = info.hit_time;
+        for (std::size_t i = 0; i < count; ++i) {
+            T ti = t[i];
+            bool lane_hit = hit[i] != 0;
+            if (on_edge[i] != 0) [[unlikely]] {
+                std::array<point_type, 3> v;
+                for (std::size_t k = 0; k < 3; ++k)
+                    for (std::size_t a = 0; a < 3; ++a) v[k][a] = vertex[k][a][i];
+                lane_hit = watertight_hit(v, ray, ti);
+            }
+            if (lane_hit && ti < best_t) best_t = ti, best = static_cast<int>(i);
+        }
+        if (best >= 0) {
+            info.hit_time = best_t;
+            info.hit_location = at(ray.origin_, ray.direction_, best_t);
+        }
+        return best;
     }
 
     // The course's split: bounding boxes of the parts with normal . x <= offset (left) and
@@ -260,21 +308,40 @@ private:
     }
 
     // ---- 3D watertight ray/triangle (Woop, Benthin & Wald 2013) ---------------------------
-    bool watertight_3d(const prepared_ray& ray, T& t_out) const {
+    // The sheared vertices relative to the origin and the edge functions u, v, w, for a
+    // scalar V = T or SIMD lanes of T alike (the same operations; coordinate(k, axis) is
+    // vertex k's coordinate, a T or lanes).
+    template <class V>
+    struct watertight_terms {
+        V Az, Bz, Cz, ax, ay, bx, by, cx, cy, u, v, w;
+    };
+    template <class V, class Coordinate>
+    static watertight_terms<V> watertight_edges(Coordinate&& coordinate, const prepared_ray& ray) requires(D == 3) {
         const point_type& org = ray.origin_;
         const std::size_t kx = ray.kx_, ky = ray.ky_, kz = ray.kz_;
-        const T sx = ray.sx_, sy = ray.sy_, sz = ray.sz_;
-
+        const T sx = ray.sx_, sy = ray.sy_;
         // Vertices relative to the origin, read in the ray's axis order (no temporaries
         // indexed at run time: they would go through memory).
-        const T Az = v_[0][kz] - org[kz], Bz = v_[1][kz] - org[kz], Cz = v_[2][kz] - org[kz];
-        const T ax = (v_[0][kx] - org[kx]) - sx * Az, ay = (v_[0][ky] - org[ky]) - sy * Az;
-        const T bx = (v_[1][kx] - org[kx]) - sx * Bz, by = (v_[1][ky] - org[ky]) - sy * Bz;
-        const T cx = (v_[2][kx] - org[kx]) - sx * Cz, cy = (v_[2][ky] - org[ky]) - sy * Cz;
+        watertight_terms<V> e;
+        e.Az = coordinate(0, kz) - org[kz], e.Bz = coordinate(1, kz) - org[kz], e.Cz = coordinate(2, kz) - org[kz];
+        e.ax = (coordinate(0, kx) - org[kx]) - sx * e.Az, e.ay = (coordinate(0, ky) - org[ky]) - sy * e.Az;
+        e.bx = (coordinate(1, kx) - org[kx]) - sx * e.Bz, e.by = (coordinate(1, ky) - org[ky]) - sy * e.Bz;
+        e.cx = (coordinate(2, kx) - org[kx]) - sx * e.Cz, e.cy = (coordinate(2, ky) - org[ky]) - sy * e.Cz;
+        e.u = e.cx * e.by - e.cy * e.bx;
+        e.v = e.ax * e.cy - e.ay * e.cx;
+        e.w = e.bx * e.ay - e.by * e.ax;
+        return e;
+    }
 
-        T u = cx * by - cy * bx;
-        T v = ax * cy - ay * cx;
-        T w = bx * ay - by * ax;
+    // True, with the hit parameter t_out >= 0, exactly when the triangle with these vertices
+    // is hit.
+    static bool watertight_hit(const std::array<point_type, 3>& vertex, const prepared_ray& ray,
+                               T& t_out) requires(D == 3) {
+        const auto e = watertight_edges<T>([&](std::size_t k, std::size_t axis) { return vertex[k][axis]; }, ray);
+        const T sz = ray.sz_;
+        const T Az = e.Az, Bz = e.Bz, Cz = e.Cz;
+        const T ax = e.ax, ay = e.ay, bx = e.bx, by = e.by, cx = e.cx, cy = e.cy;
+        T u = e.u, v = e.v, w = e.w;
         if (u == T(0) || v == T(0) || w == T(0)) [[unlikely]] {  // on an edge in T: decide in more precision
             using W = std::conditional_t<std::is_same_v<T, float>, double, long double>;
             u = static_cast<T>(W(cx) * W(by) - W(cy) * W(bx));
