@@ -9,7 +9,8 @@
 // test needs only the 72 bytes of vertices, and the test of 4 triangles costs about as much
 // in 4-lane SIMD as the test of one. The layout therefore stores each leaf's triangles as
 // blocks of 4 (vertex[k][axis][lane], the last block padded with copies of its first
-// triangle) and tests thin rays on the blocks alone, with the triangle's own lane-wise test
+// triangle), with their ids in the same block (the hit's id costs no further cache miss),
+// and tests thin rays on the blocks alone, with the triangle's own lane-wise test
 // (objects::triangle::intersect_thin_lanes: the same floating-point operations per lane, the
 // same hit record, the same winner on ties as testing the triangles in order). Thick rays
 // need the objects themselves and read them from the container.
@@ -18,6 +19,7 @@
 // one. Cost: O(1) per object to fill; memory: sizeof(block) per `lanes` objects of a leaf.
 
 #include <cstddef>
+#include <cstdint>
 
 #include "spatial/objects/triangle.hpp"
 
@@ -36,13 +38,16 @@ struct compact_ray_form<objects::triangle<T, 3>> {
     static constexpr std::size_t lanes = 4;
     using object = objects::triangle<T, 3>;
     typedef T lane_values __attribute__((vector_size(lanes * sizeof(T))));
-    struct block {
+    // 5 cache lines for double (288 bytes of vertices and the ids), 3 for float.
+    struct alignas(64) block {
         lane_values vertex[3][3];  // [vertex][axis], one triangle per lane
+        std::uint32_t id[lanes];   // the layout's id of each lane's object (its slot)
     };
 
-    static void set(block& b, std::size_t lane, const object& t) {
+    static void set(block& b, std::size_t lane, const object& t, std::uint32_t id) {
         for (std::size_t k = 0; k < 3; ++k)
             for (std::size_t a = 0; a < 3; ++a) b.vertex[k][a][lane] = t.vertex(k)[a];
+        b.id[lane] = id;
     }
     // The triangles in lanes [0, count) tested in lane order as object::intersect(ray, 0,
     // info) would: the lane hit (info lowered), or -1.

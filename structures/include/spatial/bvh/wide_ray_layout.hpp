@@ -92,10 +92,11 @@ public:
         std::uint32_t child[width];  // inner lane: wide node index; leaf lane: first object
         std::uint8_t count[width];   // 0: inner lane; k > 0: a leaf of k objects
     };
-    // A binary subtree of at most this many objects becomes one leaf lane when it is not
-    // opened to fill a node: fewer, fuller leaves (the binary SAH stops at 1-2 triangles) and
-    // no nearly empty wide nodes at the bottom of the tree.
-    static constexpr std::size_t merged_leaf_objects = 4;
+    // A binary subtree of at most this many objects (two SIMD blocks of triangles) becomes
+    // one leaf lane when it is not opened to fill a node: fewer, fuller leaves (the binary SAH
+    // stops at 1-2 triangles) and no nearly empty wide nodes at the bottom of the tree. 8
+    // against 2, 4, 6, 12, 16 on the 1e6 sphere and soup: docs/design.md §12.6.
+    static constexpr std::size_t merged_leaf_objects = 8;
 
     // Collapses a binary tree. Tree provides: root(), is_leaf(n), left(n) (right = left + 1),
     // lower(n, axis) / upper(n, axis) of node n's box, leaf_size(n), leaf_slot(n, i),
@@ -115,32 +116,27 @@ public:
                                    std::abs(static_cast<double>(tree.upper(tree.root(), a)))});
         usable_ = magnitude_ <= float_range;
         if (!usable_) return;  // every ray takes the double path
-        if constexpr (has_ray_forms) {
-            // Leaves padded to whole blocks: about a quarter more slots than objects.
-            const std::size_t padded = tree.object_count() + tree.object_count() / 4 + form_lanes;
-            slots_.reserve(padded);
-            forms_.reserve(padded / form_lanes);
-        } else {
-            objects_.reserve(tree.object_count());
-            slots_.reserve(tree.object_count());
-        }
         const std::vector<std::size_t> objects_below = subtree_object_counts(tree);
         auto is_lane_leaf = [&](node_index n) { return tree.is_leaf(n) || objects_below[n] <= merged_leaf_objects; };
+        // Pass 1 builds the wide nodes; leaf lanes hold their binary node and object count
+        // until pass 2 stores the objects (so that the arrays can be sized exactly).
         struct task {
             node_index binary;
             std::uint32_t wide;
         };
         std::vector<task> todo;
+        std::vector<std::uint32_t> fill_order{0};
         nodes_.push_back(wide_node{});
         if (tree.is_leaf(tree.root())) {
             const std::array<node_index, width> only{tree.root()};
-            fill_node(tree, 0, only, 1, is_lane_leaf, todo);
+            fill_node(tree, 0, only, 1, is_lane_leaf, todo, objects_below);
         } else {
             todo.push_back({tree.root(), 0});
         }
         while (!todo.empty()) {
             const task tk = todo.back();
             todo.pop_back();
+            if (tk.wide != 0) fill_order.push_back(tk.wide);
             // Open the largest-area inner child until there are `width` children (small
             // subtrees are opened too while there is room: lanes are tested together anyway).
             std::array<node_index, width> kids{};
@@ -160,7 +156,30 @@ public:
                 kids[best] = tree.left(opened);
                 kids[k++] = tree.left(opened) + 1;
             }
-            fill_node(tree, tk.wide, kids, k, is_lane_leaf, todo);
+            fill_node(tree, tk.wide, kids, k, is_lane_leaf, todo, objects_below);
+        }
+        // Pass 2: the leaves' objects, in the order the nodes were filled (depth first: a
+        // subtree's leaves end up near each other).
+        std::size_t stored = 0;  // slots, leaves padded to whole blocks
+        for (const wide_node& nd : nodes_)
+            for (std::size_t i = 0; i < width; ++i)
+                if (nd.count[i] != 0) stored += (nd.count[i] + form_lanes - 1) / form_lanes * form_lanes;
+        if constexpr (has_ray_forms) {
+            forms_.reserve(stored / form_lanes);
+        } else {
+            objects_.reserve(stored);
+            slots_.reserve(stored);
+        }
+        for (const std::uint32_t n : fill_order) {
+            wide_node& nd = nodes_[n];
+            for (std::size_t i = 0; i < width; ++i)
+                if (nd.count[i] != 0) {
+                    std::size_t first;
+                    if constexpr (has_ray_forms) first = forms_.size() * form_lanes;
+                    else first = objects_.size();
+                    gather_objects(tree, static_cast<node_index>(nd.child[i]));
+                    nd.child[i] = static_cast<std::uint32_t>(first);
+                }
         }
     }
 
@@ -179,7 +198,10 @@ public:
     static constexpr std::size_t form_lanes = ray_form::lanes;
     // The slot id (container handle) of object i (in leaf order), and its copy (objects
     // without a compact ray form only).
-    std::uint32_t slot_of(object_index i) const { return slots_[i]; }
+    std::uint32_t slot_of(object_index i) const {
+        if constexpr (has_ray_forms) return forms_[i / form_lanes].id[i % form_lanes];
+        else return slots_[i];
+    }
     const O& object(object_index i) const requires(!has_ray_forms) { return objects_[i]; }
     // The thin-ray test of the leaf of objects [first, first + count) on their blocks, in
     // object order: the object hit (info lowered) or no_object. O::prepared_ray ray.
@@ -433,7 +455,8 @@ private:
     // queues a wide node for every other lane.
     template <class Tree, class IsLaneLeaf, class Task>
     void fill_node(const Tree& tree, std::size_t at, const std::array<typename Tree::node_index, width>& kids,
-                   std::size_t k, IsLaneLeaf&& is_lane_leaf, std::vector<Task>& todo) {
+                   std::size_t k, IsLaneLeaf&& is_lane_leaf, std::vector<Task>& todo,
+                   const std::vector<std::size_t>& objects_below) {
         // The quantisation frame per axis: origin = the union's lower corner rounded down to
         // float; 2^e the smallest power of two (a normal float) with 255 2^e >= the union's
         // extent from origin, rounded up.
@@ -463,13 +486,14 @@ private:
             }
         }
         for (std::size_t i = 0; i < k; ++i) {  // by index from here: nodes_ may grow (and move)
-            nodes_[at].lanes |= static_cast<std::uint8_t>(1u << i);
             if (is_lane_leaf(kids[i])) {
-                const std::size_t first = slots_.size();  // slots_ grows with objects_ or forms_
-                const std::size_t count = gather_objects(tree, kids[i]);
-                nodes_[at].child[i] = static_cast<std::uint32_t>(first);
-                nodes_[at].count[i] = static_cast<std::uint8_t>(count);
+                // For pass 2 (see build); an empty leaf (possible after erasures) is no lane.
+                if (objects_below[kids[i]] == 0) continue;
+                nodes_[at].lanes |= static_cast<std::uint8_t>(1u << i);
+                nodes_[at].child[i] = static_cast<std::uint32_t>(kids[i]);
+                nodes_[at].count[i] = static_cast<std::uint8_t>(objects_below[kids[i]]);
             } else {
+                nodes_[at].lanes |= static_cast<std::uint8_t>(1u << i);
                 const auto w = static_cast<std::uint32_t>(nodes_.size());
                 nodes_[at].child[i] = w;
                 nodes_[at].count[i] = 0;
@@ -480,9 +504,9 @@ private:
     }
     // Stores the objects below binary node n (at most 255: a leaf or a merged subtree): their
     // copies, or their blocks (padded with copies of the block's first object, which are
-    // never tested), and their slot ids. Returns how many objects there are.
+    // never tested), and their slot ids.
     template <class Tree>
-    std::size_t gather_objects(const Tree& tree, typename Tree::node_index n) {
+    void gather_objects(const Tree& tree, typename Tree::node_index n) {
         std::vector<typename Tree::node_index> stack{n};
         std::vector<std::uint32_t> leaf_slots;
         while (!stack.empty()) {
@@ -502,8 +526,7 @@ private:
                 typename ray_form::block b;
                 for (std::size_t lane = 0; lane < form_lanes; ++lane) {
                     const std::uint32_t s = leaf_slots[j + lane < leaf_slots.size() ? j + lane : j];
-                    ray_form::set(b, lane, tree.value(s));
-                    slots_.push_back(s);
+                    ray_form::set(b, lane, tree.value(s), s);
                 }
                 forms_.push_back(b);
             }
@@ -513,7 +536,6 @@ private:
                 slots_.push_back(s);
             }
         }
-        return leaf_slots.size();
     }
     // The neighbours of a double: at or above, at or below the exact value it was rounded from.
     static double up(double v) {
@@ -540,7 +562,7 @@ private:
     using ray_vector = std::vector<E, huge_page_allocator<E>>;
     ray_vector<wide_node> nodes_;
     ray_vector<O> objects_;  // empty with compact ray forms
-    ray_vector<std::uint32_t> slots_;
+    ray_vector<std::uint32_t> slots_;  // empty with compact ray forms (their blocks hold the ids)
     struct no_forms {
         void clear() {}
     };
