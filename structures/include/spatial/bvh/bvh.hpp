@@ -107,9 +107,10 @@ struct bvh_config {
     // value at the last build. Measured in results/collide.csv (refit_decay rows).
     static constexpr double reinsert_fraction = 1.0 / 32;
     static constexpr double refit_quality_limit = 1.3;
-    // BV = aabb only: cast rays on a 4-wide single-precision copy of the tree with the
-    // objects in leaf order (bvh/wide_ray_layout.hpp), built on the first ray cast after a
-    // change or by prepare_rays(). Same answers; costs a copy of the objects.
+    // BV = aabb only: cast rays on a wide (8 or 4 lanes) copy of the tree with quantised
+    // child boxes and the objects in leaf order (bvh/wide_ray_layout.hpp; triangles as SIMD
+    // blocks of their vertices), built on the first ray cast after a change or by
+    // prepare_rays(). Same answers; costs a copy of the objects (or of their vertices).
     static constexpr bool wide_ray_layout = true;
     // Lanes of a wide node: 8 with AVX (one 256-bit slab test per axis), else 4.
     static constexpr std::size_t wide_ray_width = bvh_detail::default_wide_ray_width;
