@@ -20,6 +20,7 @@
 
 #include <cstddef>
 #include <cstdint>
+#include <type_traits>
 
 #include "spatial/objects/triangle.hpp"
 
@@ -32,7 +33,9 @@ struct compact_ray_form {
     struct block {};  // never stored
 };
 
+// float and double: the scalars GCC/Clang vector extensions take (others copy the objects).
 template <class T>
+    requires(std::is_same_v<T, float> || std::is_same_v<T, double>)
 struct compact_ray_form<objects::triangle<T, 3>> {
     static constexpr bool enabled = true;
     static constexpr std::size_t lanes = 4;
