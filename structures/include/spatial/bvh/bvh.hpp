@@ -1112,7 +1112,18 @@ private:
         std::size_t visited = 0, tested = 0;
         typename wide_layout::object_index hit;
         using object_index = typename wide_layout::object_index;
-        constexpr object_index none = wide_layout::no_object;
+        // Leaves tested object by object, in order: test(i) is the exact test of object i.
+        auto one_by_one = [&](auto&& test) {
+            return w.intersect(
+                r, info,
+                [&](object_index first, std::size_t count) {
+                    object_index h = wide_layout::no_object;
+                    for (object_index i = first; i < first + count; ++i)
+                        if (test(i)) h = i;
+                    return h;
+                },
+                visited, tested);
+        };
         if constexpr (wide_layout::has_ray_forms) {
             // Thin rays on the compact blocks alone; thick rays on the stored objects.
             const typename O::prepared_ray ray(origin, direction);
@@ -1122,33 +1133,13 @@ private:
                     [&](object_index first, std::size_t count) { return w.intersect_forms(first, count, ray, info); },
                     visited, tested);
             else
-                hit = w.intersect(
-                    r, info,
-                    [&](object_index first, std::size_t count) {
-                        object_index h = none;
-                        for (object_index i = first; i < first + count; ++i)
-                            if (slots_.value(w.slot_of(i)).intersect(ray, thickness, info)) h = i;
-                        return h;
-                    },
-                    visited, tested);
+                hit = one_by_one(
+                    [&](object_index i) { return slots_.value(w.slot_of(i)).intersect(ray, thickness, info); });
+        } else if constexpr (requires { typename O::prepared_ray; }) {
+            const typename O::prepared_ray ray(origin, direction);
+            hit = one_by_one([&](object_index i) { return w.object(i).intersect(ray, thickness, info); });
         } else {
-            // The objects' own test, with the ray prepared once where the object offers it.
-            auto run = [&](const auto& ray_or_origin, auto&&... direction_if_unprepared) {
-                return w.intersect(
-                    r, info,
-                    [&](object_index first, std::size_t count) {
-                        object_index h = none;
-                        for (object_index i = first; i < first + count; ++i)
-                            if (w.object(i).intersect(ray_or_origin, direction_if_unprepared..., thickness, info))
-                                h = i;
-                        return h;
-                    },
-                    visited, tested);
-            };
-            if constexpr (requires { typename O::prepared_ray; })
-                hit = run(typename O::prepared_ray(origin, direction));
-            else
-                hit = run(origin, direction);
+            hit = one_by_one([&](object_index i) { return w.object(i).intersect(origin, direction, thickness, info); });
         }
         st.nodes_visited = visited;
         st.objects_tested = tested;

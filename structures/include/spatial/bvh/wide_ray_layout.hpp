@@ -117,7 +117,6 @@ public:
         usable_ = magnitude_ <= float_range;
         if (!usable_) return;  // every ray takes the double path
         const std::vector<std::size_t> objects_below = subtree_object_counts(tree);
-        auto is_lane_leaf = [&](node_index n) { return tree.is_leaf(n) || objects_below[n] <= merged_leaf_objects; };
         // Pass 1 builds the wide nodes; leaf lanes hold their binary node and object count
         // until pass 2 stores the objects (so that the arrays can be sized exactly).
         struct task {
@@ -129,7 +128,7 @@ public:
         nodes_.push_back(wide_node{});
         if (tree.is_leaf(tree.root())) {
             const std::array<node_index, width> only{tree.root()};
-            fill_node(tree, 0, only, 1, is_lane_leaf, todo, objects_below);
+            fill_node(tree, 0, only, 1, objects_below, todo);
         } else {
             todo.push_back({tree.root(), 0});
         }
@@ -156,7 +155,7 @@ public:
                 kids[best] = tree.left(opened);
                 kids[k++] = tree.left(opened) + 1;
             }
-            fill_node(tree, tk.wide, kids, k, is_lane_leaf, todo, objects_below);
+            fill_node(tree, tk.wide, kids, k, objects_below, todo);
         }
         // Pass 2: the leaves' objects, in the order the nodes were filled (depth first: a
         // subtree's leaves end up near each other).
@@ -279,15 +278,8 @@ public:
                 limit = detail_rounding::round_up<float>(static_cast<double>(info.hit_time));
             }
         };
-        // The ray's per-axis constants, broadcast once.
-        lanes inverse[D];
-        float near_origin[D], far_origin[D];
-        std::uint32_t near_planes[D], far_planes[D];
-        for (std::size_t a = 0; a < D; ++a) {
-            inverse[a] = lanes{} + r.inverse[a];
-            near_origin[a] = r.near_origin[a], far_origin[a] = r.far_origin[a];
-            near_planes[a] = r.near_planes[a], far_planes[a] = r.far_planes[a];
-        }
+        lanes inverse[D];  // broadcast once per ray
+        for (std::size_t a = 0; a < D; ++a) inverse[a] = lanes{} + r.inverse[a];
         entry cur{0, 0, 0.0f};
         for (;;) {
             if (cur.count != 0) {
@@ -301,12 +293,12 @@ public:
                     // The planes relative to the shifted origins: q 2^e (exact in float) plus
                     // (node origin - shifted ray origin), one rounding each (docs/design.md §12.6).
                     const float scale = power_of_two(nd.exponent[a]);
-                    const lanes tn = exact_product_plus(to_lanes(node_bytes + near_planes[a]), scale,
-                                                        nd.origin[a] - near_origin[a]) *
+                    const lanes tn = exact_product_plus(to_lanes(node_bytes + r.near_planes[a]), scale,
+                                                        nd.origin[a] - r.near_origin[a]) *
                                      inverse[a];
-                    const lanes tf =
-                        exact_product_plus(to_lanes(node_bytes + far_planes[a]), scale, nd.origin[a] - far_origin[a]) *
-                        inverse[a];
+                    const lanes tf = exact_product_plus(to_lanes(node_bytes + r.far_planes[a]), scale,
+                                                        nd.origin[a] - r.far_origin[a]) *
+                                     inverse[a];
                     // A NaN (0 * inf: the origin on a slab plane of a parallel ray) fails
                     // both comparisons and leaves the interval as it was.
                     tmin = tn > tmin ? tn : tmin;
@@ -450,13 +442,12 @@ private:
         }
         return count;
     }
-    // Fills wide node `at` with the binary nodes kids[0, k): quantises their boxes, copies
-    // the objects of leaf lanes (a leaf, or a small subtree gathered into one leaf) and
-    // queues a wide node for every other lane.
-    template <class Tree, class IsLaneLeaf, class Task>
+    // Fills wide node `at` with the binary nodes kids[0, k): quantises their boxes, marks leaf
+    // lanes (a leaf, or a subtree of at most merged_leaf_objects objects; their objects are
+    // stored by pass 2 of build) and queues a wide node for every other lane.
+    template <class Tree, class Task>
     void fill_node(const Tree& tree, std::size_t at, const std::array<typename Tree::node_index, width>& kids,
-                   std::size_t k, IsLaneLeaf&& is_lane_leaf, std::vector<Task>& todo,
-                   const std::vector<std::size_t>& objects_below) {
+                   std::size_t k, const std::vector<std::size_t>& objects_below, std::vector<Task>& todo) {
         // The quantisation frame per axis: origin = the union's lower corner rounded down to
         // float; 2^e the smallest power of two (a normal float) with 255 2^e >= the union's
         // extent from origin, rounded up.
@@ -486,14 +477,14 @@ private:
             }
         }
         for (std::size_t i = 0; i < k; ++i) {  // by index from here: nodes_ may grow (and move)
-            if (is_lane_leaf(kids[i])) {
-                // For pass 2 (see build); an empty leaf (possible after erasures) is no lane.
-                if (objects_below[kids[i]] == 0) continue;
-                nodes_[at].lanes |= static_cast<std::uint8_t>(1u << i);
+            const std::size_t objects = objects_below[kids[i]];
+            if (objects == 0) continue;  // an empty leaf (possible after erasures) is no lane
+            nodes_[at].lanes |= static_cast<std::uint8_t>(1u << i);
+            if (tree.is_leaf(kids[i]) || objects <= merged_leaf_objects) {
+                // Pass 2 of build replaces the binary node by the leaf's first object.
                 nodes_[at].child[i] = static_cast<std::uint32_t>(kids[i]);
-                nodes_[at].count[i] = static_cast<std::uint8_t>(objects_below[kids[i]]);
+                nodes_[at].count[i] = static_cast<std::uint8_t>(objects);
             } else {
-                nodes_[at].lanes |= static_cast<std::uint8_t>(1u << i);
                 const auto w = static_cast<std::uint32_t>(nodes_.size());
                 nodes_[at].child[i] = w;
                 nodes_[at].count[i] = 0;

@@ -160,32 +160,24 @@ public:
             if (!detail::first_capsule_contact(lo_.data(), hi_.data(), D, origin, direction, thickness, info.hit_time,
                                                [&](T s) { return squared_distance(at(origin, direction, s)); }, t))
                 return false;
-        } else if constexpr (D == 3) {
-            return intersect_thin(v_, ray, info);
         } else {
-            if (!clip_2d(origin, direction, t) || !(t < info.hit_time)) return false;
+            bool hit;
+            if constexpr (D == 3)
+                hit = watertight_hit(v_, ray, t);
+            else
+                hit = clip_2d(origin, direction, t);
+            if (!hit || !(t < info.hit_time)) return false;
         }
         info.hit_time = t;
         info.hit_location = at(origin, direction, t);
         return true;
     }
-    // intersect(ray, 0, info) of the 3D triangle with these vertices, for containers that
-    // keep a compact copy of the vertices for ray casting (bvh/compact_ray_form.hpp).
-    template <class Info>
-    static bool intersect_thin(const std::array<point_type, 3>& vertex, const prepared_ray& ray,
-                               Info& info) requires(D == 3) {
-        T t;
-        if (!watertight_hit(vertex, ray, t) || !(t < info.hit_time)) return false;
-        info.hit_time = t;
-        info.hit_location = at(ray.origin_, ray.direction_, t);
-        return true;
-    }
-    // intersect_thin on the triangles in lanes [0, count) of SIMD vectors (GCC/Clang vector
-    // extensions of T, one triangle per lane; vertex[k][axis][lane]), as if called on each in
-    // lane order: the index of the lane hit (lowering info.hit_time), or -1. Every lane runs
-    // the scalar test's floating-point operations (watertight_edges is shared, the rest is
-    // the same expressions lane-wise), so the answers are bit-identical; a lane on an edge in
-    // T takes the scalar test with its extended-precision fallback.
+    // intersect(ray, 0, info) on the triangles in lanes [0, count) of SIMD vectors (GCC/Clang
+    // vector extensions of T, one triangle per lane; vertex[k][axis][lane]), as if called on
+    // each in lane order (bvh/compact_ray_form.hpp): the index of the lane hit (lowering info.hit_time), or -1. Every
+    // lane runs the scalar test's floating-point operations (watertight_edges is shared, the rest is the same
+    // expressions lane-wise), so the answers are bit-identical; a lane on an edge in T takes the scalar test with its
+    // extended-precision fallback.
     template <class Lanes, class Info>
     static int intersect_thin_lanes(const Lanes (&vertex)[3][3], std::size_t count, const prepared_ray& ray,
                                     Info& info) requires(D == 3) {
