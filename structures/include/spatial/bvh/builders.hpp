@@ -13,9 +13,11 @@
 //                 bin accumulates the AABB and count of its objects, and a sweep evaluates the
 //                 surface area heuristic (Goldsmith & Salmon 1987; MacDonald & Booth 1990)
 //                     cost(split) = C_trav + C_isect (A_L N_L + A_R N_R) / A_node
+//                 (N counted in blocks of sah_costs::block objects where leaves are tested
+//                 a block at a time)
 //                 at the B - 1 bin boundaries of every axis; O(m (D + B)) per node, O(n log n)
 //                 per build for balanced splits. A node with at most leaf_size items becomes a
-//                 leaf when C_isect m is not more than the best split; a node with more items
+//                 leaf when C_isect N is not more than the best split; a node with more items
 //                 is always split. When every centroid coincides (no axis to bin along) the
 //                 object median is used, so identical objects still give a balanced tree.
 
@@ -80,7 +82,15 @@ std::size_t median_split(build_item<T, D>* first, std::size_t m) {
 
 struct sah_costs {
     double traversal = 1;     // C_trav: cost of visiting an inner node
-    double intersection = 1;  // C_isect: cost of testing one object
+    double intersection = 1;  // C_isect: cost of testing one block of objects
+    // Objects tested together (one SIMD step): a leaf's cost counts blocks, ceil(N / block),
+    // not objects, as Embree's builders do with their sahBlockSize (Wald, Woop, Benthin,
+    // Johnson & Ernst 2014, "Embree: a kernel framework for efficient CPU ray tracing").
+    // With block = 4 a leaf of 1 to 4 triangles costs the same, so the SAH makes full
+    // leaves of 4 instead of 1-2 triangles that waste SIMD lanes and the bytes padding
+    // them (docs/design.md §12.6). 1: the classic per-object cost.
+    std::size_t block = 1;
+    double blocks(std::size_t n) const { return static_cast<double>((n + block - 1) / block); }
 };
 
 // Binned SAH decision for [first, first + m). Returns 0 for "make a leaf", else the size of
@@ -128,7 +138,7 @@ std::size_t binned_sah_split(build_item<T, D>* first, std::size_t m, std::size_t
             left.add(bins[b - 1]);
             nl += counts[b - 1];
             if (nl == 0 || right_count[b] == 0) continue;
-            const double c = left.area() * static_cast<double>(nl) + right_area[b] * static_cast<double>(right_count[b]);
+            const double c = left.area() * costs.blocks(nl) + right_area[b] * costs.blocks(right_count[b]);
             if (c < best_cost) best_cost = c, best_axis = axis, best_boundary = b;
         }
     }
@@ -136,8 +146,8 @@ std::size_t binned_sah_split(build_item<T, D>* first, std::size_t m, std::size_t
         return m <= leaf_size ? 0 : median_split(first, m);
     }
     const double split_cost =
-        costs.traversal + costs.intersection * (parent_area > 0 ? best_cost / parent_area : static_cast<double>(m));
-    if (m <= leaf_size && costs.intersection * static_cast<double>(m) <= split_cost) return 0;
+        costs.traversal + costs.intersection * (parent_area > 0 ? best_cost / parent_area : costs.blocks(m));
+    if (m <= leaf_size && costs.intersection * costs.blocks(m) <= split_cost) return 0;
     const double scale = static_cast<double>(Bins) / (static_cast<double>(cb.hi[best_axis]) - static_cast<double>(cb.lo[best_axis]));
     auto* mid = std::partition(first, first + m,
                                [&](const build_item<T, D>& it) { return bin_of(it, best_axis, scale) < best_boundary; });

@@ -165,6 +165,9 @@ private:
         if constexpr (requires { Config::wide_ray_width; }) return std::size_t{Config::wide_ray_width};
         else return bvh_detail::default_wide_ray_width;
     }()>;
+    // The SAH counts leaf cost in the blocks the ray layout tests together (triangles: 4 per
+    // SIMD step), else per object; see bvh_detail::sah_costs.
+    static constexpr std::size_t sah_block = wide_rays && wide_layout::has_ray_forms ? wide_layout::form_lanes : 1;
     struct no_box {};
 
     struct node {
@@ -1316,7 +1319,7 @@ private:
             return m <= leaf_size ? 0 : bvh_detail::median_split(f, m);
         } else {
             return bvh_detail::binned_sah_split<Config::sah_bins>(
-                f, m, leaf_size, bvh_detail::sah_costs{Config::traversal_cost, Config::intersection_cost});
+                f, m, leaf_size, bvh_detail::sah_costs{Config::traversal_cost, Config::intersection_cost, sah_block});
         }
     }
     void fit_inner_from_items(node_index n, const item* f, std::size_t m) {
