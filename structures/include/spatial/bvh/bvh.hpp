@@ -604,7 +604,8 @@ public:
     // children's self pairs and their cross pair; a cross pair of nodes is opened only when
     // their boxes and volumes overlap (BV::overlaps, so tighter volumes prune more), the
     // larger node first (by box surface area). Candidates: the object pairs of every leaf with
-    // itself and of every overlapping leaf pair; exact adds the narrow phase. Sorted by slots,
+    // itself and of every overlapping leaf pair (for aabb: those whose object boxes overlap,
+    // see leaf_objects_may_meet); exact adds the narrow phase. Sorted by slots,
     // (lower, higher). last_query_stats(): node pairs tested, candidate pairs.
     // O(node pairs whose volumes overlap + candidates); about O(n + k) for well-separated
     // objects with k pairs (Gottschalk, Lin & Manocha 1996 descend two OBB trees this way).
@@ -614,6 +615,7 @@ public:
         std::vector<std::pair<iterator, iterator>> out;
         if (slots_.size() < 2) return out;
         auto emit = [&](slot_index s, slot_index t) {
+            if (!leaf_objects_may_meet(slots_.value(s), slots_.value(t))) return;
             ++stats_.objects_tested;
             if (s > t) std::swap(s, t);
             if (filter == pair_filter::candidates || collide::narrow_phase(slots_.value(s), slots_.value(t)))
@@ -646,6 +648,22 @@ public:
         sort_pairs(out);
         return out;
     }
+
+private:
+    // Inside overlapping leaves, an aabb tree carries its test down to the objects: a pair is
+    // a candidate only when the objects' boxes overlap (closed), as the octree and kd_tree
+    // filter their leaves. Its leaves hold up to 4 triangles when the SAH counts blocks
+    // (sah_block), and without the filter every pair of them would reach the narrow phase.
+    // Other volumes pass every pair of their (per-object SAH, small) leaves on.
+    template <class A, class B>
+    static bool leaf_objects_may_meet(const A& a, const B& b) {
+        if constexpr (volume_is_box)
+            return object_boxes_overlap(a, b);
+        else
+            return true;
+    }
+
+public:
     // Pairs (object of *this, object of other). With another bvh of the same type: the two
     // trees descended together as above; with any other container: collide/pairs.hpp's
     // pairs_between (a box query of *this per object of other).
@@ -669,6 +687,7 @@ public:
                     const slot_index* by = other.block(y.first);
                     for (std::uint32_t i = 0; i < x.count; ++i)
                         for (std::uint32_t j = 0; j < y.count; ++j) {
+                            if (!leaf_objects_may_meet(slots_.value(bx[i]), other.slots_.value(by[j]))) continue;
                             ++stats_.objects_tested;
                             if (filter == pair_filter::candidates ||
                                 collide::narrow_phase(slots_.value(bx[i]), other.slots_.value(by[j])))
