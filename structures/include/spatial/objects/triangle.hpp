@@ -130,12 +130,15 @@ public:
             if constexpr (D == 3) {
                 // kz: the dominant axis of the direction; kx, ky follow it cyclically, swapped
                 // when dir[kz] < 0 to keep the winding (so the sign tests need no special case).
-                kz_ = 0;
-                for (std::size_t i = 1; i < 3; ++i)
-                    if (std::abs(direction[i]) > std::abs(direction[kz_])) kz_ = i;
-                kx_ = (kz_ + 1) % 3;
-                ky_ = (kx_ + 1) % 3;
-                if (direction[kz_] < 0) std::swap(kx_, ky_);
+                // Selected without branches: for incoherent rays each comparison is a coin
+                // toss, and two mispredicted branches cost more than the rest of the setup.
+                const T a0 = std::abs(direction[0]), a1 = std::abs(direction[1]), a2 = std::abs(direction[2]);
+                const std::size_t k01 = a1 > a0 ? 1 : 0;
+                kz_ = a2 > std::max(a0, a1) ? 2 : k01;
+                const std::size_t next = kz_ == 2 ? 0 : kz_ + 1, after = next == 2 ? 0 : next + 1;
+                const bool negative = direction[kz_] < 0;
+                kx_ = negative ? after : next;
+                ky_ = negative ? next : after;
                 sx_ = direction[kx_] / direction[kz_];
                 sy_ = direction[ky_] / direction[kz_];
                 sz_ = T(1) / direction[kz_];
