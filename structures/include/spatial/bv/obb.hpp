@@ -76,6 +76,7 @@
 #include "spatial/bv/bounding_volume.hpp"
 #include "spatial/bv/min_area_rectangle.hpp"
 #include "spatial/bv/principal_axes.hpp"
+#include "spatial/bv/rounding.hpp"
 #include "spatial/core/input_checks.hpp"
 #include "spatial/core/point.hpp"
 #include "spatial/core/rigid_transform.hpp"
@@ -497,7 +498,8 @@ struct obb {
             for (std::size_t d = 0; d < D; ++d) m1 = std::max(m1, std::abs(b->center[d])), hs += b->half_extents[d];
             mag = std::max(mag, m1 + hs);
         }
-        for (std::size_t k = 0; k < D; ++k) m.half_extents[k] = round_up(m.half_extents[k] + T(2 * D + 2) * eps * mag);
+        for (std::size_t k = 0; k < D; ++k)
+            m.half_extents[k] = detail_rounding::next_up(m.half_extents[k] + T(2 * D + 2) * eps * mag);
         return m;
     }
 
@@ -517,7 +519,8 @@ struct obb {
         T mag = 0;
         for (std::size_t d = 0; d < D; ++d)
             mag += std::abs(center[d]) + std::abs(b.center[d]) + std::abs(xf.translation[d]) + half_extents[d];
-        for (std::size_t k = 0; k < D; ++k) b.half_extents[k] = round_up(half_extents[k] + T(4 * D + 4) * eps * mag);
+        for (std::size_t k = 0; k < D; ++k)
+            b.half_extents[k] = detail_rounding::next_up(half_extents[k] + T(4 * D + 4) * eps * mag);
         return b;
     }
 
@@ -548,7 +551,6 @@ private:
         for (auto& x : h) x = -1;
         return h;
     }
-    static T round_up(T x) { return std::nextafter(x, std::numeric_limits<T>::infinity()); }
 
     static void check_input(std::span<const point_type> pts, const char* where) {
         for (const auto& p : pts) detail::require_finite(p, where, "input point");
@@ -587,7 +589,7 @@ private:
         constexpr T eps = std::numeric_limits<T>::epsilon();
         for (std::size_t k = 0; k < D; ++k) {
             const T pad = T(D + 3) * eps * bound[k];
-            b.half_extents[k] = pad > 0 ? round_up(h[k] + pad) : h[k];
+            b.half_extents[k] = pad > 0 ? detail_rounding::next_up(h[k] + pad) : h[k];
         }
         return b;
     }

@@ -8,6 +8,17 @@
 
 namespace spatial::detail_rounding {
 
+// The neighbours of x in its own type: the next value above, the next below. Bounds computed
+// with one rounding step are pushed one ulp outward with these to stay conservative.
+template <class T>
+T next_up(T x) {
+    return std::nextafter(x, std::numeric_limits<T>::infinity());
+}
+template <class T>
+T next_down(T x) {
+    return std::nextafter(x, -std::numeric_limits<T>::infinity());
+}
+
 // The smallest T >= v.
 template <class T>
 T round_up(double v) {

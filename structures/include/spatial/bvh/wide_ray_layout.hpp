@@ -459,10 +459,10 @@ private:
                 hi = std::max(hi, static_cast<double>(tree.upper(kids[i], a)));
             }
             const float origin = detail_rounding::round_down<float>(lo);
-            const double span = up(hi - static_cast<double>(origin));
+            const double span = detail_rounding::next_up(hi - static_cast<double>(origin));
             int e = -126;
             if (span > 0) {
-                std::frexp(up(span / 255), &e);  // span / 255 < 2^e
+                std::frexp(detail_rounding::next_up(span / 255), &e);  // span / 255 < 2^e
                 e = std::max(e, -126);
             }
             nd.origin[a] = origin;
@@ -470,8 +470,9 @@ private:
             for (std::size_t i = 0; i < k; ++i) {
                 // Lower plane rounded down, upper rounded up; both within [0, 255] because
                 // origin <= lower and upper - origin <= span <= 255 2^e.
-                const double l = std::max(0.0, down(static_cast<double>(tree.lower(kids[i], a)) - origin));
-                const double h = up(static_cast<double>(tree.upper(kids[i], a)) - origin);
+                const double l =
+                    std::max(0.0, detail_rounding::next_down(static_cast<double>(tree.lower(kids[i], a)) - origin));
+                const double h = detail_rounding::next_up(static_cast<double>(tree.upper(kids[i], a)) - origin);
                 nd.q_lo[a][i] = static_cast<std::uint8_t>(std::floor(std::ldexp(l, -e)));
                 nd.q_hi[a][i] = static_cast<std::uint8_t>(std::min(255.0, std::ceil(std::ldexp(h, -e))));
             }
@@ -527,13 +528,6 @@ private:
                 slots_.push_back(s);
             }
         }
-    }
-    // The neighbours of a double: at or above, at or below the exact value it was rounded from.
-    static double up(double v) {
-        return std::nextafter(v, std::numeric_limits<double>::infinity());
-    }
-    static double down(double v) {
-        return std::nextafter(v, -std::numeric_limits<double>::infinity());
     }
     template <class Tree>
     static double half_area(const Tree& tree, typename Tree::node_index n) {

@@ -18,6 +18,7 @@
 #include <limits>
 #include <stdexcept>
 
+#include "spatial/bv/rounding.hpp"
 #include "spatial/core/point.hpp"
 #include "spatial/objects/box.hpp"
 
@@ -129,13 +130,10 @@ public:
     }
 
 private:
-    static T down(T x) { return std::nextafter(x, -std::numeric_limits<T>::infinity()); }
-    static T up(T x) { return std::nextafter(x, std::numeric_limits<T>::infinity()); }
-
     void update_bounds() {
         for (std::size_t i = 0; i < D; ++i) {
-            lo_[i] = radius_ == T(0) ? center_[i] : down(center_[i] - radius_);
-            hi_[i] = radius_ == T(0) ? center_[i] : up(center_[i] + radius_);
+            lo_[i] = radius_ == T(0) ? center_[i] : detail_rounding::next_down(center_[i] - radius_);
+            hi_[i] = radius_ == T(0) ? center_[i] : detail_rounding::next_up(center_[i] + radius_);
         }
     }
 
@@ -151,11 +149,12 @@ private:
         if (narrower) {
             const T h = keep_below ? c - s : s - c;  // distance from the centre to the plane, > 0
             const T rho2 = radius_ * radius_ - h * h;
-            const T rho = up(std::sqrt(std::max(rho2, T(0))) * (T(1) + 4 * std::numeric_limits<T>::epsilon()));
+            const T rho = detail_rounding::next_up(std::sqrt(std::max(rho2, T(0))) *
+                                                   (T(1) + 4 * std::numeric_limits<T>::epsilon()));
             for (std::size_t i = 0; i < D; ++i) {
                 if (i == axis) continue;
-                b.lo[i] = std::max(b.lo[i], down(center_[i] - rho));
-                b.hi[i] = std::min(b.hi[i], up(center_[i] + rho));
+                b.lo[i] = std::max(b.lo[i], detail_rounding::next_down(center_[i] - rho));
+                b.hi[i] = std::min(b.hi[i], detail_rounding::next_up(center_[i] + rho));
             }
         }
         return b;
