@@ -649,21 +649,6 @@ public:
         return out;
     }
 
-private:
-    // Inside overlapping leaves, an aabb tree carries its test down to the objects: a pair is
-    // a candidate only when the objects' boxes overlap (closed), as the octree and kd_tree
-    // filter their leaves. Its leaves hold up to 4 triangles when the SAH counts blocks
-    // (sah_block), and without the filter every pair of them would reach the narrow phase.
-    // Other volumes pass every pair of their (per-object SAH, small) leaves on.
-    template <class A, class B>
-    static bool leaf_objects_may_meet(const A& a, const B& b) {
-        if constexpr (volume_is_box)
-            return object_boxes_overlap(a, b);
-        else
-            return true;
-    }
-
-public:
     // Pairs (object of *this, object of other). With another bvh of the same type: the two
     // trees descended together as above; with any other container: collide/pairs.hpp's
     // pairs_between (a box query of *this per object of other).
@@ -916,6 +901,18 @@ private:
     static box_type& box_of(node& n) {
         if constexpr (volume_is_box) return n.volume;
         else return n.own_box;
+    }
+    // Inside overlapping leaves, an aabb tree carries its test down to the objects: a pair is
+    // a candidate only when the objects' boxes overlap (closed), as the octree and kd_tree
+    // filter their leaves. Its leaves hold up to 4 triangles when the SAH counts blocks
+    // (sah_block), and without the filter every pair of them would reach the narrow phase.
+    // Other volumes pass every pair of their (per-object SAH, small) leaves on.
+    template <class A, class B>
+    static bool leaf_objects_may_meet(const A& a, const B& b) {
+        if constexpr (volume_is_box)
+            return object_boxes_overlap(a, b);
+        else
+            return true;
     }
     static item item_of(const O& x, slot_index s) {
         item it;

@@ -4,8 +4,9 @@
 //  * W-wide nodes, W = 4 or 8 (Dammertz, Hanika & Keller 2008, "Shallow bounding volume
 //    hierarchies for fast SIMD ray tracing of incoherent rays"; Wald, Benthin & Boulos 2008,
 //    "Getting rid of packets"): the binary tree is collapsed by repeatedly opening the child
-//    of largest SAH cost (surface area x objects) until a node has W children, so one SIMD slab test per axis
-//    tests W boxes and a ray visits far fewer nodes (log_W instead of log_2 levels);
+//    of largest SAH cost (surface area x objects) until a node has W children, so one SIMD
+//    slab test per axis tests W boxes and a ray visits far fewer nodes (log_W instead of
+//    log_2 levels);
 //  * the child boxes quantised to 8 bits per plane relative to a per-node float frame
 //    (Ylitie, Karras & Laine 2017), rounded OUTWARD from the double boxes (a quantised box
 //    always contains the double one): 128 bytes per 8-wide node (64 for W = 4), half of a
