@@ -189,7 +189,7 @@ TEST(bv_oracle_3d, obb_volume_against_cgal_oriented_bounding_box) {
         std::printf("[ obb ] %-12s volume / CGAL's: pca %.3f  principal_axes_search %.3f  dito %.3f\n", shape.c_str(),
                     static_cast<double>(pca.volume()) / ref.volume, static_cast<double>(search.volume()) / ref.volume,
                     static_cast<double>(dito.volume()) / ref.volume);
-        // The stated bound (docs/design.md): our best box is within 10% of CGAL's optimiser.
+        // The stated bound (docs/bounding-volumes.md): our best box is within 10% of CGAL's optimiser.
         EXPECT_LE(best, ref.volume * 1.10);
     }
 #endif

@@ -224,7 +224,7 @@ TEST(bvh_structure, ray_queries_prune_and_report_nodes_visited) {
             for (int r = 0; r < 50; ++r) {
                 intersect_info<P3> info;
                 (void)tree.intersect(g.point_in(0, 1), g.direction(), 0.002, info);
-                visited += tree.last_query_nodes_visited();
+                visited += tree.last_query_stats().nodes_visited;
                 EXPECT_GT(tree.last_query_stats().nodes_visited, 0u);
             }
         };

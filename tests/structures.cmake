@@ -42,3 +42,11 @@ spatial_add_test(collide_motion_test collide_motion_test.cpp)
 spatial_add_test(scene_file_test scene_file_test.cpp)
 target_link_libraries(scene_file_test PRIVATE spatial::datasets)
 target_compile_definitions(scene_file_test PRIVATE SPATIAL_SCENES_DIR="${PROJECT_SOURCE_DIR}/datasets/scenes")
+
+# Structures outside the library (examples/): the contract suite and the differential tests,
+# exactly as for the library's own structures.
+spatial_add_test(example_structures_test example_structures_test.cpp)
+target_link_libraries(example_structures_test PRIVATE spatial::examples)
+# The capability concepts hold for exactly their documented models; the shared container base
+# (statistics, error names, ray thickness).
+spatial_add_test(capabilities_test capabilities_test.cpp)

@@ -15,6 +15,7 @@
 #include <limits>
 #include <vector>
 
+#include "spatial/core/container_base.hpp"
 #include "spatial/core/container_concept.hpp"
 #include "spatial/core/distance.hpp"
 #include "spatial/core/input_checks.hpp"
@@ -28,16 +29,13 @@
 namespace spatial {
 
 template <stored_object O>
-class brute_force {
+class brute_force : public container_base<brute_force<O>, O> {
+    using contract_base = container_base<brute_force<O>, O>;
+    friend contract_base;
+
 public:
-    using value_type = O;
-    using point_type = point_type_of<O>;
-    using scalar_type = typename O::scalar_type;
-    using size_type = std::size_t;
-    using iterator = slot_iterator<O>;
-    using const_iterator = iterator;
-    using info_type = intersect_info<point_type>;
-    static constexpr std::size_t dimension = O::dimension;
+    static constexpr const char* structure_name = "brute_force";
+    SPATIAL_CONTAINER_BASE_MEMBERS(contract_base);
 
     brute_force() = default;
     template <class InputIt>
@@ -45,7 +43,7 @@ public:
 
     // ---- insertion -------------------------------------------------------------------
     iterator insert(const O& x) {
-        detail::require_finite_object(x, "brute_force::insert");
+        detail::require_finite_object(x, site("insert"));
         return make(slots_.allocate(x, 1));
     }
     // The hint cannot help an unordered array; accepted for interface uniformity.
@@ -53,8 +51,8 @@ public:
     template <class InputIt>
     void insert(InputIt first, InputIt last) {
         std::vector<O> batch(first, last);  // validate all before storing any
-        for (const O& x : batch) detail::require_finite_object(x, "brute_force::insert(first, last)");
-        slots_.require_room_for(batch.size(), "brute_force::insert(first, last)");
+        for (const O& x : batch) detail::require_finite_object(x, site("insert(first, last)"));
+        slots_.require_room_for(batch.size(), site("insert(first, last)"));
         slots_.reserve(slots_.capacity() + batch.size());
         for (const O& x : batch) slots_.allocate(x, 1);
     }
@@ -66,7 +64,7 @@ public:
         return make(slots_.next_occupied(s + 1));
     }
     size_type erase(const O& x) {
-        detail::require_finite_object(x, "brute_force::erase");
+        detail::require_finite_object(x, site("erase"));
         size_type n = 0;
         for (slot_index s = slots_.next_occupied(0); s < slots_.capacity(); s = slots_.next_occupied(s + 1))
             if (slots_.value(s) == x) {
@@ -75,20 +73,17 @@ public:
             }
         return n;
     }
-    void erase(const_iterator first, const_iterator last) {
-        while (first != last) first = erase(first);
-    }
     void clear() { slots_.clear(); }
 
     // ---- lookup ----------------------------------------------------------------------
     iterator find(const O& x) {
-        detail::require_finite_object(x, "brute_force::find");
+        detail::require_finite_object(x, site("find"));
         for (slot_index s = slots_.next_occupied(0); s < slots_.capacity(); s = slots_.next_occupied(s + 1))
             if (slots_.value(s) == x) return make(s);
         return end();
     }
     size_type count(const O& x) const {
-        detail::require_finite_object(x, "brute_force::count");
+        detail::require_finite_object(x, site("count"));
         size_type n = 0;
         for (slot_index s = slots_.next_occupied(0); s < slots_.capacity(); s = slots_.next_occupied(s + 1))
             n += slots_.value(s) == x;
@@ -96,35 +91,23 @@ public:
     }
 
     // ---- ray cast ----------------------------------------------------------------------
-    bool intersect(const point_type& origin, const point_type& direction, info_type& info) const {
-        return intersect_object(origin, direction, ray_thickness_, info) != end();
-    }
-    bool intersect(const point_type& origin, const point_type& direction, scalar_type thickness, info_type& info) const {
-        return intersect_object(origin, direction, thickness, info) != end();
-    }
     // The nearest object hit before info.hit_time, or end().
     iterator intersect_object(const point_type& origin, const point_type& direction, scalar_type thickness,
                               info_type& info) const {
-        detail::require_finite(origin, "brute_force::intersect", "ray origin");
-        detail::require_nonzero_direction(direction, "brute_force::intersect");
-        detail::require_nonnegative(thickness, "brute_force::intersect", "ray thickness");
+        detail::require_finite(origin, site("intersect"), "ray origin");
+        detail::require_nonzero_direction(direction, site("intersect"));
+        detail::require_nonnegative(thickness, site("intersect"), "ray thickness");
         slot_index hit = no_slot;
         for (slot_index s = slots_.next_occupied(0); s < slots_.capacity(); s = slots_.next_occupied(s + 1))
             if (slots_.value(s).intersect(origin, direction, thickness, info)) hit = s;
         return hit == no_slot ? end() : make(hit);
     }
-    scalar_type ray_thickness() const { return ray_thickness_; }
-    void set_ray_thickness(scalar_type t) {
-        detail::require_nonnegative(t, "brute_force::set_ray_thickness", "thickness");
-        ray_thickness_ = t;
-    }
 
     // ---- nearest neighbours and ranges ---------------------------------------------------
-    std::vector<iterator> find_nearest(const point_type& x, size_type k) const { return find_nearest(x, k, 0); }
     // eps is accepted for interface uniformity; the oracle is always exact.
     std::vector<iterator> find_nearest(const point_type& x, size_type k, scalar_type eps) const {
-        detail::require_finite(x, "brute_force::find_nearest", "query point");
-        detail::require_nonnegative(eps, "brute_force::find_nearest", "eps");
+        detail::require_finite(x, site("find_nearest"), "query point");
+        detail::require_nonnegative(eps, site("find_nearest"), "eps");
         std::vector<iterator> out;
         if (k == 0 || empty()) return out;
         knn_result_set<scalar_type> best(std::min(k, size()));
@@ -134,8 +117,8 @@ public:
         return out;
     }
     std::vector<iterator> find_in_ball(const point_type& center, scalar_type radius) const {
-        detail::require_finite(center, "brute_force::find_in_ball", "center");
-        detail::require_nonnegative(radius, "brute_force::find_in_ball", "radius");
+        detail::require_finite(center, site("find_in_ball"), "center");
+        detail::require_nonnegative(radius, site("find_in_ball"), "radius");
         std::vector<iterator> out;
         const scalar_type r2 = radius * radius;
         for (slot_index s = slots_.next_occupied(0); s < slots_.capacity(); s = slots_.next_occupied(s + 1))
@@ -143,8 +126,8 @@ public:
         return out;
     }
     std::vector<iterator> find_in_box(const point_type& lo, const point_type& hi) const {
-        detail::require_finite(lo, "brute_force::find_in_box", "box corner lo");
-        detail::require_finite(hi, "brute_force::find_in_box", "box corner hi");
+        detail::require_finite(lo, site("find_in_box"), "box corner lo");
+        detail::require_finite(hi, site("find_in_box"), "box corner hi");
         std::vector<iterator> out;
         for (slot_index s = slots_.next_occupied(0); s < slots_.capacity(); s = slots_.next_occupied(s + 1))
             if (object_overlaps_box(slots_.value(s), lo, hi)) out.push_back(make(s));
@@ -178,17 +161,18 @@ public:
     }
 
     // ---- STL basics --------------------------------------------------------------------
-    size_type size() const { return slots_.size(); }
-    bool empty() const { return slots_.size() == 0; }
-    iterator begin() const { return make(slots_.next_occupied(0)); }
-    iterator end() const { return make(static_cast<slot_index>(slots_.capacity())); }
     std::size_t memory_bytes() const { return sizeof(*this) + slots_.memory_bytes(); }
 
 private:
-    iterator make(slot_index s) const { return iterator(&slots_, s); }
+    // The range-erase hooks of container_base: the array has no index to repair or rebuild.
+    void erase_slots(std::span<const slot_index> doomed) {
+        for (slot_index s : doomed) this->slots_.release(s);
+    }
+    void rebuild_survivors() {}
 
-    slot_storage<O> slots_;
-    scalar_type ray_thickness_ = 0;
+    using contract_base::make;
+    using contract_base::site;
+    using contract_base::slots_;
 };
 
 }  // namespace spatial

@@ -4,7 +4,7 @@
 // halves. Like madmann91/bvh's builders they see only boxes and centres, never objects or
 // bounding volumes of other types: the SAH cost below uses the objects' AABBs even when the
 // tree's node volume is a sphere, an obb, ... (the surface area of an AABB is cheap, exact and
-// monotone; documented in docs/design.md).
+// monotone; documented in docs/structures/bvh.md, builders).
 //
 //   median_split  object median along the widest axis of the centroids' box: nth_element,
 //                 O(m) per node, O(n log n) per build, depth ceil(log2(n / leaf_size)).
@@ -88,7 +88,7 @@ struct sah_costs {
     // Johnson & Ernst 2014, "Embree: a kernel framework for efficient CPU ray tracing").
     // With block = 4 a leaf of 1 to 4 triangles costs the same, so the SAH makes full
     // leaves of 4 instead of 1-2 triangles that waste SIMD lanes and the bytes padding
-    // them (docs/design.md §12.6). 1: the classic per-object cost.
+    // them (docs/structures/bvh.md; figures: docs/experiments/bvh-rays.md). 1: the classic per-object cost.
     std::size_t block = 1;
     double blocks(std::size_t n) const { return static_cast<double>((n + block - 1) / block); }
 };

@@ -1,7 +1,7 @@
 #pragma once
 // spatial::bvh<O, BV, Config> — a dynamic bounding volume hierarchy over stored objects
 // (points or bounded objects), ONE template for every bounding-volume type of bv/ (aabb,
-// sphere, obb, kdop<K>, ellipsoid, convex_hull). Rationale and complexity: docs/design.md.
+// sphere, obb, kdop<K>, ellipsoid, convex_hull). Rationale and complexity: docs/structures/bvh.md.
 //
 // Layout
 //  * Objects live in a slot_storage (stable 32-bit handles = iterators); each slot's meta word
@@ -70,6 +70,7 @@
 #include "spatial/bvh/traversal_stack.hpp"
 #include "spatial/bvh/wide_ray_layout.hpp"
 #include "spatial/collide/pairs.hpp"
+#include "spatial/core/container_base.hpp"
 #include "spatial/core/container_concept.hpp"
 #include "spatial/core/input_checks.hpp"
 #include "spatial/core/intersect_info.hpp"
@@ -78,6 +79,7 @@
 #include "spatial/core/motion.hpp"
 #include "spatial/core/object_concepts.hpp"
 #include "spatial/core/object_geometry.hpp"
+#include "spatial/core/query_stats.hpp"
 #include "spatial/core/parallel.hpp"
 #include "spatial/core/ray.hpp"
 #include "spatial/core/slot_storage.hpp"
@@ -121,26 +123,22 @@ using bvh_median_config = bvh_config<LeafSize, bvh_build_method::median_split>;
 template <std::size_t LeafSize = 4, std::size_t Bins = 16>
 using bvh_sah_config = bvh_config<LeafSize, bvh_build_method::binned_sah, Bins>;
 
-struct bvh_stats {
-    std::size_t nodes_visited = 0;   // last query: nodes whose volume was entered
-    std::size_t objects_tested = 0;  // last query: exact object tests
+// nodes_visited: nodes whose volume was entered; objects_tested: exact object tests.
+struct bvh_stats : query_stats {
     bool wide_ray_layout = false;    // last query was a ray cast on the wide layout (nodes
                                      // visited then counts wide nodes)
 };
 
 template <stored_object O, class BV = aabb<typename O::scalar_type, O::dimension>, class Config = bvh_config<>>
-class bvh {
+class bvh : public container_base<bvh<O, BV, Config>, O> {
+    using contract_base = container_base<bvh<O, BV, Config>, O>;
+    friend contract_base;
+
 public:
-    using value_type = O;
-    using point_type = point_type_of<O>;
-    using scalar_type = typename O::scalar_type;
-    using size_type = std::size_t;
-    using iterator = slot_iterator<O>;
-    using const_iterator = iterator;
-    using info_type = intersect_info<point_type>;
+    static constexpr const char* structure_name = "bvh";
+    SPATIAL_CONTAINER_BASE_MEMBERS(contract_base);
     using volume_type = BV;
     using config = Config;
-    static constexpr std::size_t dimension = O::dimension;
     static constexpr std::size_t leaf_size = Config::leaf_size;
     static_assert(bounding_volume<BV>, "bvh: BV must model spatial::bounding_volume");
     static_assert(std::is_same_v<typename BV::scalar_type, scalar_type> && BV::dimension == O::dimension,
@@ -202,7 +200,7 @@ public:
     // ---- insertion -------------------------------------------------------------------
     // O(depth + leaf_size fits) plus amortised rebuilds (see the header comment).
     iterator insert(const O& x) {
-        detail::require_finite_object(x, "bvh::insert");
+        detail::require_finite_object(x, site("insert"));
         ensure_fresh();
         return make(insert_from(root, x));
     }
@@ -210,7 +208,7 @@ public:
     // object, then descends from there; saves the descent from the root when x lands near
     // the hint (an object moved a little, a stream of nearby points).
     iterator insert(const_iterator hint, const O& x) {
-        detail::require_finite_object(x, "bvh::insert(hint, x)");
+        detail::require_finite_object(x, site("insert(hint, x)"));
         ensure_fresh();
         if (hint == end() || !slots_.occupied(hint.slot())) return make(insert_from(root, x));
         node_index n = slots_.meta(hint.slot());
@@ -236,10 +234,10 @@ private:
             const std::vector<O> batch(first, last);
             bulk_insert(batch.begin(), batch.end(), parallel);
         } else {
-            for (auto it = first; it != last; ++it) detail::require_finite_object(*it, "bvh::insert(first, last)");
+            for (auto it = first; it != last; ++it) detail::require_finite_object(*it, site("insert(first, last)"));
             const auto m = static_cast<std::size_t>(last - first);
             if (m == 0) return;
-            slots_.require_room_for(m, "bvh::insert(first, last)");
+            slots_.require_room_for(m, site("insert(first, last)"));
             ensure_fresh();
             slots_.reserve(slots_.capacity() + m);
             if (slots_.size() == 0 || m * 4 >= slots_.size()) {
@@ -269,7 +267,7 @@ public:
     }
     // Erases ALL elements equal to x; returns how many. Search pruned by x's bounding box.
     size_type erase(const O& x) {
-        detail::require_finite_object(x, "bvh::erase");
+        detail::require_finite_object(x, site("erase"));
         ensure_fresh();
         const std::vector<slot_index> hits = collect_equal(x, false);
         for (slot_index s : hits) {
@@ -279,25 +277,6 @@ public:
         updates_since_build_ += hits.size();
         if (!hits.empty() && needs_rebuild()) rebuild();
         return hits.size();
-    }
-    // Bulk erase, better than a loop: removing at least a quarter of the tree rebuilds the
-    // survivors once (O(n log n)); otherwise each is removed with its path refit.
-    void erase(const_iterator first, const_iterator last) {
-        std::vector<slot_index> doomed;
-        for (; first != last; ++first) doomed.push_back(first.slot());
-        if (doomed.empty()) return;
-        ensure_fresh();
-        if (doomed.size() * 4 >= slots_.size()) {
-            for (slot_index s : doomed) slots_.release(s);
-            rebuild();
-            return;
-        }
-        for (slot_index s : doomed) {
-            remove_from_leaf(s);
-            slots_.release(s);
-        }
-        updates_since_build_ += doomed.size();
-        if (needs_rebuild()) rebuild();
     }
     void clear() {
         slots_.clear();
@@ -310,9 +289,9 @@ public:
     // false nothing is refitted: replace many objects, then call refit() once; queries throw
     // std::logic_error until then (insert/erase call refit() themselves).
     iterator update(const_iterator pos, const O& v, bool refit_path = true) {
-        detail::require_finite_object(v, "bvh::update");
+        detail::require_finite_object(v, site("update"));
         if (pos == end() || !slots_.occupied(pos.slot()))
-            throw std::invalid_argument("bvh::update: the iterator does not refer to a stored element");
+            throw std::invalid_argument(detail::site_text(site("update")) + ": the iterator does not refer to a stored element");
         const slot_index s = pos.slot();
         const node_index leaf = slots_.meta(s);
         slots_.release(s);
@@ -327,9 +306,9 @@ public:
     // insert), so the tree adapts to the new position instead of stretching a node over the
     // old and new ones. The iterator stays valid. O(depth) plus leaf fits.
     iterator reinsert(const_iterator pos, const O& v) {
-        detail::require_finite_object(v, "bvh::reinsert");
+        detail::require_finite_object(v, site("reinsert"));
         if (pos == end() || !slots_.occupied(pos.slot()))
-            throw std::invalid_argument("bvh::reinsert: the iterator does not refer to a stored element");
+            throw std::invalid_argument(detail::site_text(site("reinsert")) + ": the iterator does not refer to a stored element");
         ensure_fresh();
         const slot_index s = pos.slot();
         remove_from_leaf(s);
@@ -349,9 +328,9 @@ public:
     motion_strategy update(PairIt first, PairIt last, motion_strategy strategy = motion_strategy::automatic) {
         std::size_t m = 0;
         for (auto it = first; it != last; ++it, ++m) {
-            detail::require_finite_object(it->second, "bvh::update(first, last)");
+            detail::require_finite_object(it->second, site("update(first, last)"));
             if (it->first == end() || !slots_.occupied(it->first.slot()))
-                throw std::invalid_argument("bvh::update(first, last): an iterator does not refer to a stored element");
+                throw std::invalid_argument(detail::site_text(site("update(first, last)")) + ": an iterator does not refer to a stored element");
         }
         if (m == 0) return strategy == motion_strategy::automatic ? motion_strategy::refit : strategy;
         const bool automatic = strategy == motion_strategy::automatic;
@@ -482,32 +461,25 @@ public:
 
     // ---- lookup ----------------------------------------------------------------------
     iterator find(const O& x) {
-        detail::require_finite_object(x, "bvh::find");
-        require_fresh("bvh::find");
+        detail::require_finite_object(x, site("find"));
+        require_fresh(site("find"));
         const auto hits = collect_equal(x, true);
         return hits.empty() ? end() : make(hits.front());
     }
     size_type count(const O& x) const {
-        detail::require_finite_object(x, "bvh::count");
-        require_fresh("bvh::count");
+        detail::require_finite_object(x, site("count"));
+        require_fresh(site("count"));
         return collect_equal(x, false).size();
     }
 
     // ---- ray cast --------------------------------------------------------------------
-    bool intersect(const point_type& origin, const point_type& direction, info_type& info) const {
-        return intersect_object(origin, direction, ray_thickness_, info) != end();
-    }
-    bool intersect(const point_type& origin, const point_type& direction, scalar_type thickness,
-                   info_type& info) const {
-        return intersect_object(origin, direction, thickness, info) != end();
-    }
     // The object first hit before info.hit_time (smallest hit time reported by O::intersect),
     // or end(). Front-to-back: children are visited in order of their volumes' entry
     // parameter, and a node whose entry lies beyond the best hit so far is skipped.
     iterator intersect_object(const point_type& origin, const point_type& direction, scalar_type thickness,
                               info_type& info) const {
         validate_ray(origin, direction, thickness);
-        require_fresh("bvh::intersect");
+        require_fresh(site("intersect"));
         bvh_stats st;
         const slot_index hit = cast_ray(origin, direction, thickness, info, st);
         stats_ = st;
@@ -525,9 +497,9 @@ public:
     void intersect_batch(std::span<const ray<point_type>> rays, std::span<iterator> hits, std::span<info_type> infos,
                          Policy = {}) const {
         if (hits.size() != rays.size() || infos.size() != rays.size())
-            throw std::invalid_argument("bvh::intersect_batch: rays, hits and infos differ in size");
+            throw std::invalid_argument(detail::site_text(site("intersect_batch")) + ": rays, hits and infos differ in size");
         for (const auto& r : rays) validate_ray(r.origin, r.direction, r.thickness);
-        require_fresh("bvh::intersect_batch");
+        require_fresh(site("intersect_batch"));
         prepare_rays();  // once, before the threads start
         auto cast_range = [&](std::size_t b, std::size_t e) {
             for (std::size_t i = b; i < e; ++i) {
@@ -541,9 +513,9 @@ public:
 
 private:
     void validate_ray(const point_type& origin, const point_type& direction, scalar_type thickness) const {
-        detail::require_finite(origin, "bvh::intersect", "ray origin");
-        detail::require_nonzero_direction(direction, "bvh::intersect");
-        detail::require_nonnegative(thickness, "bvh::intersect", "ray thickness");
+        detail::require_finite(origin, site("intersect"), "ray origin");
+        detail::require_nonzero_direction(direction, site("intersect"));
+        detail::require_nonnegative(thickness, site("intersect"), "ray thickness");
     }
     // The slot of the first object hit (capacity() when none); st receives the statistics.
     // The callers have validated the ray and checked that the tree is fresh.
@@ -610,7 +582,7 @@ public:
     // O(node pairs whose volumes overlap + candidates); about O(n + k) for well-separated
     // objects with k pairs (Gottschalk, Lin & Manocha 1996 descend two OBB trees this way).
     std::vector<std::pair<iterator, iterator>> self_pairs(pair_filter filter = pair_filter::exact) const {
-        require_fresh("bvh::self_pairs");
+        require_fresh(site("self_pairs"));
         stats_ = {};
         std::vector<std::pair<iterator, iterator>> out;
         if (slots_.size() < 2) return out;
@@ -658,8 +630,8 @@ public:
         if constexpr (!std::is_same_v<Other, bvh>) {
             return pairs_between(*this, other, filter);
         } else {
-            require_fresh("bvh::pairs_with");
-            other.require_fresh("bvh::pairs_with");
+            require_fresh(site("pairs_with"));
+            other.require_fresh(site("pairs_with"));
             stats_ = {};
             std::vector<std::pair<iterator, iterator>> out;
             if (slots_.size() == 0 || other.slots_.size() == 0) return out;
@@ -692,22 +664,16 @@ public:
         if constexpr (wide_rays)
             if (!stale_ && slots_.size() > 0) (void)wide_.get([this] { return make_wide_layout(); });
     }
-    scalar_type ray_thickness() const { return ray_thickness_; }
-    void set_ray_thickness(scalar_type t) {
-        detail::require_nonnegative(t, "bvh::set_ray_thickness", "thickness");
-        ray_thickness_ = t;
-    }
 
     // ---- nearest neighbours and ranges ---------------------------------------------------
-    std::vector<iterator> find_nearest(const point_type& x, size_type k) const { return find_nearest(x, k, 0); }
     // Best-first search (Hjaltason & Samet 1999) over the volumes' distance lower bounds.
     // With eps > 0 a node is skipped when (1 + eps) times its lower bound reaches the current
     // k-th distance, so the i-th reported distance is at most (1 + eps) times the true one
     // (Arya, Mount, Netanyahu, Silverman & Wu 1998). Sorted by increasing distance.
     std::vector<iterator> find_nearest(const point_type& x, size_type k, scalar_type eps_factor) const {
-        detail::require_finite(x, "bvh::find_nearest", "query point");
-        detail::require_nonnegative(eps_factor, "bvh::find_nearest", "eps");
-        require_fresh("bvh::find_nearest");
+        detail::require_finite(x, site("find_nearest"), "query point");
+        detail::require_nonnegative(eps_factor, site("find_nearest"), "eps");
+        require_fresh(site("find_nearest"));
         stats_ = {};
         std::vector<iterator> out;
         if (k == 0 || slots_.size() == 0) return out;
@@ -754,9 +720,9 @@ public:
     }
     // All objects within distance radius of center (closed ball), in no particular order.
     std::vector<iterator> find_in_ball(const point_type& center, scalar_type radius) const {
-        detail::require_finite(center, "bvh::find_in_ball", "center");
-        detail::require_nonnegative(radius, "bvh::find_in_ball", "radius");
-        require_fresh("bvh::find_in_ball");
+        detail::require_finite(center, site("find_in_ball"), "center");
+        detail::require_nonnegative(radius, site("find_in_ball"), "radius");
+        require_fresh(site("find_in_ball"));
         stats_ = {};
         std::vector<iterator> out;
         if (slots_.size() == 0) return out;
@@ -772,9 +738,9 @@ public:
     // All objects overlapping the closed box [lo, hi] (object_overlaps_box). Pruned by the
     // node AABBs for every BV type (BV::overlaps only compares two volumes of one type).
     std::vector<iterator> find_in_box(const point_type& lo, const point_type& hi) const {
-        detail::require_finite(lo, "bvh::find_in_box", "box corner lo");
-        detail::require_finite(hi, "bvh::find_in_box", "box corner hi");
-        require_fresh("bvh::find_in_box");
+        detail::require_finite(lo, site("find_in_box"), "box corner lo");
+        detail::require_finite(hi, site("find_in_box"), "box corner hi");
+        require_fresh(site("find_in_box"));
         stats_ = {};
         std::vector<iterator> out;
         if (slots_.size() == 0) return out;
@@ -792,10 +758,6 @@ public:
     }
 
     // ---- STL basics and introspection ----------------------------------------------------
-    size_type size() const { return slots_.size(); }
-    bool empty() const { return slots_.size() == 0; }
-    iterator begin() const { return make(slots_.next_occupied(0)); }
-    iterator end() const { return make(static_cast<slot_index>(slots_.capacity())); }
     // Includes the heap memory of convex_hull volumes (their vertices, planes, triangles).
     std::size_t memory_bytes() const {
         std::size_t b = sizeof(*this) + slots_.memory_bytes() + nodes_.capacity() * sizeof(node) +
@@ -808,8 +770,8 @@ public:
         return b;
     }
 
+    // The last query's counts (core/query_stats.hpp, plus which ray path answered).
     const bvh_stats& last_query_stats() const { return stats_; }
-    std::size_t last_query_nodes_visited() const { return stats_.nodes_visited; }
     std::size_t full_rebuilds() const { return full_rebuilds_; }
     std::size_t node_count() const { return nodes_.size() - 2 * free_pairs_.size(); }
     // Height in nodes below the root (0 for a single leaf). O(nodes).
@@ -887,7 +849,6 @@ private:
     static constexpr T eps = std::numeric_limits<T>::epsilon();
 
     // ================= small helpers =======================================================
-    iterator make(slot_index s) const { return iterator(&slots_, s); }
     template <class P>
     static bv_point to_bv(const P& p) {
         bv_point q{};
@@ -1019,9 +980,9 @@ private:
             for (std::uint32_t i = 0; i < nd.count; ++i) {
                 bool h;
                 if constexpr (requires { typename O::prepared_ray; })
-                    h = slots_.value(b[i]).intersect(ray, thickness, info);
+                    h = this->slots_.value(b[i]).intersect(ray, thickness, info);
                 else
-                    h = slots_.value(b[i]).intersect(origin, direction, thickness, info);
+                    h = this->slots_.value(b[i]).intersect(origin, direction, thickness, info);
                 if (h) hit = b[i];
             }
             tested += nd.count;
@@ -1217,9 +1178,9 @@ private:
         }
     }
 
-    void require_fresh(const char* where) const {
+    void require_fresh(detail::call_site where) const {
         if (stale_)
-            throw std::logic_error(std::string(where) +
+            throw std::logic_error(detail::site_text(where) +
                                    ": objects were updated with refit_path = false; call refit() first");
     }
     void ensure_fresh() {
@@ -1250,7 +1211,7 @@ private:
         stale_ = false;
     }
     void swap_contents(bvh& o) {
-        std::swap(slots_, o.slots_);
+        this->swap_base(o);
         std::swap(nodes_, o.nodes_);
         std::swap(items_, o.items_);
         std::swap(free_pairs_, o.free_pairs_);
@@ -1260,7 +1221,6 @@ private:
         std::swap(full_rebuilds_, o.full_rebuilds_);
         std::swap(stale_, o.stale_);
         std::swap(quality_at_build_, o.quality_at_build_);
-        std::swap(ray_thickness_, o.ray_thickness_);
         if constexpr (wide_rays) wide_.swap(o.wide_);
     }
     node_index alloc_block() {
@@ -1570,7 +1530,23 @@ private:
     }
 
     // ================= data ================================================================
-    slot_storage<O> slots_;
+    // The range-erase hooks of container_base: past a quarter of the tree the survivors are
+    // rebuilt once (O(n log n)); a smaller range is removed with each object's path refit.
+    void rebuild_survivors() { rebuild(); }
+    void erase_slots(std::span<const slot_index> doomed) {
+        ensure_fresh();
+        for (slot_index s : doomed) {
+            remove_from_leaf(s);
+            slots_.release(s);
+        }
+        updates_since_build_ += doomed.size();
+        if (needs_rebuild()) rebuild();
+    }
+
+    using contract_base::make;
+    using contract_base::site;
+    using contract_base::slots_;
+    using contract_base::ray_thickness_;
     std::vector<node> nodes_;
     std::vector<slot_index> items_;  // leaf blocks of leaf_size slot indices
     std::vector<node_index> free_pairs_, free_blocks_;
@@ -1578,7 +1554,6 @@ private:
     std::size_t size_at_build_ = 0, updates_since_build_ = 0, full_rebuilds_ = 0;
     bool stale_ = false;
     double quality_at_build_ = 1;
-    scalar_type ray_thickness_ = 0;
     mutable bvh_stats stats_;
     struct no_layout {};
     [[no_unique_address]] std::conditional_t<wide_rays, lazy_snapshot<wide_layout>, no_layout> wide_;

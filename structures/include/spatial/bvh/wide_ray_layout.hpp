@@ -24,7 +24,7 @@
 // slab test is conservative by growth: each box is grown by the caller's
 // thickness-and-rounding slack plus 2^-18 (|origin|_inf + |scene|_inf), which bounds the
 // float rounding of the origin, of the node frame, of the direction's reciprocal and of the
-// slab parameters (a few 2^-24 relative each; see docs/design.md §12.6). Rays or scenes
+// slab parameters (a few 2^-24 relative each; see docs/structures/bvh.md, wide ray layout). Rays or scenes
 // outside float's comfortable range (coordinates above 1e30, nonzero direction components
 // outside [1e-30, 1e30]) are refused by accepts() and take the binary double path instead.
 //
@@ -96,7 +96,7 @@ public:
     // A binary subtree of at most this many objects (two SIMD blocks of triangles) becomes
     // one leaf lane when it is not opened to fill a node: fewer, fuller leaves (the binary SAH
     // stops at 1-2 triangles) and no nearly empty wide nodes at the bottom of the tree. 8
-    // against 2, 4, 6, 12, 16 on the 1e6 sphere and soup: docs/design.md §12.6.
+    // against 2, 4, 6, 12, 16 on the 1e6 sphere and soup: docs/structures/bvh.md.
     static constexpr std::size_t merged_leaf_objects = 8;
 
     // Collapses a binary tree. Tree provides: root(), is_leaf(n), left(n) (right = left + 1),
@@ -144,7 +144,7 @@ public:
             // child a random ray is most likely to enter AND that costs most once entered is
             // the one worth flattening. Against the largest area alone (Wald, Benthin &
             // Boulos 2008): 1.17 -> 1.08x Embree's time on the 1e6 sphere, 1.51 -> 1.44x on
-            // the 1e6 soup (docs/design.md §12.6).
+            // the 1e6 soup (docs/experiments/bvh-rays.md, the collapse by SAH cost).
             std::array<node_index, width> kids{};
             std::size_t k = 2;
             kids[0] = tree.left(tk.binary);
@@ -298,7 +298,7 @@ public:
                 lanes tmax = lanes{} + limit;
                 for (std::size_t a = 0; a < D; ++a) {
                     // The planes relative to the shifted origins: q 2^e (exact in float) plus
-                    // (node origin - shifted ray origin), one rounding each (docs/design.md §12.6).
+                    // (node origin - shifted ray origin), one rounding each (docs/structures/bvh.md).
                     const float scale = power_of_two(nd.exponent[a]);
                     const lanes tn = exact_product_plus(to_lanes(node_bytes + r.near_planes[a]), scale,
                                                         nd.origin[a] - r.near_origin[a]) *

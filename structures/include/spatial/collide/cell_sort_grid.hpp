@@ -59,7 +59,7 @@ namespace spatial::collide {
 
 struct cell_sort_grid_config {
     // h = factor * mean box edge: 2 measured fastest on cubes of equal size (each box spans
-    // about (1 + 1/2)^D cells, cells hold few entries); see docs/design.md §15.
+    // about (1 + 1/2)^D cells, cells hold few entries); see docs/collisions.md, collision_grid.
     double cell_size_factor = 2.0;
     // At most this many cells per box (memory stays O(n) for sparse or spread-out data).
     double max_cells_per_box = 4.0;

@@ -2,7 +2,7 @@
 // spatial::spatial_container — the ONE interface every structure implements (the course's
 // Project 2/3 contract). Each container's header static_asserts it for a sample point type;
 // the typed contract suite in
-// tests/ exercises it. Semantics, complexity and iterator rules are in docs/design.md.
+// tests/ exercises it. Semantics, complexity and iterator rules are in docs/contract.md.
 
 #include <concepts>
 #include <cstddef>

@@ -10,7 +10,7 @@
 //   reinsert  take each moved object out and insert it again (Goldsmith & Salmon greedy
 //             descent in a BVH): O(m depth) for m moved objects, quality kept locally; the
 //             right choice when few objects move.
-//   automatic each structure's stated rule (bvh: docs/design.md §15.4).
+//   automatic each structure's stated rule (bvh: docs/collisions.md, motion).
 
 #include <string_view>
 

@@ -21,7 +21,7 @@
 // Optional members a container uses when present (object_geometry.hpp falls back otherwise):
 //   * squared_distance(const point_type&) -> T: exact squared distance from a point to the
 //     object (0 inside). Without it, kNN and ball queries use the bounding box's distance,
-//     i.e. they treat the object as its box (documented in docs/design.md).
+//     i.e. they treat the object as its box (documented in docs/contract.md).
 //   * overlaps_box(const point_type& lo, const point_type& hi) -> bool: exact object/box test.
 //     Without it, the bounding boxes are compared.
 //   * split(normal, offset, box& left, box& right): the course's interface — the bounding

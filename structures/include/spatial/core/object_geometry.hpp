@@ -99,8 +99,8 @@ bool object_in_ball(const O& o, const point_type_of<O>& center, typename O::scal
 }
 
 namespace detail {
-template <stored_object O>
-void require_finite_object(const O& o, const char* where) {
+template <stored_object O, class Where>
+void require_finite_object(const O& o, Where where) {
     if constexpr (!bounded_object<O>) {
         require_finite(o, where, "point");
     } else {

@@ -20,6 +20,8 @@
 #include <string>
 #include <vector>
 
+#include "spatial/core/input_checks.hpp"
+
 namespace spatial {
 
 using slot_index = std::uint32_t;
@@ -101,9 +103,10 @@ public:
         meta_.reserve(n);
     }
     // Throws std::length_error if m more slots would exceed the 32-bit handle space.
-    void require_room_for(std::size_t m, const char* where) const {
+    template <class Where>  // a call_site or a "name::operation" string
+    void require_room_for(std::size_t m, Where where) const {
         if (m > static_cast<std::size_t>(no_slot) - values_.size())
-            throw std::length_error(std::string(where) + ": more than 2^32-1 elements");
+            throw std::length_error(detail::site_text(where) + ": more than 2^32-1 elements");
     }
 
     bool occupied(slot_index s) const { return s < meta_.size() && meta_[s] != vacant; }

@@ -46,6 +46,7 @@
 #include <vector>
 
 #include "spatial/collide/pairs.hpp"
+#include "spatial/core/container_base.hpp"
 #include "spatial/core/input_checks.hpp"
 #include "spatial/core/intersect_info.hpp"
 #include "spatial/core/knn_result_set.hpp"
@@ -57,22 +58,7 @@
 
 namespace spatial::detail {
 
-// The names used in error messages ("uniform_grid::insert: ...").
-struct grid_names {
-    const char* insert;
-    const char* insert_hint;
-    const char* insert_bulk;
-    const char* erase;
-    const char* find;
-    const char* count;
-    const char* intersect;
-    const char* set_ray_thickness;
-    const char* find_nearest;
-    const char* find_in_ball;
-    const char* find_in_box;
-};
-
-// The cell size heuristic shared by both grids (docs/design.md): aim at n / objects_per_cell
+// The cell size heuristic shared by both grids (docs/structures/octree-and-grids.md): aim at n / objects_per_cell
 // cells over the box — h = (volume / cells)^(1/D') over the D' axes of positive extent — but
 // never below the mean object extent (so an object overlaps O(2^D) cells, not many), nor below
 // 64 ulps of the coordinates (cells must be resolvable), then enlarge h until the dense
@@ -110,16 +96,12 @@ T choose_cell_size(const std::array<T, D>& lo, const std::array<T, D>& hi, doubl
 }
 
 template <stored_object O, class Cells, class Derived>
-class grid_core {
+class grid_core : public container_base<Derived, O> {
+    using contract_base = container_base<Derived, O>;
+    friend contract_base;
+
 public:
-    using value_type = O;
-    using point_type = point_type_of<O>;
-    using scalar_type = typename O::scalar_type;
-    using size_type = std::size_t;
-    using iterator = slot_iterator<O>;
-    using const_iterator = iterator;
-    using info_type = intersect_info<point_type>;
-    static constexpr std::size_t dimension = O::dimension;
+    SPATIAL_CONTAINER_BASE_MEMBERS(contract_base);
 
 protected:
     using T = scalar_type;
@@ -138,17 +120,17 @@ public:
     // ---- insertion -------------------------------------------------------------------
     // O(cells the object overlaps) amortised (uniform_grid re-grids in O(n) after the
     // count doubles or an object lands outside its box).
-    iterator insert(const O& x) { return insert_one(x, names().insert); }
+    iterator insert(const O& x) { return insert_one(x, site("insert")); }
     // The hint cannot make a grid insertion cheaper (finding the cell is O(1) already).
-    iterator insert(const_iterator, const O& x) { return insert_one(x, names().insert_hint); }
+    iterator insert(const_iterator, const O& x) { return insert_one(x, site("insert(hint, x)")); }
     // Bulk: validates all first, chooses the grid ONCE for the final size and box (no
     // repeated re-gridding), then fills the cells: O(n + m) total.
     template <class InputIt>
     void insert(InputIt first, InputIt last) {
         std::vector<O> batch(first, last);
-        for (const O& x : batch) require_finite_object(x, names().insert_bulk);
+        for (const O& x : batch) require_finite_object(x, site("insert(first, last)"));
         if (batch.empty()) return;
-        slots_.require_room_for(batch.size(), names().insert_bulk);
+        slots_.require_room_for(batch.size(), site("insert(first, last)"));
         extent all = extent_of(batch.front());
         double extent_sum = 0;
         for (const O& x : batch) {
@@ -157,7 +139,7 @@ public:
             extent_sum += max_extent(e);
         }
         derived().prepare_insert(all, batch.size(), extent_sum);
-        for (const O& x : batch) derived().check_span(extent_of(x), names().insert_bulk);
+        for (const O& x : batch) derived().check_span(extent_of(x), site("insert(first, last)"));
         slots_.reserve(slots_.capacity() + batch.size());
         for (const O& x : batch) add_to_cells(slots_.allocate(x, 0));
     }
@@ -174,7 +156,7 @@ public:
     // Erases ALL elements equal to x: equal objects have equal boxes, hence the same first
     // cell, so one cell is scanned.
     size_type erase(const O& x) {
-        require_finite_object(x, names().erase);
+        require_finite_object(x, site("erase"));
         std::vector<slot_index> hits;
         collect_equal(x, hits, false);
         for (slot_index s : hits) {
@@ -184,23 +166,6 @@ public:
         if (!hits.empty()) derived().after_erase();
         return hits.size();
     }
-    // Erasing at least a quarter of the elements rebuilds the cells once (O(n)); smaller
-    // ranges remove one by one with a single re-grid check at the end.
-    void erase(const_iterator first, const_iterator last) {
-        std::vector<slot_index> doomed;
-        for (; first != last; ++first) doomed.push_back(first.slot());
-        if (doomed.empty()) return;
-        if (doomed.size() * 4 >= slots_.size()) {
-            for (slot_index s : doomed) slots_.release(s);
-            derived().rebuild();
-            return;
-        }
-        for (slot_index s : doomed) {
-            remove_from_cells(s);
-            slots_.release(s);
-        }
-        derived().after_erase();
-    }
     void clear() {
         slots_.clear();
         derived().reset_cells();
@@ -209,34 +174,27 @@ public:
 
     // ---- lookup ----------------------------------------------------------------------
     iterator find(const O& x) {
-        require_finite_object(x, names().find);
+        require_finite_object(x, site("find"));
         std::vector<slot_index> hits;
         collect_equal(x, hits, true);
         return hits.empty() ? end() : make(hits.front());
     }
     size_type count(const O& x) const {
-        require_finite_object(x, names().count);
+        require_finite_object(x, site("count"));
         std::vector<slot_index> hits;
         collect_equal(x, hits, false);
         return hits.size();
     }
 
     // ---- ray cast --------------------------------------------------------------------
-    bool intersect(const point_type& origin, const point_type& direction, info_type& info) const {
-        return intersect_object(origin, direction, ray_thickness_, info) != end();
-    }
-    bool intersect(const point_type& origin, const point_type& direction, scalar_type thickness,
-                   info_type& info) const {
-        return intersect_object(origin, direction, thickness, info) != end();
-    }
     // The object with the smallest hit time before info.hit_time, or end(). Cost: the cells
     // the (thick) ray crosses before the first hit, O(n^(1/D)) on a uniform grid over
     // uniform data; never more than O(occupied cells + n) (see the header comment).
     iterator intersect_object(const point_type& origin, const point_type& direction, scalar_type thickness,
                               info_type& info) const {
-        require_finite(origin, names().intersect, "ray origin");
-        require_nonzero_direction(direction, names().intersect);
-        require_nonnegative(thickness, names().intersect, "ray thickness");
+        require_finite(origin, site("intersect"), "ray origin");
+        require_nonzero_direction(direction, site("intersect"));
+        require_nonnegative(thickness, site("intersect"), "ray thickness");
         if (slots_.size() == 0) return end();
         const box R = cells_.bounds();
         if (R.empty()) return end();
@@ -323,21 +281,15 @@ public:
         }
         return hit == no_slot ? end() : make(hit);
     }
-    scalar_type ray_thickness() const { return ray_thickness_; }
-    void set_ray_thickness(scalar_type t) {
-        require_nonnegative(t, names().set_ray_thickness, "thickness");
-        ray_thickness_ = t;
-    }
 
     // ---- nearest neighbours and ranges ---------------------------------------------------
-    std::vector<iterator> find_nearest(const point_type& x, size_type k) const { return find_nearest(x, k, 0); }
     // Expanding Chebyshev shells of cells around x's cell; stops when (1+eps) times the lower
     // bound on every unvisited cell is not below the k-th distance. O(k) cells of average
     // occupancy for data spread like the grid; a query far outside the data starts at the
     // first shell reaching the occupied cells.
     std::vector<iterator> find_nearest(const point_type& x, size_type k, scalar_type eps) const {
-        require_finite(x, names().find_nearest, "query point");
-        require_nonnegative(eps, names().find_nearest, "eps");
+        require_finite(x, site("find_nearest"), "query point");
+        require_nonnegative(eps, site("find_nearest"), "eps");
         std::vector<iterator> out;
         if (k == 0 || slots_.size() == 0) return out;
         const box R = cells_.bounds();
@@ -393,8 +345,8 @@ public:
     }
     // Objects with object_squared_distance <= radius^2: the cells of the ball's box.
     std::vector<iterator> find_in_ball(const point_type& center, scalar_type radius) const {
-        require_finite(center, names().find_in_ball, "center");
-        require_nonnegative(radius, names().find_in_ball, "radius");
+        require_finite(center, site("find_in_ball"), "center");
+        require_nonnegative(radius, site("find_in_ball"), "radius");
         std::vector<iterator> out;
         if (slots_.size() == 0) return out;
         const T r2 = radius * radius;
@@ -411,8 +363,8 @@ public:
     }
     // Objects overlapping the closed box [lo, hi] (object_overlaps_box).
     std::vector<iterator> find_in_box(const point_type& lo, const point_type& hi) const {
-        require_finite(lo, names().find_in_box, "box corner lo");
-        require_finite(hi, names().find_in_box, "box corner hi");
+        require_finite(lo, site("find_in_box"), "box corner lo");
+        require_finite(hi, site("find_in_box"), "box corner hi");
         std::vector<iterator> out;
         if (slots_.size() == 0) return out;
         box Q;
@@ -463,10 +415,6 @@ public:
         return pairs_between(static_cast<const Derived&>(*this), other, filter);
     }
 
-    size_type size() const { return slots_.size(); }
-    bool empty() const { return slots_.size() == 0; }
-    iterator begin() const { return make(slots_.next_occupied(0)); }
-    iterator end() const { return make(static_cast<slot_index>(slots_.capacity())); }
     std::size_t memory_bytes() const { return sizeof(Derived) + slots_.memory_bytes() + cells_.memory_bytes(); }
     // The cell edge (0 before the first insertion of a grid that chooses it from the data).
     scalar_type cell_size() const { return h_; }
@@ -498,8 +446,19 @@ protected:
     grid_core() { reset_data_box(); }
 
     Derived& derived() { return static_cast<Derived&>(*this); }
-    const grid_names& names() const { return Derived::names; }
-    iterator make(slot_index s) const { return iterator(&slots_, s); }
+    using contract_base::make;
+    using contract_base::site;
+    using contract_base::slots_;
+    // The range-erase hooks of container_base: a range under a quarter is removed one by one
+    // with a single re-grid check at the end; a larger one rebuilds the cells once, O(n).
+    void erase_slots(std::span<const slot_index> doomed) {
+        for (slot_index s : doomed) {
+            remove_from_cells(s);
+            slots_.release(s);
+        }
+        derived().after_erase();
+    }
+    void rebuild_survivors() { derived().rebuild(); }
 
     static extent extent_of(const O& x) {
         extent e;
@@ -561,10 +520,10 @@ protected:
     }
     // Refuses an object that would occupy an absurd number of cells (a hashed grid with a
     // cell size far below the object size), before anything is stored.
-    void check_span_limit(const extent& e, const char* where) const {
+    void check_span_limit(const extent& e, detail::call_site where) const {
         const double n = range_of(e).count();
         if (n > double(1 << 24))
-            throw std::length_error(std::string(where) + ": an object would occupy " + std::to_string(n) +
+            throw std::length_error(site_text(where) + ": an object would occupy " + std::to_string(n) +
                                     " cells (more than 2^24); use a larger cell size");
     }
 
@@ -586,15 +545,13 @@ protected:
         mean_extent = n > 0 ? sum / n : 0;
     }
 
-    slot_storage<O> slots_;
     Cells cells_;
     coords origin_{};
     T h_ = 0;
     coords data_lo_{}, data_hi_{};  // box of everything listed since the last refill (grow-only)
-    T ray_thickness_ = 0;
 
 private:
-    iterator insert_one(const O& x, const char* where) {
+    iterator insert_one(const O& x, detail::call_site where) {
         require_finite_object(x, where);
         const extent e = extent_of(x);
         derived().prepare_insert(e, 1, max_extent(e));

@@ -47,11 +47,7 @@ class hashed_grid
 
 public:
     using config = Config;
-    static constexpr detail::grid_names names{
-        "hashed_grid::insert",       "hashed_grid::insert(hint, x)",    "hashed_grid::insert(first, last)",
-        "hashed_grid::erase",        "hashed_grid::find",               "hashed_grid::count",
-        "hashed_grid::intersect",    "hashed_grid::set_ray_thickness",  "hashed_grid::find_nearest",
-        "hashed_grid::find_in_ball", "hashed_grid::find_in_box"};
+    static constexpr const char* structure_name = "hashed_grid";
 
     // Cell size chosen by the first insertion.
     hashed_grid() = default;
@@ -110,7 +106,7 @@ private:
         this->refill_cells();
     }
     void reset_cells() { this->cells_.clear(); }
-    void check_span(const extent& e, const char* where) const { this->check_span_limit(e, where); }
+    void check_span(const extent& e, detail::call_site where) const { this->check_span_limit(e, where); }
 };
 
 }  // namespace spatial

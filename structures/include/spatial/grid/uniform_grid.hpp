@@ -47,11 +47,7 @@ class uniform_grid
 
 public:
     using config = Config;
-    static constexpr detail::grid_names names{
-        "uniform_grid::insert",       "uniform_grid::insert(hint, x)", "uniform_grid::insert(first, last)",
-        "uniform_grid::erase",        "uniform_grid::find",            "uniform_grid::count",
-        "uniform_grid::intersect",    "uniform_grid::set_ray_thickness", "uniform_grid::find_nearest",
-        "uniform_grid::find_in_ball", "uniform_grid::find_in_box"};
+    static constexpr const char* structure_name = "uniform_grid";
 
     uniform_grid() = default;
     template <class InputIt>
@@ -110,7 +106,7 @@ private:
         built_ = false;
         size_at_grid_ = 0;
     }
-    void check_span(const extent&, const char*) const {}  // bounded by the grid's cell count
+    void check_span(const extent&, detail::call_site) const {}  // bounded by the grid's cell count
 
     bool inside(const extent& e) const {
         for (std::size_t i = 0; i < D; ++i)

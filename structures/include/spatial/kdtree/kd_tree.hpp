@@ -2,7 +2,7 @@
 // spatial::kd_tree<O, Config> — a dynamic bucket kd-tree over stored objects: points
 // (point_object) or objects with extent (bounded_object: box, sphere, triangle, user types).
 //
-// Layout (see docs/design.md for the full rationale and complexity table):
+// Layout (rationale: docs/structures/kd-tree.md; complexity table: docs/contract.md):
 //  * Objects live in a slot_storage (stable 32-bit handles = iterators). A bulk build into an
 //    empty tree stores them in leaf order, so a leaf's points are contiguous in memory.
 //  * Nodes live in one vector; the two children of an inner node are allocated as a pair
@@ -56,6 +56,7 @@
 #include "spatial/collide/box_bounds.hpp"
 #include "spatial/collide/pairs.hpp"
 #include "spatial/collide/tree_pair_snapshot.hpp"
+#include "spatial/core/container_base.hpp"
 #include "spatial/core/container_concept.hpp"
 #include "spatial/core/distance.hpp"
 #include "spatial/core/input_checks.hpp"
@@ -63,6 +64,7 @@
 #include "spatial/core/knn_result_set.hpp"
 #include "spatial/core/object_concepts.hpp"
 #include "spatial/core/object_geometry.hpp"
+#include "spatial/core/query_stats.hpp"
 #include "spatial/core/slot_storage.hpp"
 #include "spatial/kdtree/splitters.hpp"
 
@@ -77,31 +79,27 @@ struct kd_tree_config {
     static constexpr std::size_t leaf_capacity = LeafCapacity;
     // How a node's points are divided (see splitters.hpp).
     using splitter = Splitter;
-    // When true, queries count visited nodes and tested points (see kd_tree::stats()).
+    // When true, queries count visited nodes and tested objects (kd_tree::last_query_stats()).
     static constexpr bool collect_stats = CollectStats;
     // Weight-balance parameter alpha of the scapegoat rule, in (0.5, 1).
     static constexpr double balance_alpha = 0.75;
 };
 
-struct kd_tree_stats {
-    std::size_t nodes_visited = 0;  // queries: nodes entered; insertions: nodes climbed + descended
-    std::size_t points_tested = 0;
-    std::size_t subtree_rebuilds = 0;  // scapegoat and leaf-split rebuilds (not reset by queries)
+// Upkeep of the tree's balance, counted always (rebuilds are rare and costly).
+struct kd_tree_maintenance_stats {
+    std::size_t subtree_rebuilds = 0;  // scapegoat and leaf-split rebuilds
     std::size_t full_rebuilds = 0;
 };
 
 template <stored_object O, class Config = kd_tree_config<>>
-class kd_tree {
+class kd_tree : public container_base<kd_tree<O, Config>, O> {
+    using contract_base = container_base<kd_tree<O, Config>, O>;
+    friend contract_base;
+
 public:
-    using value_type = O;
-    using point_type = point_type_of<O>;
-    using scalar_type = typename O::scalar_type;
-    using size_type = std::size_t;
-    using iterator = slot_iterator<O>;
-    using const_iterator = iterator;
-    using info_type = intersect_info<point_type>;
+    static constexpr const char* structure_name = "kd_tree";
+    SPATIAL_CONTAINER_BASE_MEMBERS(contract_base);
     using config = Config;
-    static constexpr std::size_t dimension = O::dimension;
     static constexpr std::size_t leaf_capacity = Config::leaf_capacity;
     static_assert(leaf_capacity >= 2, "kd_tree: leaf_capacity must be at least 2");
     static_assert(Config::balance_alpha > 0.5 && Config::balance_alpha < 1.0, "kd_tree: alpha in (0.5, 1)");
@@ -163,7 +161,7 @@ public:
     kd_tree(const kd_tree&) = default;
     kd_tree& operator=(const kd_tree&) = default;
     // A moved-from tree is empty and usable. Iterators into the source are invalidated:
-    // they refer to the source's storage (see docs/design.md, iterator rules).
+    // they refer to the source's storage (see docs/contract.md, iterators and invalidation).
     kd_tree(kd_tree&& other) noexcept(false) : kd_tree() { swap_contents(other); }
     kd_tree& operator=(kd_tree&& other) noexcept(false) {
         if (this != &other) {
@@ -176,7 +174,8 @@ public:
     // ---- insertion -------------------------------------------------------------------
     // O(log n) expected, O(log^2 n) amortised worst case (scapegoat subtree rebuilds).
     iterator insert(const O& x) {
-        detail::require_finite_object(x, "kd_tree::insert");
+        begin_query();
+        detail::require_finite_object(x, site("insert"));
         const coords c = key_of(x);
         return make(insert_at(descend(root, c), x, c));
     }
@@ -186,14 +185,15 @@ public:
     // the hint's leaf cell or a nearby one; a far-away hint costs a climb to the root plus
     // the plain descent (about twice a plain insert).
     iterator insert(const_iterator hint, const O& x) {
-        detail::require_finite_object(x, "kd_tree::insert(hint, x)");
+        begin_query();
+        detail::require_finite_object(x, site("insert(hint, x)"));
         const coords c = key_of(x);
         if (hint == end() || !slots_.occupied(hint.slot())) return make(insert_at(descend(root, c), x, c));
         const bucket& b = buckets_[slots_.meta(hint.slot())];
         node_index n = b.owner;
         coords lo = b.cell_lo, hi = b.cell_hi;
         while (n != root && !in_cell(c, lo, hi)) {
-            if constexpr (Config::collect_stats) ++stats_.nodes_visited;
+            if constexpr (Config::collect_stats) ++query_stats_.nodes_visited;
             const node_index p = nodes_[n].parent;
             const unsigned d = nodes_[p].dim;
             if (n == nodes_[p].first) hi[d] = nodes_[n].restore;
@@ -217,10 +217,10 @@ public:
             const std::vector<O> batch(first, last);
             insert(batch.begin(), batch.end());
         } else {
-            for (auto it = first; it != last; ++it) detail::require_finite_object(*it, "kd_tree::insert(first, last)");
+            for (auto it = first; it != last; ++it) detail::require_finite_object(*it, site("insert(first, last)"));
             const auto m = static_cast<std::size_t>(last - first);
             if (m == 0) return;
-            slots_.require_room_for(m, "kd_tree::insert(first, last)");
+            slots_.require_room_for(m, site("insert(first, last)"));
             if (slots_.size() == 0) {
                 build_fresh(first, m);
                 return;
@@ -254,7 +254,7 @@ public:
 
     // Erases ALL elements equal to x; returns how many. O(log n + matches).
     size_type erase(const O& x) {
-        detail::require_finite_object(x, "kd_tree::erase");
+        detail::require_finite_object(x, site("erase"));
         std::vector<slot_index> hits;
         collect_equal(root, key_of(x), x, hits, false);
         for (slot_index s : hits) remove_slot(s, true);
@@ -262,20 +262,21 @@ public:
         return hits.size();
     }
 
-    // Bulk erase of an iterator range, better than a loop: removing at least a quarter of
-    // the tree rebuilds the survivors once (O(n log n)); smaller ranges release the slots,
-    // then compact each touched bucket once and merge the leaves it emptied (O(m + touched
-    // buckets * leaf_capacity) plus O(buckets) to clear a byte mark array), with one balance
-    // check at the end.
-    void erase(const_iterator first, const_iterator last) {
-        std::vector<slot_index> doomed;
-        for (; first != last; ++first) doomed.push_back(first.slot());
-        if (doomed.empty()) return;
-        if (doomed.size() * 4 >= slots_.size()) {
-            for (slot_index s : doomed) slots_.release(s);
-            rebuild_all();
-            return;
-        }
+    void clear() {
+        slots_.clear();
+        reset_to_empty();
+    }
+
+private:
+    void begin_query() const {
+        if constexpr (Config::collect_stats) query_stats_ = {};
+    }
+    // The range-erase hooks of container_base. Past a quarter of the tree the survivors are
+    // rebuilt once (O(n log n)); a smaller range releases the slots, then compacts each
+    // touched bucket once and merges the leaves it emptied (O(m + touched buckets *
+    // leaf_capacity) plus O(buckets) to clear a byte mark array), with one balance check.
+    void rebuild_survivors() { rebuild_all(); }
+    void erase_slots(std::span<const slot_index> doomed) {
         std::vector<node_index> touched;
         std::vector<char> marked(buckets_.size(), 0);  // O(buckets) bytes, cheaper than sorting
         for (slot_index s : doomed) {
@@ -303,14 +304,9 @@ public:
         after_erase();
     }
 
-    void clear() {
-        slots_.clear();
-        reset_to_empty();
-    }
 
-private:
     void swap_contents(kd_tree& o) {
-        std::swap(slots_, o.slots_);
+        this->swap_base(o);
         std::swap(nodes_, o.nodes_);
         std::swap(extents_, o.extents_);
         std::swap(buckets_, o.buckets_);
@@ -320,7 +316,6 @@ private:
         std::swap(bounds_lo_, o.bounds_lo_);
         std::swap(bounds_hi_, o.bounds_hi_);
         std::swap(size_at_rebuild_, o.size_at_rebuild_);
-        std::swap(ray_thickness_, o.ray_thickness_);
     }
 
 public:
@@ -328,25 +323,21 @@ public:
     // ---- lookup ----------------------------------------------------------------------
     // O(log n) expected (both sides are searched where x lies on a split plane).
     iterator find(const O& x) {
-        detail::require_finite_object(x, "kd_tree::find");
+        begin_query();
+        detail::require_finite_object(x, site("find"));
         std::vector<slot_index> hits;
         collect_equal(root, key_of(x), x, hits, true);
         return hits.empty() ? end() : make(hits.front());
     }
     size_type count(const O& x) const {
-        detail::require_finite_object(x, "kd_tree::count");
+        begin_query();
+        detail::require_finite_object(x, site("count"));
         std::vector<slot_index> hits;
         collect_equal(root, key_of(x), x, hits, false);
         return hits.size();
     }
 
     // ---- ray cast --------------------------------------------------------------------
-    bool intersect(const P& origin, const P& direction, info_type& info) const {
-        return intersect_object(origin, direction, ray_thickness_, info) != end();
-    }
-    bool intersect(const P& origin, const P& direction, scalar_type thickness, info_type& info) const {
-        return intersect_object(origin, direction, thickness, info) != end();
-    }
     // Nearest point hit before info.hit_time by the ray thickened to `thickness` (see
     // point::intersect), or end(). Front-to-back traversal: a node is entered only for the
     // ray-parameter interval in which the thick ray can reach its half-space, and skipped once
@@ -355,9 +346,10 @@ public:
     // with widest-spread splits (a ray along a very flat set).
     iterator intersect_object(const P& origin, const P& direction, scalar_type thickness,
                               info_type& info) const {
-        detail::require_finite(origin, "kd_tree::intersect", "ray origin");
-        detail::require_nonzero_direction(direction, "kd_tree::intersect");
-        detail::require_nonnegative(thickness, "kd_tree::intersect", "ray thickness");
+        begin_query();
+        detail::require_finite(origin, site("intersect"), "ray origin");
+        detail::require_nonzero_direction(direction, site("intersect"));
+        detail::require_nonnegative(thickness, site("intersect"), "ray thickness");
         if (slots_.size() == 0) return end();
         ray_query q{coords_of(origin), coords_of(direction), thickness, origin, direction, info};
         T t0 = 0, t1 = info.hit_time;
@@ -373,20 +365,15 @@ public:
         }
         return q.hit == no_slot ? end() : make(q.hit);
     }
-    scalar_type ray_thickness() const { return ray_thickness_; }
-    void set_ray_thickness(scalar_type t) {
-        detail::require_nonnegative(t, "kd_tree::set_ray_thickness", "thickness");
-        ray_thickness_ = t;
-    }
 
     // ---- nearest neighbours and ranges ---------------------------------------------------
     // The k nearest (all if k >= size), sorted by increasing distance; k = 0 gives {}.
     // Expected O(log n + k log k) on well-distributed data (Friedman, Bentley & Finkel 1977).
-    std::vector<iterator> find_nearest(const P& x, size_type k) const { return find_nearest(x, k, 0); }
     // (1+eps)-approximate: the i-th reported distance is at most (1+eps) times the true i-th.
     std::vector<iterator> find_nearest(const P& x, size_type k, scalar_type eps) const {
-        detail::require_finite(x, "kd_tree::find_nearest", "query point");
-        detail::require_nonnegative(eps, "kd_tree::find_nearest", "eps");
+        begin_query();
+        detail::require_finite(x, site("find_nearest"), "query point");
+        detail::require_nonnegative(eps, site("find_nearest"), "eps");
         std::vector<iterator> out;
         if (k == 0 || slots_.size() == 0) return out;
         knn_result_set<T> best(std::min<std::size_t>(k, slots_.size()));
@@ -398,8 +385,9 @@ public:
     // without building iterators. Same semantics as find_nearest.
     void find_nearest_candidates(const P& x, size_type k, scalar_type eps,
                                  std::vector<neighbor_candidate<T>>& result) const {
-        detail::require_finite(x, "kd_tree::find_nearest", "query point");
-        detail::require_nonnegative(eps, "kd_tree::find_nearest", "eps");
+        begin_query();
+        detail::require_finite(x, site("find_nearest"), "query point");
+        detail::require_nonnegative(eps, site("find_nearest"), "eps");
         result.clear();
         if (k == 0 || slots_.size() == 0) return;
         knn_result_set<T> best(std::min<std::size_t>(k, slots_.size()));
@@ -409,8 +397,9 @@ public:
 
     // All points p with |p - center| <= radius (closed ball), in no particular order.
     std::vector<iterator> find_in_ball(const P& center, scalar_type radius) const {
-        detail::require_finite(center, "kd_tree::find_in_ball", "center");
-        detail::require_nonnegative(radius, "kd_tree::find_in_ball", "radius");
+        begin_query();
+        detail::require_finite(center, site("find_in_ball"), "center");
+        detail::require_nonnegative(radius, site("find_in_ball"), "radius");
         std::vector<iterator> out;
         if (slots_.size() == 0) return out;
         if constexpr (has_extent) {
@@ -428,8 +417,9 @@ public:
     // trees whose splits cycle through the dimensions (Lee & Wong 1977); with widest-spread
     // splits a thin box over a very elongated set can visit O(n) nodes.
     std::vector<iterator> find_in_box(const P& lo, const P& hi) const {
-        detail::require_finite(lo, "kd_tree::find_in_box", "box corner lo");
-        detail::require_finite(hi, "kd_tree::find_in_box", "box corner hi");
+        begin_query();
+        detail::require_finite(lo, site("find_in_box"), "box corner lo");
+        detail::require_finite(hi, site("find_in_box"), "box corner hi");
         std::vector<iterator> out;
         if (slots_.size() == 0) return out;
         box(root, lo, hi, out);
@@ -526,10 +516,6 @@ public:
         }
     }
 
-    size_type size() const { return slots_.size(); }
-    bool empty() const { return slots_.size() == 0; }
-    iterator begin() const { return make(slots_.next_occupied(0)); }
-    iterator end() const { return make(static_cast<slot_index>(slots_.capacity())); }
 
     std::size_t memory_bytes() const {
         return sizeof(*this) + slots_.memory_bytes() + nodes_.capacity() * sizeof(node) +
@@ -541,8 +527,15 @@ public:
     // Tree height in nodes below the root (0 for a single leaf).
     std::size_t height() const { return height_of(root); }
     std::size_t leaf_count() const { return leaves_; }
-    const kd_tree_stats& stats() const { return stats_; }
-    void reset_stats() const { stats_ = {}; }
+    // The last query's counts (core/query_stats.hpp): a kNN, ball, box or ray query, a
+    // find/count, or an insertion (nodes climbed from the hint plus nodes descended). Only
+    // with Config::collect_stats, since counting costs time on every node.
+    const query_stats& last_query_stats() const
+        requires(Config::collect_stats)
+    {
+        return query_stats_;
+    }
+    const kd_tree_maintenance_stats& maintenance_stats() const { return maintenance_; }
 
     // Diagnostics: how many (point, ancestor split plane) pairs have the point exactly ON the
     // plane. Bulk builds place planes in gaps between coordinates (see splitters.hpp), so
@@ -615,7 +608,6 @@ private:
             if (c[i] < lo[i] || c[i] > hi[i]) return false;
         return true;
     }
-    iterator make(slot_index s) const { return iterator(&slots_, s); }
 
     void grow_bounds(const coords& c) {
         for (std::size_t i = 0; i < D; ++i) {
@@ -669,7 +661,7 @@ private:
     // ================= insertion ===========================================================
     node_index descend(node_index n, const coords& c) const {
         while (!nodes_[n].is_leaf) {
-            if constexpr (Config::collect_stats) ++stats_.nodes_visited;
+            if constexpr (Config::collect_stats) ++query_stats_.nodes_visited;
             const node& nd = nodes_[n];
             n = c[nd.dim] <= nd.split ? nd.first : nd.first + 1;
         }
@@ -694,7 +686,7 @@ private:
         gather(leaf, entry_buffer_);
         if constexpr (has_extent) entry_buffer_.push_back(make_entry(x, s));
         else entry_buffer_.push_back({c, s});
-        ++stats_.subtree_rebuilds;
+        ++maintenance_.subtree_rebuilds;
         const std::uint16_t deepest =
             build_node(leaf, entry_buffer_.data(), entry_buffer_.size(), lo, hi, nodes_[leaf].depth, false, 0);
         if (deepest > depth_limit()) rebalance_from(leaf);
@@ -725,7 +717,7 @@ private:
             es.reserve(L.count + count);
             gather(n, es);
             es.insert(es.end(), e, e + count);
-            ++stats_.subtree_rebuilds;
+            ++maintenance_.subtree_rebuilds;
             max_depth = std::max(max_depth, build_node(n, es.data(), es.size(), lo, hi, nodes_[n].depth, false, 0));
             return;
         }
@@ -823,7 +815,7 @@ private:
         // n's cell: it is intact in n's ancestors (restores) but its own bucket may be
         // freed already, so recompute from the parent chain.
         cell_from_ancestors(n, lo, hi);
-        ++stats_.subtree_rebuilds;
+        ++maintenance_.subtree_rebuilds;
         return build_node(n, es.data(), es.size(), lo, hi, nodes_[n].depth, false, 0);
     }
 
@@ -918,7 +910,7 @@ private:
         slots_.assign(std::move(ordered), 0);
         for (std::size_t i = 0; i < es.size(); ++i) slots_.set_meta(static_cast<slot_index>(i), es[i].bucket);
         size_at_rebuild_ = slots_.size();
-        ++stats_.full_rebuilds;
+        ++maintenance_.full_rebuilds;
         nodes_.shrink_to_fit();
         buckets_.shrink_to_fit();
     }
@@ -944,7 +936,7 @@ private:
         hi.fill(std::numeric_limits<T>::infinity());
         build_node(root, es.data(), es.size(), lo, hi, 0, false, 0);
         size_at_rebuild_ = slots_.size();
-        ++stats_.full_rebuilds;
+        ++maintenance_.full_rebuilds;
     }
 
     // Scapegoat search from a too-deep leaf: climb while the subtree is weight-balanced.
@@ -1009,12 +1001,12 @@ private:
     // `offset[d]` the per-dimension component of it; entering the far child changes one.
     void knn(node_index n, T rd, coords& offset, knn_query& q) const {
         const node& nd = nodes_[n];
-        if constexpr (Config::collect_stats) ++stats_.nodes_visited;
+        if constexpr (Config::collect_stats) ++query_stats_.nodes_visited;
         if (nd.is_leaf) {
             const bucket& b = buckets_[nd.first];
             for (std::uint32_t i = 0; i < nd.count; ++i) {
                 const slot_index s = b.items[i];
-                if constexpr (Config::collect_stats) ++stats_.points_tested;
+                if constexpr (Config::collect_stats) ++query_stats_.objects_tested;
                 const T d2 = squared_distance(slots_.value(s), q.x);
                 if (d2 < q.best.worst()) q.best.add(d2, s);
             }
@@ -1035,7 +1027,7 @@ private:
 
     void ball(node_index n, T rd, coords& offset, const coords& x, T r2, std::vector<iterator>& out) const {
         const node& nd = nodes_[n];
-        if constexpr (Config::collect_stats) ++stats_.nodes_visited;
+        if constexpr (Config::collect_stats) ++query_stats_.nodes_visited;
         if (nd.is_leaf) {
             const bucket& b = buckets_[nd.first];
             for (std::uint32_t i = 0; i < nd.count; ++i)
@@ -1057,7 +1049,7 @@ private:
 
     void box(node_index n, const P& lo, const P& hi, std::vector<iterator>& out) const {
         const node& nd = nodes_[n];
-        if constexpr (Config::collect_stats) ++stats_.nodes_visited;
+        if constexpr (Config::collect_stats) ++query_stats_.nodes_visited;
         if (nd.is_leaf) {
             const bucket& b = buckets_[nd.first];
             for (std::uint32_t i = 0; i < nd.count; ++i)
@@ -1136,11 +1128,11 @@ private:
     void cast(node_index n, T t0, T t1, ray_query& q) const {
         if (!(t0 < q.info.hit_time) || t0 > t1) return;
         const node& nd = nodes_[n];
-        if constexpr (Config::collect_stats) ++stats_.nodes_visited;
+        if constexpr (Config::collect_stats) ++query_stats_.nodes_visited;
         if (nd.is_leaf) {
             const bucket& b = buckets_[nd.first];
             for (std::uint32_t i = 0; i < nd.count; ++i) {
-                if constexpr (Config::collect_stats) ++stats_.points_tested;
+                if constexpr (Config::collect_stats) ++query_stats_.objects_tested;
                 if (slots_.value(b.items[i]).intersect(q.origin, q.direction, q.r, q.info)) q.hit = b.items[i];
             }
             return;
@@ -1202,9 +1194,9 @@ private:
             // sides first costs |A| + |B| tests and often spares most of the |A| x |B|.
             std::array<std::uint32_t, leaf_capacity> as, bs;
             std::size_t ma = 0, mb = 0;
-            for (std::uint32_t i = mine.first[p.a], end = i + na.count; i < end; ++i)
+            for (std::uint32_t i = mine.first[p.a], stop = i + na.count; i < stop; ++i)
                 if (collide::closed_boxes_overlap(mine.box[i], theirs.subtree[p.b])) as[ma++] = i;
-            for (std::uint32_t j = theirs.first[p.b], end = j + nb.count; j < end; ++j)
+            for (std::uint32_t j = theirs.first[p.b], stop = j + nb.count; j < stop; ++j)
                 if (collide::closed_boxes_overlap(theirs.box[j], mine.subtree[p.a])) bs[mb++] = j;
             for (std::size_t i = 0; i < ma; ++i)
                 for (std::size_t j = 0; j < mb; ++j) emit(as[i], bs[j]);
@@ -1278,12 +1270,12 @@ private:
     // of cells). The objects' distances are exact, so with eps = 0 the answer is exact.
     void knn_objects(node_index n, knn_object_query& q) const {
         const node& nd = nodes_[n];
-        if constexpr (Config::collect_stats) ++stats_.nodes_visited;
+        if constexpr (Config::collect_stats) ++query_stats_.nodes_visited;
         if (nd.is_leaf) {
             const bucket& b = buckets_[nd.first];
             for (std::uint32_t i = 0; i < nd.count; ++i) {
                 const slot_index s = b.items[i];
-                if constexpr (Config::collect_stats) ++stats_.points_tested;
+                if constexpr (Config::collect_stats) ++query_stats_.objects_tested;
                 const T d2 = object_squared_distance(slots_.value(s), q.x);
                 if (d2 < q.best.worst()) q.best.add(d2, s);
             }
@@ -1300,7 +1292,7 @@ private:
     // reach: the radius plus the rounding slack, compared with extent distances.
     void ball_objects(node_index n, const P& center, T reach, T r2, std::vector<iterator>& out) const {
         const node& nd = nodes_[n];
-        if constexpr (Config::collect_stats) ++stats_.nodes_visited;
+        if constexpr (Config::collect_stats) ++query_stats_.nodes_visited;
         if (nd.is_leaf) {
             const bucket& b = buckets_[nd.first];
             for (std::uint32_t i = 0; i < nd.count; ++i)
@@ -1330,11 +1322,11 @@ private:
     void cast_objects(node_index n, T t0, T t1, ray_query& q) const {
         if (!(t0 < q.info.hit_time)) return;
         const node& nd = nodes_[n];
-        if constexpr (Config::collect_stats) ++stats_.nodes_visited;
+        if constexpr (Config::collect_stats) ++query_stats_.nodes_visited;
         if (nd.is_leaf) {
             const bucket& b = buckets_[nd.first];
             for (std::uint32_t i = 0; i < nd.count; ++i) {
-                if constexpr (Config::collect_stats) ++stats_.points_tested;
+                if constexpr (Config::collect_stats) ++query_stats_.objects_tested;
                 if (slots_.value(b.items[i]).intersect(q.origin, q.direction, q.r, q.info)) q.hit = b.items[i];
             }
             return;
@@ -1395,7 +1387,10 @@ private:
     }
 
     // ================= data ================================================================
-    slot_storage<O> slots_;
+    using contract_base::make;
+    using contract_base::site;
+    using contract_base::slots_;
+    using contract_base::ray_thickness_;
     std::vector<node> nodes_;
     std::vector<bucket> buckets_;
     std::vector<node_index> free_pairs_;
@@ -1404,8 +1399,8 @@ private:
     coords bounds_lo_{}, bounds_hi_{};  // box of all keys inserted since rebuild (points: the root clip of ray casts; objects clip with extents_)
     std::size_t size_at_rebuild_ = 0;
     std::vector<entry> entry_buffer_;  // reused by leaf splits (no allocation per split)
-    scalar_type ray_thickness_ = 0;
-    mutable kd_tree_stats stats_;
+    mutable query_stats query_stats_;  // written only with Config::collect_stats
+    kd_tree_maintenance_stats maintenance_;
     // Objects only (empty for points; last, so the point layout above is unchanged): per
     // node, indexed like nodes_, the bounding box of its subtree's objects.
     std::vector<extent> extents_;

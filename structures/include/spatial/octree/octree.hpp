@@ -6,7 +6,7 @@
 // loose cell contains its bounding box, found by following the object's centre. k = 1 is the
 // classic octree (objects straddling a split plane stay in the inner node).
 //
-// Layout (docs/design.md has the complexity table):
+// Layout (docs/structures/octree-and-grids.md has the complexity table):
 //  * Objects live in a slot_storage (stable 32-bit handles = iterators); a slot's metadata is
 //    the node holding it, and pos_[slot] its index in that node's list, so erasure is O(1)
 //    plus the merge check.
@@ -54,6 +54,7 @@
 
 #include "spatial/collide/pairs.hpp"
 #include "spatial/collide/tree_pair_snapshot.hpp"
+#include "spatial/core/container_base.hpp"
 #include "spatial/core/container_concept.hpp"
 #include "spatial/core/input_checks.hpp"
 #include "spatial/core/intersect_info.hpp"
@@ -67,17 +68,14 @@
 namespace spatial {
 
 template <stored_object O, class Config = octree_config<>>
-class octree {
+class octree : public container_base<octree<O, Config>, O> {
+    using contract_base = container_base<octree<O, Config>, O>;
+    friend contract_base;
+
 public:
-    using value_type = O;
-    using point_type = point_type_of<O>;
-    using scalar_type = typename O::scalar_type;
-    using size_type = std::size_t;
-    using iterator = slot_iterator<O>;
-    using const_iterator = iterator;
-    using info_type = intersect_info<point_type>;
+    static constexpr const char* structure_name = "octree";
+    SPATIAL_CONTAINER_BASE_MEMBERS(contract_base);
     using config = Config;
-    static constexpr std::size_t dimension = O::dimension;
     static constexpr std::size_t leaf_capacity = Config::leaf_capacity;
     static_assert(Config::leaf_capacity >= 1, "octree: leaf_capacity must be at least 1");
     static_assert(Config::loose_factor >= 1.0 && Config::loose_factor <= 16.0, "octree: loose factor in [1, 16]");
@@ -128,7 +126,7 @@ public:
     // ---- insertion -------------------------------------------------------------------
     // O(depth) descent plus amortised splits; depth is O(log(root size / object spacing)).
     iterator insert(const O& x) {
-        detail::require_finite_object(x, "octree::insert");
+        detail::require_finite_object(x, site("insert"));
         const extent e = extent_of(x);
         ensure_root_contains(e);
         return make(place(root_, x, e));
@@ -136,7 +134,7 @@ public:
     // Hinted insertion: climbs from the hint's node to the first ancestor whose loose cell
     // contains x, then descends; O(1) when x belongs to the hint's leaf.
     iterator insert(const_iterator hint, const O& x) {
-        detail::require_finite_object(x, "octree::insert(hint, x)");
+        detail::require_finite_object(x, site("insert(hint, x)"));
         const extent e = extent_of(x);
         const bool rebuilt = ensure_root_contains(e);
         node_index n = root_;
@@ -155,9 +153,9 @@ public:
     template <class InputIt>
     void insert(InputIt first, InputIt last) {
         std::vector<O> batch(first, last);
-        for (const O& x : batch) detail::require_finite_object(x, "octree::insert(first, last)");
+        for (const O& x : batch) detail::require_finite_object(x, site("insert(first, last)"));
         if (batch.empty()) return;
-        slots_.require_room_for(batch.size(), "octree::insert(first, last)");
+        slots_.require_room_for(batch.size(), site("insert(first, last)"));
         slots_.reserve(slots_.capacity() + batch.size());
         const bool rebuild = slots_.size() == 0 || batch.size() >= slots_.size();
         extent box = extent_of(batch.front());
@@ -187,24 +185,11 @@ public:
     // Erases ALL elements equal to x; returns how many. Visits only nodes whose loose cell
     // contains x's box.
     size_type erase(const O& x) {
-        detail::require_finite_object(x, "octree::erase");
+        detail::require_finite_object(x, site("erase"));
         std::vector<slot_index> hits;
         collect_equal(x, hits, false);
         for (slot_index s : hits) erase(make(s));
         return hits.size();
-    }
-    // Removing at least a quarter of the tree rebuilds the survivors once (O(n depth));
-    // smaller ranges erase one by one.
-    void erase(const_iterator first, const_iterator last) {
-        std::vector<slot_index> doomed;
-        for (; first != last; ++first) doomed.push_back(first.slot());
-        if (doomed.empty()) return;
-        if (doomed.size() * 4 >= slots_.size()) {
-            for (slot_index s : doomed) slots_.release(s);
-            rebuild_all();
-            return;
-        }
-        for (slot_index s : doomed) erase(make(s));
     }
     void clear() {
         slots_.clear();
@@ -216,35 +201,28 @@ public:
 
     // ---- lookup ----------------------------------------------------------------------
     iterator find(const O& x) {
-        detail::require_finite_object(x, "octree::find");
+        detail::require_finite_object(x, site("find"));
         std::vector<slot_index> hits;
         collect_equal(x, hits, true);
         return hits.empty() ? end() : make(hits.front());
     }
     size_type count(const O& x) const {
-        detail::require_finite_object(x, "octree::count");
+        detail::require_finite_object(x, site("count"));
         std::vector<slot_index> hits;
         collect_equal(x, hits, false);
         return hits.size();
     }
 
     // ---- ray cast --------------------------------------------------------------------
-    bool intersect(const point_type& origin, const point_type& direction, info_type& info) const {
-        return intersect_object(origin, direction, ray_thickness_, info) != end();
-    }
-    bool intersect(const point_type& origin, const point_type& direction, scalar_type thickness,
-                   info_type& info) const {
-        return intersect_object(origin, direction, thickness, info) != end();
-    }
     // The object first hit before info.hit_time (smallest t reported by O::intersect), or
     // end(). Front to back over loose cells grown by the thickness; a subtree is entered only
     // while its entry time is before the best hit. Typical cost: the cells the ray crosses
     // before its first hit; O(n) worst case (every loose cell crossing the ray).
     iterator intersect_object(const point_type& origin, const point_type& direction, scalar_type thickness,
                               info_type& info) const {
-        detail::require_finite(origin, "octree::intersect", "ray origin");
-        detail::require_nonzero_direction(direction, "octree::intersect");
-        detail::require_nonnegative(thickness, "octree::intersect", "ray thickness");
+        detail::require_finite(origin, site("intersect"), "ray origin");
+        detail::require_nonzero_direction(direction, site("intersect"));
+        detail::require_nonnegative(thickness, site("intersect"), "ray thickness");
         if (slots_.size() == 0) return end();
         const coords o = coords_of(origin), v = coords_of(direction);
         slot_index hit = no_slot;
@@ -285,20 +263,14 @@ public:
         }
         return hit == no_slot ? end() : make(hit);
     }
-    scalar_type ray_thickness() const { return ray_thickness_; }
-    void set_ray_thickness(scalar_type t) {
-        detail::require_nonnegative(t, "octree::set_ray_thickness", "thickness");
-        ray_thickness_ = t;
-    }
 
     // ---- nearest neighbours and ranges ---------------------------------------------------
-    std::vector<iterator> find_nearest(const point_type& x, size_type k) const { return find_nearest(x, k, 0); }
     // Best-first over loose cells; (1+eps)-approximate: a node is skipped once (1+eps) times
     // its distance is not below the k-th best distance, so the i-th reported distance is at
     // most (1+eps) times the true i-th. Expected O(log n + k log k) on well-spread data.
     std::vector<iterator> find_nearest(const point_type& x, size_type k, scalar_type eps) const {
-        detail::require_finite(x, "octree::find_nearest", "query point");
-        detail::require_nonnegative(eps, "octree::find_nearest", "eps");
+        detail::require_finite(x, site("find_nearest"), "query point");
+        detail::require_nonnegative(eps, site("find_nearest"), "eps");
         std::vector<iterator> out;
         if (k == 0 || slots_.size() == 0) return out;
         const coords q = coords_of(x);
@@ -326,8 +298,8 @@ public:
     }
     // Objects at distance <= radius (object_squared_distance <= radius^2).
     std::vector<iterator> find_in_ball(const point_type& center, scalar_type radius) const {
-        detail::require_finite(center, "octree::find_in_ball", "center");
-        detail::require_nonnegative(radius, "octree::find_in_ball", "radius");
+        detail::require_finite(center, site("find_in_ball"), "center");
+        detail::require_nonnegative(radius, site("find_in_ball"), "radius");
         std::vector<iterator> out;
         if (slots_.size() == 0) return out;
         const coords q = coords_of(center);
@@ -346,8 +318,8 @@ public:
     }
     // Objects overlapping the closed box [lo, hi] (object_overlaps_box).
     std::vector<iterator> find_in_box(const point_type& lo, const point_type& hi) const {
-        detail::require_finite(lo, "octree::find_in_box", "box corner lo");
-        detail::require_finite(hi, "octree::find_in_box", "box corner hi");
+        detail::require_finite(lo, site("find_in_box"), "box corner lo");
+        detail::require_finite(hi, site("find_in_box"), "box corner hi");
         std::vector<iterator> out;
         if (slots_.size() == 0) return out;
         std::vector<node_index> stack{root_};
@@ -469,10 +441,6 @@ public:
     }
 
     // ---- STL basics and introspection ----------------------------------------------------
-    size_type size() const { return slots_.size(); }
-    bool empty() const { return slots_.size() == 0; }
-    iterator begin() const { return make(slots_.next_occupied(0)); }
-    iterator end() const { return make(static_cast<slot_index>(slots_.capacity())); }
     std::size_t memory_bytes() const {
         std::size_t b = sizeof(*this) + slots_.memory_bytes() + pos_.capacity() * sizeof(std::uint32_t) +
                         nodes_.capacity() * sizeof(node) + free_blocks_.capacity() * sizeof(node_index);
@@ -594,15 +562,13 @@ private:
             if (c[i] >= mid(nd, i)) b |= std::size_t(1) << i;
         return b;
     }
-    iterator make(slot_index s) const { return iterator(&slots_, s); }
 
     void swap_contents(octree& o) {
-        std::swap(slots_, o.slots_);
+        this->swap_base(o);
         std::swap(pos_, o.pos_);
         std::swap(nodes_, o.nodes_);
         std::swap(free_blocks_, o.free_blocks_);
         std::swap(root_, o.root_);
-        std::swap(ray_thickness_, o.ray_thickness_);
     }
 
     // ================= node and item bookkeeping ==========================================
@@ -886,19 +852,19 @@ private:
         free_blocks_.clear();
         root_ = no_node;
         if (!any) return;
-        T size = 0, magnitude = 0;
+        T edge = 0, magnitude = 0;
         for (std::size_t i = 0; i < D; ++i) {
-            size = std::max(size, box.hi[i] - box.lo[i]);
+            edge = std::max(edge, box.hi[i] - box.lo[i]);
             magnitude = std::max({magnitude, std::abs(box.lo[i]), std::abs(box.hi[i])});
         }
-        // Pad so that lo + size >= hi after rounding; a degenerate box (one point, or all
+        // Pad so that lo + edge >= hi after rounding; a degenerate box (one point, or all
         // objects identical) gets a cell a little larger than the ulps of its position.
-        size = size * (1 + 8 * std::numeric_limits<T>::epsilon()) + 64 * std::numeric_limits<T>::epsilon() * magnitude;
-        if (!(size > 0)) size = std::numeric_limits<T>::min() * T(1024);
-        if (!std::isfinite(size)) size = std::numeric_limits<T>::max();
+        edge = edge * (1 + 8 * std::numeric_limits<T>::epsilon()) + 64 * std::numeric_limits<T>::epsilon() * magnitude;
+        if (!(edge > 0)) edge = std::numeric_limits<T>::min() * T(1024);
+        if (!std::isfinite(edge)) edge = std::numeric_limits<T>::max();
         nodes_.emplace_back();
         root_ = 0;
-        set_cell(nodes_[root_], box.lo, size);
+        set_cell(nodes_[root_], box.lo, edge);
         for (std::size_t i = 0; i < D; ++i) {  // contain the box exactly, whatever the rounding
             nodes_[root_].llo[i] = std::min(nodes_[root_].llo[i], box.lo[i]);
             nodes_[root_].lhi[i] = std::max(nodes_[root_].lhi[i], box.hi[i]);
@@ -1032,13 +998,22 @@ private:
         return m;
     }
 
+    // The range-erase hooks of container_base: a range under a quarter of the tree is erased
+    // one by one; a larger one rebuilds the survivors once (O(n depth)).
+    void erase_slots(std::span<const slot_index> doomed) {
+        for (slot_index s : doomed) erase(make(s));
+    }
+    void rebuild_survivors() { rebuild_all(); }
+
     // ================= data ================================================================
-    slot_storage<O> slots_;
+    using contract_base::make;
+    using contract_base::site;
+    using contract_base::slots_;
+    using contract_base::ray_thickness_;
     std::vector<std::uint32_t> pos_;  // pos_[slot]: index in its node's item list
     std::vector<node> nodes_;
     std::vector<node_index> free_blocks_;
     node_index root_ = no_node;
-    scalar_type ray_thickness_ = 0;
 };
 
 }  // namespace spatial
