@@ -42,3 +42,22 @@ add_test(NAME spatialbench_structures_smoke_run
          COMMAND $<TARGET_FILE:spatialbench> run --suite structures --preset smoke --quiet
                  --results ${CMAKE_CURRENT_BINARY_DIR}/structures_smoke_results)
 set_tests_properties(spatialbench_structures_smoke_run PROPERTIES TIMEOUT 300)
+
+# docs/adding-a-structure.md, tested: the example structure (examples/) appears with validated
+# rows in every suite and in a scene, and in `list` and results/registry.json.
+add_test(NAME spatialbench_example_structure_everywhere
+         COMMAND bash ${CMAKE_CURRENT_SOURCE_DIR}/check_example_structure.sh $<TARGET_FILE:spatialbench>
+                 ${PROJECT_SOURCE_DIR}/datasets/scenes/falling_boxes.toml
+                 ${CMAKE_CURRENT_BINARY_DIR}/example_structure_results)
+set_tests_properties(spatialbench_example_structure_everywhere PROPERTIES TIMEOUT 600)
+
+# The collide suite and the scenes end to end at smoke size (every structure and peer of each,
+# validated before timing).
+add_test(NAME spatialbench_collide_smoke_run
+         COMMAND $<TARGET_FILE:spatialbench> run --suite collide --preset smoke --quiet
+                 --results ${CMAKE_CURRENT_BINARY_DIR}/collide_smoke_results)
+set_tests_properties(spatialbench_collide_smoke_run PROPERTIES TIMEOUT 600)
+add_test(NAME spatialbench_scenes_smoke_run
+         COMMAND $<TARGET_FILE:spatialbench> scene ${PROJECT_SOURCE_DIR}/datasets/scenes/falling_boxes.toml
+                 --structure all --steps 3 --quiet --results ${CMAKE_CURRENT_BINARY_DIR}/scenes_smoke_results)
+set_tests_properties(spatialbench_scenes_smoke_run PROPERTIES TIMEOUT 600)

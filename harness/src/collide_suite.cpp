@@ -30,24 +30,13 @@
 #include "harness/our_collide_indexes.hpp"
 #include "harness/progress.hpp"
 #include "harness/run_info.hpp"
+#include "harness/peer_registry.hpp"
+#include "harness/structure_registry.hpp"
 #include "harness/timing.hpp"
 #include "harness/validation.hpp"
 #include "spatial/brute/brute_force.hpp"
-#include "spatial/bv/aabb.hpp"
-#include "spatial/bv/convex_hull.hpp"
-#include "spatial/bv/ellipsoid.hpp"
-#include "spatial/bv/kdop.hpp"
-#include "spatial/bv/obb.hpp"
-#include "spatial/bv/sphere.hpp"
-#include "spatial/bvh/bvh.hpp"
-#include "spatial/collide/collision_grid.hpp"
 #include "spatial/collide/pair_changes.hpp"
-#include "spatial/collide/sweep_and_prune.hpp"
-#include "spatial/grid/hashed_grid.hpp"
-#include "spatial/grid/uniform_grid.hpp"
-#include "spatial/kdtree/kd_tree.hpp"
 #include "spatial/objects/triangle.hpp"
-#include "spatial/octree/octree.hpp"
 
 namespace harness {
 namespace {
@@ -176,45 +165,23 @@ struct participant {
     std::string bv;  // "aabb" for bvh, "-" otherwise
 };
 
-template <class C>
-participant ours(const std::string& name, motion_strategy m = motion_strategy::automatic, std::string bv = "-") {
-    return {std::make_unique<container_collide_index<C>>(name, m), std::move(bv)};
-}
-
-// Every participant for n boxes; `moving` selects the motion variants of the bvh.
+// Every participant for n boxes: the registry's structures of the static or the moving part
+// (harness/structure_registry.hpp; moving runs the bvh once per motion strategy), slow ones up
+// to slow_max_n and the oracle up to brute_max_n (a tenth and a quarter when moving).
 std::vector<participant> participants(const context& ctx, std::size_t n, bool moving) {
-    using namespace spatial;
-    using B = collide_box3;
     std::vector<participant> out;
-    out.push_back(ours<collision_grid<B>>("collision_grid"));
-    out.push_back(ours<uniform_grid<B>>("uniform_grid", motion_strategy::reinsert));
-    if (moving) {
-        out.push_back(ours<bvh<B>>("bvh_refit", motion_strategy::refit, "aabb"));
-        out.push_back(ours<bvh<B>>("bvh_rebuild", motion_strategy::rebuild, "aabb"));
-        out.push_back(ours<bvh<B>>("bvh_reinsert", motion_strategy::reinsert, "aabb"));
-        out.push_back(ours<bvh<B>>("bvh_automatic", motion_strategy::automatic, "aabb"));
-        out.push_back(ours<bvh<B, aabb<double, 3>, bvh_median_config<>>>("bvh_median_refit", motion_strategy::refit, "aabb"));
-    } else {
-        out.push_back(ours<bvh<B>>("bvh", motion_strategy::automatic, "aabb"));
-        out.push_back(ours<bvh<B, aabb<double, 3>, bvh_median_config<>>>("bvh_median", motion_strategy::automatic, "aabb"));
-    }
-    if (n <= ctx.cfg.slow_max_n / (moving ? 10 : 1)) {
-        out.push_back(ours<hashed_grid<B>>("hashed_grid", motion_strategy::reinsert));
-        out.push_back(ours<kd_tree<B>>("kd_tree", motion_strategy::reinsert));
-        out.push_back(ours<octree<B>>("octree", motion_strategy::reinsert));
-        out.push_back(ours<sweep_and_prune<B>>("sweep_and_prune"));
-    }
-    if (n <= ctx.cfg.brute_max_n / (moving ? 4 : 1)) out.push_back(ours<brute_force<B>>("brute_force"));
-    for (auto& p : make_peer_collide_indices()) {
-        const std::string name = p->name();
-        // FCL's SaP: building 1e5 boxes takes ~4 s and its incremental update ~0.85 s per step
-        // at 1e4 (~21 s at 1e5, superlinear inside FCL): static up to slow_max_n, moving up to
-        // a tenth of it.
-        if (name == "fcl_sap" && n > ctx.cfg.slow_max_n / (moving ? 10 : 1)) continue;
-        // FCL's spatial hashing: 5.6 s build + 19 s query at 1e6 (hash buckets per cell).
-        if (name == "fcl_spatial_hashing" && n > ctx.cfg.slow_max_n) continue;
-        out.push_back({std::move(p), "-"});
-    }
+    const std::size_t slow_max = ctx.cfg.slow_max_n / (moving ? 10 : 1), oracle_max = ctx.cfg.brute_max_n / (moving ? 4 : 1);
+    auto add = [&]<class E>() {
+        const structure_info info = E::info();
+        if (within_limits(info, n, slow_max, oracle_max))
+            out.push_back({std::make_unique<container_collide_index<typename E::template container<collide_box3>>>(
+                               info.name, info.motion),
+                           info.bv.empty() ? "-" : info.bv});
+    };
+    if (moving) for_each_structure<collide_box3, in::collide_moving>(add);
+    else for_each_structure<collide_box3, in::collide_static>(add);
+    for (auto& p : make_peer_collide_indices())  // their limits: harness/peer_registry.hpp
+        if (peer_within_limits(p->name(), n, slow_max, oracle_max)) out.push_back({std::move(p), "-"});
     std::vector<participant> kept;
     for (auto& p : out)
         if (ctx.wants(p.index->name())) kept.push_back(std::move(p));
@@ -404,11 +371,11 @@ std::vector<triangle3> random_triangles(std::size_t n, std::uint64_t seed) {
 }
 
 template <class Tree>
-void bv_row(context& ctx, const std::string& bv, const std::vector<triangle3>& tris,
+void bv_row(context& ctx, const structure_info& info, const std::vector<triangle3>& tris,
             std::vector<std::pair<std::uint32_t, std::uint32_t>>& reference) {
     const std::size_t n = tris.size();
-    const std::string name = "bvh_" + bv, workload = "triangles", params = "soup";
-    if (!ctx.wants(name) && !ctx.wants("bvh")) return;
+    const std::string name = bv_study_name(info), bv = info.bv, workload = "triangles", params = "soup";
+    if (!ctx.wants(name) && !ctx.wants(info.family)) return;
     Tree tree;
     std::vector<double> build_s, cand_s, exact_s;
     std::size_t candidates = 0, exact_pairs = 0;
@@ -457,18 +424,14 @@ void bv_row(context& ctx, const std::string& bv, const std::vector<triangle3>& t
                  std::to_string(exact_pairs) + " exact, " + std::to_string(te.median_seconds) + " s");
 }
 
+// One bvh per volume type (the registry's in::collide_bv entries), in registry order: aabb
+// first, whose pairs are checked against brute force and then are the others' reference.
 void run_triangles(context& ctx, std::size_t n) {
-    using namespace spatial;
-    using T = double;
     const auto tris = random_triangles(n, ctx.opt.seed);
     std::vector<std::pair<std::uint32_t, std::uint32_t>> reference;
-    bv_row<bvh<triangle3>>(ctx, "aabb", tris, reference);
-    bv_row<bvh<triangle3, sphere<T, 3>>>(ctx, "sphere", tris, reference);
-    bv_row<bvh<triangle3, obb<T, 3>>>(ctx, "obb", tris, reference);
-    bv_row<bvh<triangle3, kdop<T, 3, 14>>>(ctx, "kdop14", tris, reference);
-    bv_row<bvh<triangle3, kdop<T, 3, 26>>>(ctx, "kdop26", tris, reference);
-    bv_row<bvh<triangle3, ellipsoid<T, 3>>>(ctx, "ellipsoid", tris, reference);
-    bv_row<bvh<triangle3, convex_hull<T, 3>>>(ctx, "convex_hull", tris, reference);
+    for_each_structure<triangle3, in::collide_bv>([&]<class E>() {
+        bv_row<typename E::template container<triangle3>>(ctx, E::info(), tris, reference);
+    });
 }
 
 }  // namespace

@@ -27,12 +27,9 @@
 #include "harness/our_indexes.hpp"
 #include "harness/progress.hpp"
 #include "harness/run_info.hpp"
+#include "harness/structure_registry.hpp"
 #include "harness/timing.hpp"
 #include "harness/validation.hpp"
-#include "spatial/bvh/bvh.hpp"
-#include "spatial/grid/hashed_grid.hpp"
-#include "spatial/grid/uniform_grid.hpp"
-#include "spatial/octree/octree.hpp"
 
 namespace harness {
 namespace {
@@ -155,6 +152,23 @@ struct operation_spec {
     std::string params;
 };
 
+// The registry's structures of the running suite (knn: in::knn; structures: in::structures)
+// that may be timed at n points; `dynamic`: those for the insert/erase workloads (in::knn,
+// not the oracle).
+template <class T, std::size_t D>
+void add_registered(const context& ctx, std::vector<std::unique_ptr<point_index<T, D>>>& out, std::size_t n,
+                    bool dynamic) {
+    using point_type = spatial::point<T, D>;
+    auto add = [&]<class E>() {
+        const structure_info info = E::info();
+        if (!ctx.wants_structure(info.name) || !within_limits(info, n, 0, ctx.cfg.brute_max_n)) return;
+        if (dynamic && info.kind == "oracle") return;
+        out.push_back(std::make_unique<container_index<typename E::template container<point_type>, T, D>>(info.name));
+    };
+    if (ctx.opt.all_structures && !dynamic) for_each_structure<point_type, in::structures>(add);
+    else for_each_structure<point_type, in::knn>(add);
+}
+
 template <class T, std::size_t D>
 class static_measurement {
 public:
@@ -195,31 +209,17 @@ public:
                 {"approx_knn", 10, 5, "k=10;eps=5"}};
 
         std::vector<std::unique_ptr<point_index<T, D>>> structures;
-        if (ctx_.wants_structure("kd_tree")) structures.push_back(std::make_unique<kd_tree_index<T, D>>("kd_tree"));
-        if (ctx_.opt.all_structures) add_all_structures(structures);
+        add_registered(ctx_, structures, n, false);
         for (auto& p : make_peer_indices<T, D>())
             if (p->name() != "nanoflann_dynamic" && ctx_.wants_structure(p->name())) structures.push_back(std::move(p));
-        if (n <= ctx_.cfg.brute_max_n && ctx_.wants_structure("brute_force"))
-            structures.push_back(std::make_unique<brute_force_index<T, D>>());
+        // The oracle is timed last (the others are compared with the first, kd_tree).
+        std::stable_partition(structures.begin(), structures.end(), [](const auto& s) { return !is_oracle(s->name()); });
         measure_interleaved(structures);
         nodes_visited();
         ratios();
     }
 
 private:
-    // Every other structure of the library over points, for the structures suite (default
-    // configurations; the octree in its classic form, the better one for points, §13).
-    void add_all_structures(std::vector<std::unique_ptr<point_index<T, D>>>& out) const {
-        using P = spatial::point<T, D>;
-        if (ctx_.wants_structure("bvh")) out.push_back(std::make_unique<container_index<spatial::bvh<P>, T, D>>("bvh"));
-        if (ctx_.wants_structure("octree"))
-            out.push_back(std::make_unique<container_index<spatial::octree<P, spatial::classic_octree_config>, T, D>>("octree"));
-        if (ctx_.wants_structure("uniform_grid"))
-            out.push_back(std::make_unique<container_index<spatial::uniform_grid<P>, T, D>>("uniform_grid"));
-        if (ctx_.wants_structure("hashed_grid"))
-            out.push_back(std::make_unique<container_index<spatial::hashed_grid<P>, T, D>>("hashed_grid"));
-    }
-
     std::string tag(const std::string& structure, const std::string& op) const {
         return structure + " " + op + " on " + wc_.label + " n=" + fmt_n(wc_.points.size()) + " " +
                std::to_string(D) + "d " + scalar_name<T>();
@@ -330,7 +330,7 @@ private:
             std::vector<std::vector<std::vector<double>>> answers(S);
             for (std::size_t i = 0; i < S; ++i) {
                 auto& s = *structures[i];
-                const bool is_brute = s.name() == "brute_force";
+                const bool is_brute = is_oracle(s.name());
                 if (is_brute && op.operation != "knn") continue;
                 if (op.operation == "approx_knn" && !s.can(capability::approximate_knn)) continue;
                 count[i] = is_brute ? std::min<std::size_t>(wc_.queries.size(), 200) : wc_.queries.size();
@@ -393,10 +393,12 @@ private:
         s.build(std::span<const point_type>(wc_.points));
         std::vector<neighbor<T>> out;
         for (const auto& op : ops_) {
-            s.container().reset_stats();
-            for (const auto& q : wc_.queries) run_one(s, op, q, out);
-            const double per = static_cast<double>(s.container().stats().nodes_visited) /
-                               static_cast<double>(wc_.queries.size());
+            std::size_t nodes = 0;
+            for (const auto& q : wc_.queries) {
+                run_one(s, op, q, out);
+                nodes += s.container().last_query_stats().nodes_visited;
+            }
+            const double per = static_cast<double>(nodes) / static_cast<double>(wc_.queries.size());
             record(row("kd_tree", op.operation, op.params, "nodes_visited", per, "count"));
         }
     }
@@ -444,7 +446,7 @@ public:
 private:
     std::vector<std::unique_ptr<point_index<T, D>>> dynamic_structures(bool include_cgal) {
         std::vector<std::unique_ptr<point_index<T, D>>> v;
-        if (ctx_.wants_structure("kd_tree")) v.push_back(std::make_unique<kd_tree_index<T, D>>("kd_tree"));
+        add_registered(ctx_, v, wc_.points.size(), true);
         for (auto& p : make_peer_indices<T, D>())
             if (p->can(capability::dynamic) && ctx_.wants_structure(p->name()) &&
                 (include_cgal || p->name().find("cgal") == std::string::npos))
@@ -554,11 +556,13 @@ private:
             const std::string params = "stream=" + stream_kind + ";m=n/2";
             std::vector<point_type> expected = wc_.points;
             expected.insert(expected.end(), stream.begin(), stream.end());
-            auto insert_all = [&](point_index<T, D>& s, bool hinted) {
+            // after_each runs after every insertion (the statistics pass sums nodes visited).
+            auto insert_all = [&](point_index<T, D>& s, bool hinted, auto&& after_each) {
                 for (std::size_t i = 0; i < m; ++i) {
                     const auto id = static_cast<std::uint32_t>(n + i);
                     if (hinted) s.insert_near(i < stride ? 0u : id - static_cast<std::uint32_t>(stride), id, stream[i]);
                     else s.insert(id, stream[i]);
+                    after_each();
                 }
             };
             std::map<std::string, double> per_op;
@@ -574,7 +578,7 @@ private:
                             s->prepare_dynamic();
                         },
                         [&] {
-                            insert_all(*s, hinted);
+                            insert_all(*s, hinted, [] {});
                             return 0;
                         },
                         [&](int) { validate_contents(*s, expected, where(name, op + " " + params)); });
@@ -595,12 +599,11 @@ private:
                     kd_tree_stats_index<T, D> s("kd_tree");
                     s.build(wc_.points);
                     s.prepare_dynamic();
-                    s.container().reset_stats();
-                    insert_all(s, hinted);
+                    std::size_t nodes = 0;
+                    insert_all(s, hinted, [&] { nodes += s.container().last_query_stats().nodes_visited; });
                     validate_contents(s, expected, where("kd_tree", "nodes per insert " + params));
                     ctx_.rows.push_back(row("kd_tree", hinted ? "insert_hinted" : "insert", params, "nodes_visited",
-                                            static_cast<double>(s.container().stats().nodes_visited) / static_cast<double>(m),
-                                            "count"));
+                                            static_cast<double>(nodes) / static_cast<double>(m), "count"));
                 }
             }
         }

@@ -1,9 +1,10 @@
 // spatialbench — the benchmark harness CLI.
-//   spatialbench run --suite knn|bv|raycast|collide|structures [--preset smoke|quick|full] [--results DIR] [--real-data DIR]
+//   spatialbench run --suite SUITE [--preset smoke|quick|full] [--results DIR] [--real-data DIR]
 //                    [--workload W ...] [--structure S ...] [--n N ...] [--seed S] [--quiet]
-//   spatialbench scene FILE... [--structure bvh|kd_tree|octree|uniform_grid|collision_grid|brute_force|all]
-//                    [--steps N] [--results DIR] [--output scenes.csv] [--quiet]
-//   spatialbench list
+//   spatialbench scene FILE... [--structure NAME|all] [--steps N] [--results DIR] [--output scenes.csv] [--quiet]
+//   spatialbench list [--json]
+// The suites come from harness/suite_table.hpp, the structures from structure_registry.hpp and
+// peer_registry.hpp: this file names none of them.
 // Exit codes: 0 success, 1 bad usage or input, 2 validation failure (a wrong answer).
 
 #include <CLI/CLI.hpp>
@@ -13,16 +14,13 @@
 #include "datasets/generators.hpp"
 #include "datasets/mesh_generators.hpp"
 #include "datasets/shapes.hpp"
-#include "harness/adapters.hpp"
-#include "harness/bv_suite.hpp"
-#include "harness/collide_suite.hpp"
-#include "harness/knn_suite.hpp"
-#include "harness/ray_adapters.hpp"
-#include "harness/raycast_suite.hpp"
+#include "datasets/scene.hpp"
+#include "harness/peer_registry.hpp"
 #include "harness/run_info.hpp"
 #include "harness/scene_runner.hpp"
+#include "harness/structure_registry.hpp"
+#include "harness/suite_table.hpp"
 #include "harness/timing.hpp"
-#include "datasets/scene.hpp"
 #include "harness/validation.hpp"
 
 namespace {
@@ -43,6 +41,32 @@ int guarded(F&& command) {
     return 0;
 }
 
+// The structure names of a suite part, for the help text and `list`.
+std::string names_in(unsigned suite_bits) {
+    std::string out;
+    for (const auto* list : {&harness::registered_structures(), &harness::registered_peers()})
+        for (const auto& s : *list)
+            if (s.takes_part_in(suite_bits)) out += (out.empty() ? "" : " ") + s.name;
+    return out;
+}
+
+void print_list() {
+    std::cout << "suites:\n";
+    for (const auto& s : harness::suite_table()) std::cout << "  " << s.name << ": " << s.description << '\n';
+    std::cout << "workloads (collide): boxes moving_boxes triangles\nworkloads (knn, structures):";
+    for (auto w : datasets::point_workload_names()) std::cout << ' ' << w;
+    std::cout << "\nshapes (bv):";
+    for (const auto& w : datasets::shape_names()) std::cout << ' ' << w;
+    std::cout << "\nworkloads (raycast):";
+    for (auto w : datasets::mesh_workload_names) std::cout << ' ' << w;
+    std::cout << "\nstructures (in-house, harness/structure_registry.hpp):\n";
+    for (const auto& s : harness::registered_structures())
+        std::cout << "  " << s.name << " [" << s.kind << "]: " << s.description << '\n';
+    std::cout << "peers (harness/peer_registry.hpp; built into this binary when their adapter is):\n";
+    for (const auto& s : harness::registered_peers())
+        std::cout << "  " << s.name << " [" << s.library << "]: " << s.description << '\n';
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -51,8 +75,15 @@ int main(int argc, char** argv) {
 
     harness::suite_options opt;
     std::string suite = "knn";
+    std::vector<std::string> runnable;
+    std::string suite_help = "suite to run:";
+    for (const auto& s : harness::suite_table())
+        if (s.run) {
+            runnable.push_back(s.name);
+            suite_help += " " + s.name + " (" + s.description + ");";
+        }
     auto* run = app.add_subcommand("run", "run a benchmark suite and write results/<suite>.csv");
-    run->add_option("--suite", suite, "suite to run")->check(CLI::IsMember({"knn", "bv", "raycast", "structures", "collide"}));
+    run->add_option("--suite", suite, suite_help)->check(CLI::IsMember(runnable));
     run->add_option("--preset", opt.preset, "size preset: smoke (seconds), quick (<15 min), full (1e7)")
         ->check(CLI::IsMember({"smoke", "quick", "full"}));
     run->add_option("--results", opt.results_dir, "directory for CSV tables and run sidecars");
@@ -60,14 +91,16 @@ int main(int argc, char** argv) {
     run->add_option("--output", output_name, "CSV file name inside --results (default <suite>.csv)");
     run->add_option("--real-data", opt.real_data_dir, "directory of real data to add as workloads: point sets (.xyz, .ply) for knn/bv, meshes (.off .ply .obj .stl) for raycast");
     run->add_option("--workload", opt.workloads, "restrict to these generated workloads (bv: shapes; raycast: sphere, soup)");
-    run->add_option("--structure", opt.structures, "restrict to these structures (kd_tree, nanoflann, ...)");
+    run->add_option("--structure", opt.structures, "restrict to these structures (see `spatialbench list`)");
     run->add_option("--n", opt.sizes, "restrict to these sizes");
     run->add_option("--seed", opt.seed, "seed of every generated workload (logged in the run sidecar)");
     run->add_flag("--quiet", opt.quiet, "no progress output");
     bool no_dynamic = false;
     run->add_flag("--no-dynamic", no_dynamic, "skip the insert/erase workloads");
 
-    auto* list = app.add_subcommand("list", "list suites, workloads and available structures");
+    auto* list = app.add_subcommand("list", "list suites, workloads, structures and peers");
+    bool list_json = false;
+    list->add_flag("--json", list_json, "print the registry as JSON (what results/registry.json holds)");
 
     std::vector<std::string> scene_files;
     harness::scene_run_options scene_opt;
@@ -75,7 +108,8 @@ int main(int argc, char** argv) {
     std::string scene_output = "scenes.csv";
     auto* scene = app.add_subcommand("scene", "run scene files (datasets/scenes/*.toml) and write results/scenes.csv");
     scene->add_option("files", scene_files, "scene files (TOML)")->required()->check(CLI::ExistingFile);
-    scene->add_option("--structure", scene_opt.structures, "structure(s) to run: bvh (default), kd_tree, octree, uniform_grid, collision_grid, brute_force, or all");
+    scene->add_option("--structure", scene_opt.structures,
+                      "structure(s) to run: " + names_in(harness::in::scenes) + ", or all (default bvh)");
     scene->add_option("--steps", scene_opt.steps, "override the scene's number of steps");
     scene->add_option("--results", scene_results, "directory for the CSV table and the run sidecar");
     scene->add_option("--output", scene_output, "CSV file name inside --results");
@@ -84,17 +118,8 @@ int main(int argc, char** argv) {
     CLI11_PARSE(app, argc, argv);
 
     if (*list) {
-        std::cout << "suites: knn bv raycast structures collide\nworkloads (collide): boxes moving_boxes triangles\nworkloads (knn, structures):";
-        for (auto w : datasets::point_workload_names()) std::cout << ' ' << w;
-        std::cout << "\nshapes (bv):";
-        for (const auto& w : datasets::shape_names()) std::cout << ' ' << w;
-        std::cout << "\nworkloads (raycast):";
-        for (auto w : datasets::mesh_workload_names) std::cout << ' ' << w;
-        std::cout << "\nstructures: kd_tree brute_force";
-        for (const auto& p : harness::make_peer_indices<double, 3>()) std::cout << ' ' << p->name();
-        std::cout << "\nray structures: bvh brute_force";
-        for (const auto& p : harness::make_peer_ray_indices<double>()) std::cout << ' ' << p->name();
-        std::cout << '\n';
+        if (list_json) std::cout << harness::registry_json();
+        else print_list();
         return 0;
     }
     if (*scene)
@@ -109,6 +134,7 @@ int main(int argc, char** argv) {
                 rows.insert(rows.end(), r.begin(), r.end());
             }
             harness::write_csv_atomically(scene_results / scene_output, rows);
+            harness::write_registry_json(scene_results);
             harness::run_info info{scene_opt.run_id, "scenes", "scene", {}, {}};
             for (std::size_t i = 0; i < scene_files.size(); ++i) info.extra["scene_" + std::to_string(i)] = scene_files[i];
             harness::write_run_sidecar(scene_results, info, harness::seconds_since(t0));
@@ -117,19 +143,10 @@ int main(int argc, char** argv) {
         });
     opt.dynamic = !no_dynamic;
     opt.suite_name = suite;
-    if (suite == "structures") {
-        opt.all_structures = true;
-        opt.dynamic = false;  // static queries on every structure; dynamic workloads: knn suite
-    }
-    opt.output_name = output_name.empty() ? suite + ".csv" : output_name;
+    const harness::suite_entry& entry = *harness::find_suite(suite);
+    opt.output_name = output_name.empty() ? entry.table : output_name;
     return guarded([&] {
-        if (suite == "bv")
-            harness::run_bv_suite(opt);
-        else if (suite == "raycast")
-            harness::run_raycast_suite(opt);
-        else if (suite == "collide")
-            harness::run_collide_suite(opt);
-        else
-            harness::run_knn_suite(opt);
+        entry.run(opt);
+        harness::write_registry_json(opt.results_dir);
     });
 }

@@ -38,21 +38,12 @@
 #include "harness/object_ray_index.hpp"
 #include "harness/ray_validation.hpp"
 #include "harness/run_info.hpp"
+#include "harness/structure_registry.hpp"
 #include "harness/timing.hpp"
 #include "harness/validation.hpp"
 #include "spatial/brute/brute_force.hpp"
-#include "spatial/bv/aabb.hpp"
-#include "spatial/bv/convex_hull.hpp"
-#include "spatial/bv/ellipsoid.hpp"
-#include "spatial/bv/kdop.hpp"
-#include "spatial/bv/obb.hpp"
-#include "spatial/bv/sphere.hpp"
 #include "spatial/bvh/bvh.hpp"
-#include "spatial/grid/hashed_grid.hpp"
-#include "spatial/kdtree/kd_tree.hpp"
-#include "spatial/grid/uniform_grid.hpp"
 #include "spatial/objects/box.hpp"
-#include "spatial/octree/octree.hpp"
 
 #if defined(SPATIAL_HAVE_TBB)
 #include <tbb/info.h>
@@ -65,24 +56,15 @@ using T = double;  // the suite's scalar; Embree rounds to float internally (ray
 using point3 = spatial::point<T, 3>;
 using triangle3 = spatial::objects::triangle<T, 3>;
 
-// Our containers in the suite: ONE line each. brute_force is added separately (it is slow,
-// so it is timed on a sample of rays and only up to brute_max_n).
-void add_our_structures(std::vector<std::unique_ptr<ray_index<T>>>& out) {
-    using namespace spatial;
-    out.push_back(std::make_unique<container_ray_index<bvh<triangle3>>>("bvh", "aabb"));
-    // The same BVH with the median builder, and with every other bounding-volume type (SAH):
-    // what a tighter or cheaper node volume costs per ray and per build.
-    out.push_back(std::make_unique<container_ray_index<bvh<triangle3, aabb<T, 3>, bvh_median_config<>>>>("bvh_median", "aabb"));
-    out.push_back(std::make_unique<container_ray_index<bvh<triangle3, sphere<T, 3>>>>("bvh_sphere", "sphere"));
-    out.push_back(std::make_unique<container_ray_index<bvh<triangle3, obb<T, 3>>>>("bvh_obb", "obb"));
-    out.push_back(std::make_unique<container_ray_index<bvh<triangle3, kdop<T, 3, 14>>>>("bvh_kdop14", "kdop14"));
-    out.push_back(std::make_unique<container_ray_index<bvh<triangle3, kdop<T, 3, 26>>>>("bvh_kdop26", "kdop26"));
-    out.push_back(std::make_unique<container_ray_index<bvh<triangle3, ellipsoid<T, 3>>>>("bvh_ellipsoid", "ellipsoid"));
-    out.push_back(std::make_unique<container_ray_index<bvh<triangle3, convex_hull<T, 3>>>>("bvh_convex_hull", "convex_hull"));
-    out.push_back(std::make_unique<container_ray_index<kd_tree<triangle3>>>("kd_tree"));
-    out.push_back(std::make_unique<container_ray_index<octree<triangle3>>>("octree"));
-    out.push_back(std::make_unique<container_ray_index<uniform_grid<triangle3>>>("uniform_grid"));
-    out.push_back(std::make_unique<container_ray_index<hashed_grid<triangle3>>>("hashed_grid"));
+// Our containers in the suite: every registry entry in `part` (harness/structure_registry.hpp)
+// that may be timed at n objects, each behind the suite's runtime interface `Index`.
+template <class O, unsigned Part, template <class> class Index, class Base>
+void add_registered(std::vector<std::unique_ptr<Base>>& out, std::size_t n, std::size_t oracle_max_n) {
+    for_each_structure<O, Part>([&]<class E>() {
+        const structure_info info = E::info();
+        if (within_limits(info, n, 0, oracle_max_n))
+            out.push_back(std::make_unique<Index<typename E::template container<O>>>(info.name, info.bv));
+    });
 }
 
 struct preset_config {
@@ -264,13 +246,11 @@ public:
 
         oracle_answers();
         std::vector<std::unique_ptr<ray_index<T>>> structures;
-        add_our_structures(structures);
+        add_registered<triangle3, in::raycast, container_ray_index>(structures, triangles_.size(), ctx_.cfg.brute_max_n);
         for (auto& p : make_peer_ray_indices<T>()) structures.push_back(std::move(p));
         std::erase_if(structures, [&](const auto& s) { return !ctx_.wants(s->name()); });
-        const bool brute = triangles_.size() <= ctx_.cfg.brute_max_n && ctx_.wants("brute_force");
-        if (brute)
-            structures.push_back(
-                std::make_unique<container_ray_index<spatial::brute_force<triangle3>>>("brute_force"));
+        // The oracle answers a sample of the rays only (rays_for): it goes last.
+        std::stable_partition(structures.begin(), structures.end(), [](const auto& s) { return !is_oracle(s->name()); });
         measure(structures);
         // Embree's devices are created with "threads=1", which caps oneTBB (Embree's tasking
         // system, process-wide) at one thread while they live: release them first.
@@ -304,7 +284,7 @@ private:
 
     // Rays structure `s` answers: all of them, or the oracle sample for brute_force.
     std::vector<std::size_t> rays_for(const ray_index<T>& s, const ray_set& set) const {
-        if (s.name() == "brute_force") return set.oracle_sample;
+        if (is_oracle(s.name())) return set.oracle_sample;
         std::vector<std::size_t> all(set.rays.size());
         for (std::size_t i = 0; i < all.size(); ++i) all[i] = i;
         return all;
@@ -390,7 +370,7 @@ private:
         // answers every ray (ours, else CGAL), validated against the oracle first.
         std::size_t reference = S;
         for (std::size_t i = 0; i < S && reference == S; ++i)
-            if (structures[i]->name() != "brute_force" && tolerance_of(*structures[i]).time_relative < 1e-6)
+            if (!is_oracle(structures[i]->name()) && tolerance_of(*structures[i]).time_relative < 1e-6)
                 reference = i;
         if (reference != S) std::rotate(structures.begin(), structures.begin() + static_cast<long>(reference),
                                         structures.begin() + static_cast<long>(reference) + 1);
@@ -613,14 +593,9 @@ public:
         oracle.insert(objects_.begin(), objects_.end());
         for (std::size_t i : sample_) oracle_.push_back(answer_of(oracle, rays_[i]));
 
-        using namespace spatial;
         std::vector<std::unique_ptr<object_ray_index<O>>> structures;
-        structures.push_back(std::make_unique<container_object_ray_index<bvh<O>>>("bvh", "aabb"));
-        structures.push_back(std::make_unique<container_object_ray_index<bvh<O, aabb<T, 3>, bvh_median_config<>>>>("bvh_median", "aabb"));
-        structures.push_back(std::make_unique<container_object_ray_index<kd_tree<O>>>("kd_tree"));
-        structures.push_back(std::make_unique<container_object_ray_index<octree<O>>>("octree"));
-        structures.push_back(std::make_unique<container_object_ray_index<uniform_grid<O>>>("uniform_grid"));
-        structures.push_back(std::make_unique<container_object_ray_index<hashed_grid<O>>>("hashed_grid"));
+        add_registered<O, in::raycast_objects, container_object_ray_index>(structures, n_, 0);
+        std::erase_if(structures, [](const auto& st) { return is_oracle(st->name()); });  // the oracle answered above
 #if defined(SPATIAL_HAVE_EMBREE) && SPATIAL_HAVE_EMBREE
         if constexpr (std::is_same_v<O, point3>) structures.push_back(make_embree_point_ray_index());
         else structures.push_back(make_embree_box_ray_index());

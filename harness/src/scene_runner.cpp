@@ -11,6 +11,7 @@
 // (set, index) and compared across structures and with brute force.
 
 #include "harness/scene_runner.hpp"
+#include "harness/structure_registry.hpp"
 
 namespace harness {
 namespace scene_detail {
@@ -21,7 +22,10 @@ std::vector<result_row> run_typed(const datasets::scene_description& scene, cons
 }  // namespace scene_detail
 
 std::vector<std::string> scene_structure_names() {
-    return {"bvh", "kd_tree", "octree", "uniform_grid", "collision_grid", "brute_force"};
+    std::vector<std::string> out;
+    for (const auto& s : registered_structures())
+        if (s.takes_part_in(in::scenes)) out.push_back(s.name);
+    return out;
 }
 
 std::vector<result_row> run_scene(const datasets::scene_description& scene, const scene_run_options& options,

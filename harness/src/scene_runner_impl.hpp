@@ -21,16 +21,13 @@
 #include "datasets/scene_queries.hpp"
 #include "harness/mesh_loading.hpp"
 #include "harness/progress.hpp"
+#include "harness/structure_registry.hpp"
 #include "harness/timing.hpp"
 #include "harness/validation.hpp"
+#include "spatial/core/capabilities.hpp"
 #include "spatial/brute/brute_force.hpp"
-#include "spatial/bvh/bvh.hpp"
-#include "spatial/collide/collision_grid.hpp"
 #include "spatial/collide/narrow_phase.hpp"
 #include "spatial/collide/pair_changes.hpp"
-#include "spatial/grid/uniform_grid.hpp"
-#include "spatial/kdtree/kd_tree.hpp"
-#include "spatial/octree/octree.hpp"
 
 namespace harness {
 namespace {
@@ -72,7 +69,7 @@ public:
     void build(const std::vector<O>& objects) override {
         c_.clear();
         handles_.clear();
-        if constexpr (requires { c_.update(handles_[0], objects[0]); } || !queries) {
+        if constexpr (spatial::single_motion<C> || !queries) {
             for (const O& x : objects) handles_.push_back(c_.insert(x));  // handle containers: O(1) each
         } else {
             c_.insert(objects.begin(), objects.end());
@@ -82,11 +79,11 @@ public:
     }
     void update(const std::vector<O>& objects, const std::vector<std::uint32_t>& changed,
                 spatial::motion_strategy strategy) override {
-        if constexpr (requires { c_.update(moves_.begin(), moves_.end(), strategy); }) {
+        if constexpr (spatial::motion_with_strategy<C>) {
             moves_.clear();
             for (std::uint32_t i : changed) moves_.emplace_back(handles_[i], objects[i]);
             c_.update(moves_.begin(), moves_.end(), strategy);
-        } else if constexpr (requires { c_.update(handles_[0], objects[0]); }) {
+        } else if constexpr (spatial::single_motion<C>) {
             for (std::uint32_t i : changed) c_.update(handles_[i], objects[i]);
         } else {
             if (strategy == spatial::motion_strategy::rebuild) {
@@ -117,7 +114,7 @@ public:
             out.emplace_back(std::min(i, j), std::max(i, j));
         };
         // Unsorted when the structure offers it (collision_grid): the runner sorts by index.
-        if constexpr (requires { c_.for_each_self_pair(spatial::pair_filter::candidates, add); })
+        if constexpr (spatial::streamed_self_pairs<C>)
             c_.for_each_self_pair(spatial::pair_filter::candidates, add);
         else
             for (const auto& [a, b] : c_.self_pairs(spatial::pair_filter::candidates)) add(a, b);
@@ -175,17 +172,29 @@ private:
     std::vector<std::pair<typename C::iterator, O>> moves_;
 };
 
+// The registry's scene structure called `name` (harness/structure_registry.hpp).
 template <class O>
 std::unique_ptr<structure_iface<O>> make_structure(const std::string& name) {
-    using namespace spatial;
-    if (name == "bvh") return std::make_unique<structure_impl<bvh<O>>>();
-    if (name == "kd_tree") return std::make_unique<structure_impl<kd_tree<O>>>();
-    if (name == "octree") return std::make_unique<structure_impl<octree<O>>>();
-    if (name == "uniform_grid") return std::make_unique<structure_impl<uniform_grid<O>>>();
-    if (name == "collision_grid") return std::make_unique<structure_impl<collision_grid<O>>>();
-    if (name == "brute_force") return std::make_unique<structure_impl<brute_force<O>>>();
-    throw std::invalid_argument("unknown structure '" + name +
-                                "' (expected bvh, kd_tree, octree, uniform_grid, collision_grid, brute_force or all)");
+    std::unique_ptr<structure_iface<O>> made;
+    for_each_structure<O, in::scenes>([&]<class E>() {
+        if (!made && E::info().name == name) made = std::make_unique<structure_impl<typename E::template container<O>>>();
+    });
+    if (made) return made;
+    std::string known;
+    for (const auto& s : scene_structure_names()) known += s + ", ";
+    throw std::invalid_argument("unknown structure '" + name + "' (expected " + known + "or all)");
+}
+
+// Whether the scene structure `name` answers rays, kNN and range queries (collision_grid
+// answers pairs only) and has its own batched motion (the large-scene choice of 'all').
+template <class O>
+std::pair<bool, bool> scene_structure_traits(const std::string& name) {
+    std::pair<bool, bool> traits{false, false};
+    for_each_structure<O, in::scenes>([&]<class E>() {
+        using C = typename E::template container<O>;
+        if (E::info().name == name) traits = {structure_impl<C>::queries, spatial::batched_motion<C>};
+    });
+    return traits;
 }
 
 // ---- one object set --------------------------------------------------------------------------
@@ -620,18 +629,21 @@ std::vector<result_row> run_typed(const datasets::scene_description& scene, cons
     std::vector<std::string> structures = opt.structures;
     if (structures.empty()) structures = {"bvh"};
     if (structures.size() == 1 && structures[0] == "all") {
+        using O = spatial::objects::box<T, D>;  // the traits do not depend on the object type
         structures = scene_structure_names();
-        if (scene.raycast || scene.nearest || scene.range)  // collision_grid answers pairs only
-            structures.erase(std::remove(structures.begin(), structures.end(), "collision_grid"), structures.end());
+        if (scene.raycast || scene.nearest || scene.range)  // structures that answer pairs only
+            std::erase_if(structures, [](const std::string& s) { return !scene_structure_traits<O>(s).first; });
         std::size_t objects = 0;
         for (const auto& set : scene.objects) objects += set.generator ? set.generator->count : 0;
         if (objects > large_scene_objects) {
-            // brute_force is O(n^2) per step; kd_tree, octree and uniform_grid follow motion
-            // by erasing and inserting every moved object: minutes per large scene. 'all'
-            // keeps the two structures with a dedicated path for moving scenes.
-            std::erase_if(structures, [](const std::string& s) { return s != "bvh" && s != "collision_grid"; });
-            prog.say("scene " + scene.name + ": 'all' means bvh and collision_grid above " +
-                     std::to_string(large_scene_objects) + " objects (" + std::to_string(objects) + " here)");
+            // brute_force is O(n^2) per step; structures without batched motion follow it by
+            // erasing and inserting every moved object: minutes per large scene. 'all' keeps
+            // the structures with a dedicated path for moving scenes.
+            std::erase_if(structures, [](const std::string& s) { return !scene_structure_traits<O>(s).second; });
+            std::string kept;
+            for (const auto& s : structures) kept += (kept.empty() ? "" : " and ") + s;
+            prog.say("scene " + scene.name + ": 'all' means " + kept + " above " + std::to_string(large_scene_objects) +
+                     " objects (" + std::to_string(objects) + " here)");
         }
     }
     const std::size_t steps = opt.steps ? opt.steps : scene.steps;
@@ -654,7 +666,8 @@ std::vector<result_row> run_typed(const datasets::scene_description& scene, cons
             result_row r;
             r.suite = "scenes";
             r.structure = name;
-            r.bv = name == "bvh" ? "aabb" : "-";
+            const structure_info* info = find_structure(name);
+            r.bv = info && !info->bv.empty() ? info->bv : "-";
             r.workload = scene.name;
             r.n = run.object_count();
             r.dim = D;

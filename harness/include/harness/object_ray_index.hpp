@@ -14,6 +14,7 @@
 #include <string>
 
 #include "harness/ray_index.hpp"
+#include "spatial/core/capabilities.hpp"
 #include "spatial/core/intersect_info.hpp"
 #include "spatial/core/object_concepts.hpp"
 #include "spatial/core/point.hpp"
@@ -54,7 +55,7 @@ public:
     void build(std::span<const O> objects, T thickness) override {
         c_.clear();
         c_.insert(objects.begin(), objects.end());
-        if constexpr (requires { c_.prepare_rays(); }) c_.prepare_rays();
+        if constexpr (spatial::ray_preparation<Container>) c_.prepare_rays();
         thickness_ = thickness;
     }
     std::size_t memory_bytes() const override { return c_.memory_bytes(); }

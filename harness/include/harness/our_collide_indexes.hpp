@@ -19,6 +19,7 @@
 #include <vector>
 
 #include "harness/collide_index.hpp"
+#include "spatial/core/capabilities.hpp"
 #include "spatial/collide/pairs.hpp"
 #include "spatial/core/motion.hpp"
 #include "spatial/objects/box.hpp"
@@ -53,16 +54,16 @@ public:
     }
     void update(std::span<const collide_box> boxes) override {
         if (boxes.size() != handles_.size()) throw std::invalid_argument(name_ + ": update() with a different count");
-        if constexpr (requires { c_.update(moves_.begin(), moves_.end(), motion_); }) {
+        if constexpr (spatial::motion_with_strategy<Container>) {
             moves_.clear();
             for (std::size_t i = 0; i < boxes.size(); ++i) moves_.emplace_back(handles_[i], to_object(boxes[i]));
             last_motion_ = c_.update(moves_.begin(), moves_.end(), motion_);
-        } else if constexpr (requires { c_.update(moves_.begin(), moves_.end()); }) {  // collision_grid: bulk O(m)
+        } else if constexpr (spatial::batched_motion<Container>) {  // collision_grid: bulk O(m)
             moves_.clear();
             for (std::size_t i = 0; i < boxes.size(); ++i) moves_.emplace_back(handles_[i], to_object(boxes[i]));
             c_.update(moves_.begin(), moves_.end());
             last_motion_ = spatial::motion_strategy::reinsert;
-        } else if constexpr (requires { c_.update(handles_[0], collide_box3{}); }) {
+        } else if constexpr (spatial::single_motion<Container>) {
             for (std::size_t i = 0; i < boxes.size(); ++i) c_.update(handles_[i], to_object(boxes[i]));
             last_motion_ = spatial::motion_strategy::reinsert;
         } else if (motion_ == spatial::motion_strategy::rebuild) {
@@ -86,7 +87,7 @@ public:
         };
         // An unsorted callback when the container has one (collision_grid): the pairs are
         // sorted once, by index, instead of by slot and then again by index.
-        if constexpr (requires { c_.for_each_self_pair(spatial::pair_filter::exact, add); })
+        if constexpr (spatial::streamed_self_pairs<Container>)
             c_.for_each_self_pair(spatial::pair_filter::exact, add);
         else
             for (const auto& [a, b] : c_.self_pairs(spatial::pair_filter::exact)) add(a, b);

@@ -9,6 +9,7 @@
 #include <vector>
 
 #include "harness/point_index.hpp"
+#include "spatial/core/capabilities.hpp"
 #include "spatial/brute/brute_force.hpp"
 #include "spatial/kdtree/kd_tree.hpp"
 
@@ -37,12 +38,11 @@ public:
         known_.clear();
         unresolved_.clear();
         ids_pending_ = true;
-        if constexpr (requires { c_.reset_stats(); }) c_.reset_stats();
     }
     std::size_t memory_bytes() const override { return c_.memory_bytes(); }
     void knn(const point_type& q, std::size_t k, T eps, std::vector<neighbor<T>>& out) override {
         out.clear();
-        if constexpr (requires { c_.find_nearest_candidates(q, k, eps, cand_); }) {
+        if constexpr (spatial::candidate_knn<Container>) {
             c_.find_nearest_candidates(q, k, eps, cand_);
             for (const auto& c : cand_) out.push_back({c.distance_squared, c.slot});
         } else {
@@ -110,9 +110,7 @@ public:
     }
     std::size_t size() const override { return c_.size(); }
     long long last_nodes_visited() const override {
-        if constexpr (requires { Container::config::collect_stats; }) {
-            if constexpr (Container::config::collect_stats) return static_cast<long long>(c_.stats().nodes_visited);
-        }
+        if constexpr (spatial::reports_query_stats<Container>) return static_cast<long long>(c_.last_query_stats().nodes_visited);
         return -1;
     }
 

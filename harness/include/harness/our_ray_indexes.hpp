@@ -8,12 +8,13 @@
 // intersect() is intersect_object with thickness 0 and info.hit_time = t_max, the container
 // contract's ray cast; occluded() the same cast (the contract has no any-hit query).
 // Nodes visited: taken from the container when it reports them
-// (last_query_nodes_visited(), as bvh does), else -1.
+// (spatial::reports_query_stats, as bvh does), else -1.
 
 #include <string>
 #include <utility>
 
 #include "harness/ray_index.hpp"
+#include "spatial/core/capabilities.hpp"
 #include "spatial/core/container_concept.hpp"
 #include "spatial/core/intersect_info.hpp"
 
@@ -38,7 +39,7 @@ public:
     void build(const datasets::triangle_mesh&, std::span<const triangle_type> triangles) override {
         c_.clear();
         c_.insert(triangles.begin(), triangles.end());
-        if constexpr (requires { c_.prepare_rays(); }) c_.prepare_rays();
+        if constexpr (spatial::ray_preparation<Container>) c_.prepare_rays();
     }
     std::size_t size() const override { return c_.size(); }
     std::size_t memory_bytes() const override { return c_.memory_bytes(); }
@@ -58,14 +59,14 @@ public:
         return c_.intersect(origin, direction, T(0), info);
     }
     long long last_nodes_visited() const override {
-        if constexpr (requires { c_.last_query_nodes_visited(); })
-            return static_cast<long long>(c_.last_query_nodes_visited());
+        if constexpr (spatial::reports_query_stats<Container>)
+            return static_cast<long long>(c_.last_query_stats().nodes_visited);
         else
             return -1;
     }
 
     std::vector<std::pair<std::string, double>> build_metrics() const override {
-        if constexpr (requires { c_.node_surface_areas(); }) {
+        if constexpr (spatial::reports_node_areas<Container>) {
             const auto [volumes, boxes] = c_.node_surface_areas();
             if (boxes > 0) return {{"node_area_ratio", volumes / boxes}};
         }
