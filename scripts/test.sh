@@ -15,7 +15,7 @@ cmake --build --preset release -j"$jobs"
 ctest --preset release -j"$jobs"
 
 echo "== plot script tests"
-/usr/bin/python3 -m unittest plots/test_plot_results.py
+/usr/bin/python3 -m unittest discover -s plots/tests -t plots
 
 echo "== address+undefined sanitizer build"
 cmake --preset asan -G Ninja
