@@ -61,3 +61,21 @@ add_test(NAME spatialbench_scenes_smoke_run
          COMMAND $<TARGET_FILE:spatialbench> scene ${PROJECT_SOURCE_DIR}/datasets/scenes/falling_boxes.toml
                  --structure all --steps 3 --quiet --results ${CMAKE_CURRENT_BINARY_DIR}/scenes_smoke_results)
 set_tests_properties(spatialbench_scenes_smoke_run PROPERTIES TIMEOUT 600)
+
+# The smoke tables keep their keys and our structures' answers (tests/check_table_keys.py):
+# every key of tests/data/smoke_table_keys.csv appears again, and every answer figure (pairs,
+# hits, recall, tightness, nodes visited, ...) is the same number. Regenerate the reference
+# with --write only for a change that is meant to change them, and say why in its commit.
+set_tests_properties(spatialbench_smoke_run spatialbench_structures_smoke_run spatialbench_bv_smoke_run
+                     spatialbench_raycast_smoke_run spatialbench_collide_smoke_run spatialbench_scenes_smoke_run
+                     PROPERTIES FIXTURES_SETUP smoke_tables)
+add_test(NAME spatialbench_smoke_tables_keep_keys_and_answers
+         COMMAND /usr/bin/python3 ${CMAKE_CURRENT_SOURCE_DIR}/check_table_keys.py
+                 ${CMAKE_CURRENT_SOURCE_DIR}/data/smoke_table_keys.csv
+                 ${CMAKE_CURRENT_BINARY_DIR}/smoke_results/knn.csv
+                 ${CMAKE_CURRENT_BINARY_DIR}/structures_smoke_results/structures.csv
+                 ${CMAKE_CURRENT_BINARY_DIR}/bv_smoke_results/bv.csv
+                 ${CMAKE_CURRENT_BINARY_DIR}/raycast_smoke_results/raycast.csv
+                 ${CMAKE_CURRENT_BINARY_DIR}/collide_smoke_results/collide.csv
+                 ${CMAKE_CURRENT_BINARY_DIR}/scenes_smoke_results/scenes.csv)
+set_tests_properties(spatialbench_smoke_tables_keep_keys_and_answers PROPERTIES FIXTURES_REQUIRED smoke_tables)
