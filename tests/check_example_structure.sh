@@ -11,8 +11,11 @@ name=morton_array
 rm -rf "$out"
 mkdir -p "$out"
 
-"$bin" list | grep -q "^  $name \[example\]" || { echo "FAIL: $name is not in 'spatialbench list'"; exit 1; }
-"$bin" list --json | grep -q "\"name\": \"$name\"" || { echo "FAIL: $name is not in the registry JSON"; exit 1; }
+# Captured first: grep -q stops reading early, and a binary killed by SIGPIPE fails the pipe.
+listing="$("$bin" list)"
+grep -q "^  $name \[example\]" <<< "$listing" || { echo "FAIL: $name is not in 'spatialbench list'"; exit 1; }
+json="$("$bin" list --json)"
+grep -q "\"name\": \"$name\"" <<< "$json" || { echo "FAIL: $name is not in the registry JSON"; exit 1; }
 
 # Validated rows of the structure in a table: the structure column is the 2nd, validated the 13th.
 has_rows() {

@@ -58,3 +58,9 @@ add_test(NAME spatialbench_example_structure_everywhere
                  ${PROJECT_SOURCE_DIR}/datasets/scenes/falling_boxes.toml
                  ${CMAKE_CURRENT_BINARY_DIR}/example_structure_results)
 set_tests_properties(spatialbench_example_structure_everywhere PROPERTIES TIMEOUT 600)
+
+# Suites as lists of cases: `list --cases`, `run --case ID`, an unknown id rejected by name.
+add_test(NAME spatialbench_case_selection
+         COMMAND bash ${CMAKE_CURRENT_SOURCE_DIR}/check_case_selection.sh $<TARGET_FILE:spatialbench>
+                 ${CMAKE_CURRENT_BINARY_DIR}/case_selection_results)
+set_tests_properties(spatialbench_case_selection PROPERTIES TIMEOUT 300)

@@ -32,6 +32,7 @@
 #include "harness/csv_writer.hpp"
 #include "harness/progress.hpp"
 #include "harness/run_info.hpp"
+#include "harness/suite_cases.hpp"
 #include "harness/timing.hpp"
 #include "harness/validation.hpp"
 #include "spatial/bv/aabb.hpp"
@@ -646,36 +647,60 @@ std::vector<P> normalized_mesh(const std::filesystem::path& file) {
 
 }  // namespace
 
-void run_bv_suite(const suite_options& options) {
+namespace {
+
+context make_context(const suite_options& options) {
     context ctx{options, preset(options.preset), make_run_id("bv", options.preset), progress(options.quiet), {}, {}};
     if (!options.sizes.empty()) ctx.cfg.sizes = options.sizes;
-    std::vector<std::string> shapes = options.workloads.empty() ? datasets::shape_names() : options.workloads;
     ctx.seeds["data"] = options.seed;
-    const auto t0 = std::chrono::steady_clock::now();
-    std::size_t real = 0;
+    return ctx;
+}
+
+// The suite's independent cases: each generated shape (at every size of the preset), then
+// each real mesh that is present.
+std::vector<suite_case> bv_cases(context& ctx) {
+    const std::vector<std::string> shapes = ctx.opt.workloads.empty() ? datasets::shape_names() : ctx.opt.workloads;
     const auto names = datasets::shape_names();
     for (const auto& w : shapes)  // fail fast on a typo, before any work
         if (std::find(names.begin(), names.end(), w) == names.end())
             throw std::invalid_argument("unknown shape '" + w +
                                         "' (expected elongated, rotated_box, sphere, clusters or thin_shell)");
-    for (const auto& w : shapes) run_shape(ctx, w, nullptr, options.seed);
+    std::vector<suite_case> cases;
+    const std::uint64_t seed = ctx.opt.seed;
+    for (const auto& w : shapes) cases.push_back({"bv/" + w, [&ctx, w, seed] { run_shape(ctx, w, nullptr, seed); }});
+    if (!ctx.opt.real_data_dir.empty())
+        for (const auto& f : ctx.cfg.real_meshes) {
+            const auto path = ctx.opt.real_data_dir / f;
+            if (!std::filesystem::exists(path)) continue;
+            const std::string stem = std::filesystem::path(f).stem().string();
+            cases.push_back({"bv/real:" + stem, [&ctx, path, stem, seed] {
+                                 const auto mesh = normalized_mesh(path);
+                                 run_shape(ctx, stem, &mesh, seed);
+                             }});
+        }
+    return cases;
+}
+
+}  // namespace
+
+void run_bv_suite(const suite_options& options) {
+    context ctx = make_context(options);
+    const auto t0 = std::chrono::steady_clock::now();
+    std::size_t real = 0;
     if (!options.real_data_dir.empty())
         for (const auto& f : ctx.cfg.real_meshes) {
-            const auto path = options.real_data_dir / f;
-            if (!std::filesystem::exists(path)) {
-                ctx.prog.say("no " + path.string() + " (run datasets/fetch_real_data.sh)");
-                continue;
-            }
-            const auto mesh = normalized_mesh(path);
-            run_shape(ctx, std::filesystem::path(f).stem().string(), &mesh, options.seed);
-            ++real;
+            if (std::filesystem::exists(options.real_data_dir / f)) ++real;
+            else ctx.prog.say("no " + (options.real_data_dir / f).string() + " (run datasets/fetch_real_data.sh)");
         }
-    write_csv_atomically(options.results_dir / options.output_name, ctx.rows);
-    run_info info{ctx.run_id, "bv", options.preset, ctx.seeds, {}};
-    info.extra["real_meshes"] = std::to_string(real);
-    write_run_sidecar(options.results_dir, info, seconds_since(t0));
-    ctx.prog.say("wrote " + (options.results_dir / options.output_name).string() + " (" + std::to_string(ctx.rows.size()) +
-                 " rows), run " + ctx.run_id);
+    run_cases(bv_cases(ctx), options);
+    finish_suite(options, ctx.rows, ctx.run_id, ctx.seeds, {{"real_meshes", std::to_string(real)}}, t0, ctx.prog);
+}
+
+std::vector<std::string> bv_case_ids(const suite_options& options) {
+    context ctx = make_context(options);
+    std::vector<std::string> ids;
+    for (const auto& c : bv_cases(ctx)) ids.push_back(c.id);
+    return ids;
 }
 
 }  // namespace harness

@@ -32,6 +32,7 @@
 #include "harness/run_info.hpp"
 #include "harness/peer_registry.hpp"
 #include "harness/structure_registry.hpp"
+#include "harness/suite_cases.hpp"
 #include "harness/timing.hpp"
 #include "harness/validation.hpp"
 #include "spatial/brute/brute_force.hpp"
@@ -436,29 +437,47 @@ void run_triangles(context& ctx, std::size_t n) {
 
 }  // namespace
 
-void run_collide_suite(const suite_options& options) {
+namespace {
+
+context make_context(const suite_options& options) {
     context ctx{options, preset(options.preset), make_run_id("collide", options.preset), progress(options.quiet), {}, {}};
-    std::vector<std::string> workloads = options.workloads;
+    ctx.seeds["data"] = options.seed;
+    return ctx;
+}
+
+// The suite's independent cases: static boxes, moving boxes and triangles at each size.
+std::vector<suite_case> collide_cases(context& ctx) {
+    std::vector<std::string> workloads = ctx.opt.workloads;
     if (workloads.empty()) workloads = {"boxes", "moving_boxes", "triangles"};
     for (const auto& w : workloads)
         if (w != "boxes" && w != "moving_boxes" && w != "triangles")
             throw std::invalid_argument("unknown collide workload '" + w + "' (expected boxes, moving_boxes, triangles)");
-    ctx.seeds["data"] = options.seed;
-    const auto t0 = std::chrono::steady_clock::now();
-    auto sizes = [&](const std::vector<std::size_t>& preset_sizes) { return options.sizes.empty() ? preset_sizes : options.sizes; };
+    auto sizes = [&](const std::vector<std::size_t>& preset_sizes) { return ctx.opt.sizes.empty() ? preset_sizes : ctx.opt.sizes; };
+    std::vector<suite_case> cases;
     for (const auto& w : workloads) {
-        if (w == "boxes")
-            for (std::size_t n : sizes(ctx.cfg.static_sizes)) run_static_boxes(ctx, n);
-        if (w == "moving_boxes")
-            for (std::size_t n : sizes(ctx.cfg.moving_sizes)) run_moving_boxes(ctx, n);
-        if (w == "triangles")
-            for (std::size_t n : sizes(ctx.cfg.triangle_sizes)) run_triangles(ctx, n);
+        const auto& preset_sizes = w == "boxes" ? ctx.cfg.static_sizes : w == "moving_boxes" ? ctx.cfg.moving_sizes
+                                                                                            : ctx.cfg.triangle_sizes;
+        void (*run)(context&, std::size_t) = w == "boxes" ? &run_static_boxes : w == "moving_boxes" ? &run_moving_boxes
+                                                                                                    : &run_triangles;
+        for (std::size_t n : sizes(preset_sizes)) cases.push_back({"collide/" + w + "/" + case_size(n), [&ctx, run, n] { run(ctx, n); }});
     }
-    write_csv_atomically(options.results_dir / options.output_name, ctx.rows);
-    run_info info{ctx.run_id, "collide", options.preset, ctx.seeds, {}};
-    write_run_sidecar(options.results_dir, info, seconds_since(t0));
-    ctx.prog.say("wrote " + (options.results_dir / options.output_name).string() + " (" + std::to_string(ctx.rows.size()) +
-                 " rows), run " + ctx.run_id);
+    return cases;
+}
+
+}  // namespace
+
+void run_collide_suite(const suite_options& options) {
+    context ctx = make_context(options);
+    const auto t0 = std::chrono::steady_clock::now();
+    run_cases(collide_cases(ctx), options);
+    finish_suite(options, ctx.rows, ctx.run_id, ctx.seeds, {}, t0, ctx.prog);
+}
+
+std::vector<std::string> collide_case_ids(const suite_options& options) {
+    context ctx = make_context(options);
+    std::vector<std::string> ids;
+    for (const auto& c : collide_cases(ctx)) ids.push_back(c.id);
+    return ids;
 }
 
 }  // namespace harness

@@ -28,6 +28,7 @@
 #include "harness/progress.hpp"
 #include "harness/run_info.hpp"
 #include "harness/structure_registry.hpp"
+#include "harness/suite_cases.hpp"
 #include "harness/timing.hpp"
 #include "harness/validation.hpp"
 
@@ -747,7 +748,9 @@ void run_real(context& ctx, const std::filesystem::path& file) {
 
 }  // namespace
 
-void run_knn_suite(const suite_options& options) {
+namespace {
+
+context make_context(const suite_options& options) {
     context ctx{options, preset(options.preset), make_run_id(options.suite_name, options.preset), progress(options.quiet), {}, {}};
     // The structures suite stops at 1e5 in the quick preset (every structure, ~8 of them, is
     // built and queried at every size; the knn suite covers 1e6 for the kd-tree and the peers).
@@ -756,33 +759,58 @@ void run_knn_suite(const suite_options& options) {
     if (!options.workloads.empty()) ctx.cfg.workloads = options.workloads;
     for (const auto& w : ctx.cfg.workloads) (void)datasets::parse_point_workload(w);  // fail fast on a typo
     ctx.seeds["data"] = options.seed;
-    const auto t0 = std::chrono::steady_clock::now();
-    for (const auto& w : ctx.cfg.workloads)
-        for (std::size_t n : ctx.cfg.sizes) {
-            const bool dynamic = options.dynamic && (w == "uniform" || w == "clusters") && n <= ctx.cfg.dynamic_max_n;
-            run_generated<double, 3>(ctx, w, n, dynamic);
-            if (ctx.cfg.variants && w == "uniform") {
-                run_generated<double, 2>(ctx, w, n, false);
-                run_generated<float, 3>(ctx, w, n, false);
-            }
-        }
-    std::vector<std::string> real_files;
+    return ctx;
+}
+
+std::vector<std::string> real_point_files(const suite_options& options) {
+    std::vector<std::string> files;
     if (!options.real_data_dir.empty() && std::filesystem::is_directory(options.real_data_dir))
         for (const auto& e : std::filesystem::directory_iterator(options.real_data_dir)) {
             const auto ext = e.path().extension().string();
-            if (ext == ".xyz" || ext == ".ply") real_files.push_back(e.path().string());
+            if (ext == ".xyz" || ext == ".ply") files.push_back(e.path().string());
         }
-    std::sort(real_files.begin(), real_files.end());
-    for (const auto& f : real_files) run_real(ctx, f);
+    std::sort(files.begin(), files.end());
+    return files;
+}
+
+// The suite's independent cases: each generated workload at each size (uniform also in 2D
+// double and 3D float), then each real point set.
+std::vector<suite_case> knn_cases(context& ctx) {
+    std::vector<suite_case> cases;
+    const std::string suite = ctx.opt.suite_name;
+    for (const auto& w : ctx.cfg.workloads)
+        for (std::size_t n : ctx.cfg.sizes) {
+            const bool dynamic = ctx.opt.dynamic && (w == "uniform" || w == "clusters") && n <= ctx.cfg.dynamic_max_n;
+            const std::string id = suite + "/" + w + "/" + case_size(n);
+            cases.push_back({id + "/3d/double", [&ctx, w, n, dynamic] { run_generated<double, 3>(ctx, w, n, dynamic); }});
+            if (ctx.cfg.variants && w == "uniform") {
+                cases.push_back({id + "/2d/double", [&ctx, w, n] { run_generated<double, 2>(ctx, w, n, false); }});
+                cases.push_back({id + "/3d/float", [&ctx, w, n] { run_generated<float, 3>(ctx, w, n, false); }});
+            }
+        }
+    for (const auto& f : real_point_files(ctx.opt))
+        cases.push_back({suite + "/real:" + std::filesystem::path(f).filename().string(), [&ctx, f] { run_real(ctx, f); }});
+    return cases;
+}
+
+}  // namespace
+
+void run_knn_suite(const suite_options& options) {
+    context ctx = make_context(options);
+    const auto t0 = std::chrono::steady_clock::now();
+    const auto real_files = real_point_files(options);
     if (!options.real_data_dir.empty() && real_files.empty())
         ctx.prog.say("no real point sets in " + options.real_data_dir.string() + " (run datasets/fetch_real_data.sh)");
+    run_cases(knn_cases(ctx), options);
+    finish_suite(options, ctx.rows, ctx.run_id, ctx.seeds, {{"real_data", std::to_string(real_files.size()) + " files"}},
+                 t0, ctx.prog);
+}
 
-    write_csv_atomically(options.results_dir / options.output_name, ctx.rows);
-    run_info info{ctx.run_id, options.suite_name, options.preset, ctx.seeds, {}};
-    info.extra["real_data"] = std::to_string(real_files.size()) + " files";
-    write_run_sidecar(options.results_dir, info, seconds_since(t0));
-    ctx.prog.say("wrote " + (options.results_dir / options.output_name).string() + " (" + std::to_string(ctx.rows.size()) +
-                 " rows), run " + ctx.run_id);
+std::vector<std::string> knn_case_ids(const suite_options& options) {
+    context ctx = make_context(options);
+    std::vector<std::string> ids;
+    for (const auto& c : knn_cases(ctx)) ids.push_back(c.id);
+    return ids;
 }
 
 }  // namespace harness

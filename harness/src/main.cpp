@@ -93,14 +93,23 @@ int main(int argc, char** argv) {
     run->add_option("--workload", opt.workloads, "restrict to these generated workloads (bv: shapes; raycast: sphere, soup)");
     run->add_option("--structure", opt.structures, "restrict to these structures (see `spatialbench list`)");
     run->add_option("--n", opt.sizes, "restrict to these sizes");
+    run->add_option("--case", opt.cases, "run only these cases (ids from `spatialbench list --cases --suite S`)");
     run->add_option("--seed", opt.seed, "seed of every generated workload (logged in the run sidecar)");
     run->add_flag("--quiet", opt.quiet, "no progress output");
     bool no_dynamic = false;
     run->add_flag("--no-dynamic", no_dynamic, "skip the insert/erase workloads");
 
     auto* list = app.add_subcommand("list", "list suites, workloads, structures and peers");
-    bool list_json = false;
+    bool list_json = false, list_cases = false;
     list->add_flag("--json", list_json, "print the registry as JSON (what results/registry.json holds)");
+    list->add_flag("--cases", list_cases, "print the ids of the suite's independent cases (with --suite, --preset and the run filters)");
+    harness::suite_options list_opt;
+    std::string list_suite;
+    list->add_option("--suite", list_suite, "the suite whose cases --cases lists")->check(CLI::IsMember(runnable));
+    list->add_option("--preset", list_opt.preset, "size preset of the case list")->check(CLI::IsMember({"smoke", "quick", "full"}));
+    list->add_option("--real-data", list_opt.real_data_dir, "real data directory, as for run");
+    list->add_option("--workload", list_opt.workloads, "restrict to these workloads, as for run");
+    list->add_option("--n", list_opt.sizes, "restrict to these sizes, as for run");
 
     std::vector<std::string> scene_files;
     harness::scene_run_options scene_opt;
@@ -117,11 +126,18 @@ int main(int argc, char** argv) {
 
     CLI11_PARSE(app, argc, argv);
 
-    if (*list) {
-        if (list_json) std::cout << harness::registry_json();
-        else print_list();
-        return 0;
-    }
+    if (*list)
+        return guarded([&] {
+            if (list_cases) {
+                if (list_suite.empty()) throw std::invalid_argument("list --cases needs --suite");
+                list_opt.suite_name = list_suite;
+                for (const auto& id : harness::find_suite(list_suite)->case_ids(list_opt)) std::cout << id << '\n';
+            } else if (list_json) {
+                std::cout << harness::registry_json();
+            } else {
+                print_list();
+            }
+        });
     if (*scene)
         return guarded([&] {
             scene_opt.run_id = harness::make_run_id("scenes", "scene");

@@ -20,6 +20,7 @@
 #include <chrono>
 #include <cmath>
 #include <filesystem>
+#include <functional>
 #include <map>
 #include <memory>
 #include <sstream>
@@ -39,6 +40,7 @@
 #include "harness/ray_validation.hpp"
 #include "harness/run_info.hpp"
 #include "harness/structure_registry.hpp"
+#include "harness/suite_cases.hpp"
 #include "harness/timing.hpp"
 #include "harness/validation.hpp"
 #include "spatial/brute/brute_force.hpp"
@@ -690,10 +692,33 @@ private:
 
 }  // namespace
 
-void run_raycast_suite(const suite_options& options) {
+namespace {
+
+context make_context(const suite_options& options) {
     context ctx{options, preset(options.preset), make_run_id("raycast", options.preset), progress(options.quiet), {}, {}};
     if (!options.sizes.empty()) ctx.cfg.sizes = options.sizes;
-    std::vector<std::string> workloads = options.workloads;
+    ctx.seeds["data"] = options.seed;
+    ctx.seeds["rays"] = options.seed;
+    return ctx;
+}
+
+std::vector<std::filesystem::path> real_mesh_files(const suite_options& options) {
+    std::vector<std::filesystem::path> files;
+    if (!options.real_data_dir.empty() && std::filesystem::is_directory(options.real_data_dir))
+        for (const auto& e : std::filesystem::directory_iterator(options.real_data_dir)) {
+            std::string ext = e.path().extension().string();
+            for (char& c : ext) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+            const auto supported = supported_mesh_extensions();
+            if (std::find(supported.begin(), supported.end(), ext) != supported.end()) files.push_back(e.path());
+        }
+    std::sort(files.begin(), files.end());
+    return files;
+}
+
+// The suite's independent cases: each generated mesh, box set and point set at each size,
+// then each real mesh.
+std::vector<suite_case> raycast_cases(context& ctx) {
+    std::vector<std::string> workloads = ctx.opt.workloads;
     if (workloads.empty()) {
         for (auto w : datasets::mesh_workload_names) workloads.emplace_back(w);
         workloads.emplace_back("boxes");
@@ -702,38 +727,43 @@ void run_raycast_suite(const suite_options& options) {
     auto is_object_workload = [](const std::string& w) { return w == "boxes" || w == "points"; };
     for (const auto& w : workloads)
         if (!is_object_workload(w)) (void)datasets::generate_mesh(w, 0, 0);  // fail fast on a typo
-    ctx.seeds["data"] = options.seed;
-    ctx.seeds["rays"] = options.seed;
-    const auto t0 = std::chrono::steady_clock::now();
+    std::vector<suite_case> cases;
+    const std::uint64_t seed = ctx.opt.seed;
     for (const auto& w : workloads)
         for (std::size_t n : ctx.cfg.sizes) {
-            if (w == "boxes") object_measurement<spatial::objects::box<T, 3>>(ctx, w, n).run();
-            else if (w == "points") object_measurement<point3>(ctx, w, n).run();
-            else mesh_measurement(ctx, w, datasets::generate_mesh(w, n, options.seed)).run();
+            std::function<void()> run;
+            if (w == "boxes") run = [&ctx, w, n] { object_measurement<spatial::objects::box<T, 3>>(ctx, w, n).run(); };
+            else if (w == "points") run = [&ctx, w, n] { object_measurement<point3>(ctx, w, n).run(); };
+            else run = [&ctx, w, n, seed] { mesh_measurement(ctx, w, datasets::generate_mesh(w, n, seed)).run(); };
+            cases.push_back({"raycast/" + w + "/" + case_size(n), std::move(run)});
         }
+    for (const auto& f : real_mesh_files(ctx.opt)) {
+        const std::string label = "real:" + f.filename().string();
+        cases.push_back({"raycast/" + label, [&ctx, label, f] { mesh_measurement(ctx, label, load_triangle_mesh(f)).run(); }});
+    }
+    return cases;
+}
 
-    std::vector<std::filesystem::path> real_files;
-    if (!options.real_data_dir.empty() && std::filesystem::is_directory(options.real_data_dir))
-        for (const auto& e : std::filesystem::directory_iterator(options.real_data_dir)) {
-            std::string ext = e.path().extension().string();
-            for (char& c : ext) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
-            const auto supported = supported_mesh_extensions();
-            if (std::find(supported.begin(), supported.end(), ext) != supported.end()) real_files.push_back(e.path());
-        }
-    std::sort(real_files.begin(), real_files.end());
-    for (const auto& f : real_files)
-        mesh_measurement(ctx, "real:" + f.filename().string(), load_triangle_mesh(f)).run();
+}  // namespace
+
+void run_raycast_suite(const suite_options& options) {
+    context ctx = make_context(options);
+    const auto t0 = std::chrono::steady_clock::now();
+    const auto real_files = real_mesh_files(options);
     if (!options.real_data_dir.empty() && supported_mesh_extensions().empty())
         ctx.prog.say("real meshes skipped: loading them needs CGAL (-DSPATIAL_WITH_CGAL=ON)");
     else if (!options.real_data_dir.empty() && real_files.empty())
         ctx.prog.say("no meshes in " + options.real_data_dir.string() + " (run scripts/fetch_meshes.sh)");
+    run_cases(raycast_cases(ctx), options);
+    finish_suite(options, ctx.rows, ctx.run_id, ctx.seeds, {{"real_meshes", std::to_string(real_files.size()) + " files"}},
+                 t0, ctx.prog);
+}
 
-    write_csv_atomically(options.results_dir / options.output_name, ctx.rows);
-    run_info info{ctx.run_id, "raycast", options.preset, ctx.seeds, {}};
-    info.extra["real_meshes"] = std::to_string(real_files.size()) + " files";
-    write_run_sidecar(options.results_dir, info, seconds_since(t0));
-    ctx.prog.say("wrote " + (options.results_dir / options.output_name).string() + " (" +
-                 std::to_string(ctx.rows.size()) + " rows), run " + ctx.run_id);
+std::vector<std::string> raycast_case_ids(const suite_options& options) {
+    context ctx = make_context(options);
+    std::vector<std::string> ids;
+    for (const auto& c : raycast_cases(ctx)) ids.push_back(c.id);
+    return ids;
 }
 
 }  // namespace harness

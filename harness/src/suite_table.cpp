@@ -19,11 +19,15 @@ namespace harness {
 namespace {
 
 // The structures suite is the knn suite's static part on every structure of the library.
-void run_structures_suite(const suite_options& options) {
+suite_options structures_options(const suite_options& options) {
     suite_options opt = options;
     opt.all_structures = true;
     opt.dynamic = false;  // dynamic workloads: the knn suite
-    run_knn_suite(opt);
+    return opt;
+}
+void run_structures_suite(const suite_options& options) { run_knn_suite(structures_options(options)); }
+std::vector<std::string> structures_case_ids(const suite_options& options) {
+    return knn_case_ids(structures_options(options));
 }
 
 }  // namespace
@@ -31,18 +35,18 @@ void run_structures_suite(const suite_options& options) {
 const std::vector<suite_entry>& suite_table() {
     static const std::vector<suite_entry> suites{
         {"knn", "knn.csv", "k-nearest, radius and approximate kNN queries on point sets, static and dynamic",
-         "kd_tree", {}, {}, {}, "", {}, &run_knn_suite},
+         "kd_tree", {}, {}, {}, "", {}, &run_knn_suite, &knn_case_ids},
         {"structures", "structures.csv", "the knn suite's static queries on every structure of the library, with the peers",
-         "kd_tree", {}, {}, {}, "", {}, &run_structures_suite},
+         "kd_tree", {}, {}, {}, "", {}, &run_structures_suite, &structures_case_ids},
         {"bv", "bv.csv", "bounding-volume fits and tests: fit time, tightness, test time, false positives", "", {},
-         {"method"}, {}, "", {}, &run_bv_suite},
+         {"method"}, {}, "", {}, &run_bv_suite, &bv_case_ids},
         {"raycast", "raycast.csv", "first-hit ray casting on triangle meshes, boxes and points", "embree", {}, {}, {}, "", {},
-         &run_raycast_suite},
+         &run_raycast_suite, &raycast_case_ids},
         {"collide", "collide.csv", "all intersecting pairs: static and moving boxes, triangles per BVH volume type",
          "cgal_box_intersection",
          {{"speedup", "collision_grid", "boxes", 1000000, 5.0, ">= 5x CGAL at 1e6"},
           {"steps_per_second", "", "moving_boxes", 100000, 60.0, ">= 60 steps/s at 1e5"}},
-         {}, {}, "", {}, &run_collide_suite},
+         {}, {}, "", {}, &run_collide_suite, &collide_case_ids},
         {"scenes", "scenes.csv", "scene pipelines (TOML scenes): per-step stage times", "", {}, {},
          {"motion", "churn", "update", "collide_broad_phase", "collide_narrow_phase", "raycast", "nearest", "range"},
          "step", {"build"}, nullptr},

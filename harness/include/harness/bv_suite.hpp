@@ -17,10 +17,15 @@
 // double closed forms for balls and ellipsoids) finds; ray intervals are consistent with
 // contains(). A failure throws validation_error and nothing is written.
 
+#include <string>
+#include <vector>
+
 #include "harness/suite_options.hpp"
 
 namespace harness {
 
 void run_bv_suite(const suite_options& options);
+// The ids of the cases a run with these options would run, in order (suite_cases.hpp).
+std::vector<std::string> bv_case_ids(const suite_options& options);
 
 }  // namespace harness

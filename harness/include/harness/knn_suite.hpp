@@ -4,6 +4,9 @@
 // churn, hinted against plain insertion of a coherent stream, and bulk against looped
 // insertion and erasure. Every timed answer is validated first (see validation.hpp).
 
+#include <string>
+#include <vector>
+
 #include "harness/suite_options.hpp"
 
 namespace harness {
@@ -12,5 +15,7 @@ namespace harness {
 // validation_error (with a message naming structure, workload, n, operation and query) on
 // any wrong answer; nothing is written then.
 void run_knn_suite(const suite_options& options);
+// The ids of the cases a run with these options would run, in order (suite_cases.hpp).
+std::vector<std::string> knn_case_ids(const suite_options& options);
 
 }  // namespace harness

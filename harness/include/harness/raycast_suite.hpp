@@ -14,10 +14,15 @@
 // reproduce the validated answers' checksum. A wrong answer throws validation_error and
 // nothing is written.
 
+#include <string>
+#include <vector>
+
 #include "harness/suite_options.hpp"
 
 namespace harness {
 
 void run_raycast_suite(const suite_options& options);
+// The ids of the cases a run with these options would run, in order (suite_cases.hpp).
+std::vector<std::string> raycast_case_ids(const suite_options& options);
 
 }  // namespace harness

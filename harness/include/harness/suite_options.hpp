@@ -16,6 +16,7 @@ struct suite_options {
     std::vector<std::string> workloads;   // empty = the preset's
     std::vector<std::string> structures;  // empty = all available
     std::vector<std::size_t> sizes;       // empty = the preset's
+    std::vector<std::string> cases;       // empty = every case (suite_cases.hpp); else these ids
     bool quiet = false;
     bool dynamic = true;  // run the insert/erase workloads
     std::string output_name = "knn.csv";  // the CLI sets <suite>.csv unless --output is given

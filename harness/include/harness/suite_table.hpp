@@ -36,6 +36,8 @@ struct suite_entry {
     std::vector<std::string> once_stages;
     // Runs the suite with these options; nullptr for `scenes`, run by `spatialbench scene`.
     void (*run)(const suite_options&) = nullptr;
+    // The ids of the independent cases a run with these options would run (suite_cases.hpp).
+    std::vector<std::string> (*case_ids)(const suite_options&) = nullptr;
 };
 
 const std::vector<suite_entry>& suite_table();

@@ -1,0 +1,46 @@
+#pragma once
+// harness::suite_case — the unit a suite is made of: one independent case (a workload at one
+// size, scalar and dimension; a mesh; a scene) with a stable id, say
+// "knn/uniform/n=100000/3d/double". Each suite lists its cases declaratively; the same list
+// serves `spatialbench list --cases --suite S` and `spatialbench run --case ID`, and is the
+// unit that sharding, resuming and comparing runs build on. A case builds its participants,
+// validates them and only then times them, adding its rows to the suite's table.
+//
+// finish_suite() is the suite's common end: the table written atomically (only after every
+// case passed: a wrong answer throws before it), the run's sidecar, the closing message.
+
+#include <chrono>
+#include <cstdint>
+#include <functional>
+#include <map>
+#include <string>
+#include <vector>
+
+#include "harness/csv_writer.hpp"
+#include "harness/progress.hpp"
+#include "harness/suite_options.hpp"
+
+namespace harness {
+
+struct suite_case {
+    std::string id;             // stable: <suite>/<workload>/n=<n>[/<dim>d/<scalar>]
+    std::function<void()> run;  // runs the case, adding its rows to the suite's table
+};
+
+// The cases of `all` that --case selects (all of them when options.cases is empty). Throws
+// std::invalid_argument naming a requested id that the suite does not have.
+std::vector<const suite_case*> selected_cases(const std::vector<suite_case>& all, const suite_options& options);
+
+// Runs the selected cases in order.
+void run_cases(const std::vector<suite_case>& all, const suite_options& options);
+
+// The end every suite shares: writes options.results_dir / options.output_name atomically,
+// then the run's JSON sidecar (seeds and `extra`), and says so.
+void finish_suite(const suite_options& options, const std::vector<result_row>& rows, const std::string& run_id,
+                  const std::map<std::string, std::uint64_t>& seeds, const std::map<std::string, std::string>& extra,
+                  std::chrono::steady_clock::time_point started, const progress& prog);
+
+// "n=1000" style size label used in case ids.
+std::string case_size(std::size_t n);
+
+}  // namespace harness
