@@ -1,0 +1,273 @@
+#pragma once
+// spatial::bvh — full builds: rebuild(), rebuild(par) and the subtree builder that insertion
+// uses to split a full leaf. The split decisions come from bvh/builders.hpp (object-median
+// split along the widest centroid axis, or binned SAH, Wald 2007), which sees only the items'
+// boxes and centres; here they become nodes. O(n log n) for balanced splits (fits included,
+// except convex_hull whose Quickhull makes it O(n log^2 n)).
+//
+// Every node a build creates is written by the node writer below (write_leaf, write_inner):
+// the sequential builder (build_subtree, used by rebuild() and by insertion) and the parallel
+// one (rebuild(par), which replays a plan of split records in preorder) differ only in when
+// they fit volumes, never in how a leaf or an inner node is laid out, so both emit the same
+// nodes in the same order.
+
+#include <mutex>
+
+#include "spatial/bvh/bvh.hpp"
+
+namespace spatial {
+
+// ================= the node writer =======================================================
+// Makes `at` a leaf holding the slots of items [first, first + m) (m <= leaf_size) in a
+// newly allocated block; each slot's meta word points back at the leaf. Volume and box are
+// left to the caller (make_leaf fits them; rebuild(par) stores the planned ones).
+template <stored_object O, class BV, class Config>
+inline void bvh<O, BV, Config>::write_leaf(node_index at, const item* first, std::size_t m) {
+    const node_index b = alloc_block();
+    node& nd = nodes_[at];
+    nd.leaf = true;
+    nd.first = b;
+    nd.count = static_cast<std::uint32_t>(m);
+    for (std::size_t i = 0; i < m; ++i) {
+        block(b)[i] = first[i].slot;
+        slots_.set_meta(first[i].slot, at);
+    }
+}
+// Makes `at` an inner node over a newly allocated child pair (c, c + 1) whose parent links
+// point at it; returns c. Volume and box are left to the caller.
+template <stored_object O, class BV, class Config>
+inline auto bvh<O, BV, Config>::write_inner(node_index at) -> node_index {
+    const node_index c = alloc_pair();
+    node& nd = nodes_[at];
+    nd.leaf = false;
+    nd.first = c;
+    nd.count = 0;
+    nodes_[c].parent = at;
+    nodes_[c + 1].parent = at;
+    return c;
+}
+
+// ================= building ============================================================
+// Makes `at` a leaf holding items [first, first + m) (m <= leaf_size) and fits it.
+template <stored_object O, class BV, class Config>
+inline void bvh<O, BV, Config>::make_leaf(node_index at, const item* first, std::size_t m) {
+    write_leaf(at, first, m);
+    refit_node(at);
+}
+// Builds the subtree rooted at `at` over the items (in place), iteratively (an explicit
+// task stack: a skewed SAH split sequence cannot overflow the call stack). Each inner
+// node's volume is fitted to ALL hull points below it (tighter than merging).
+template <stored_object O, class BV, class Config>
+inline void bvh<O, BV, Config>::build_subtree(node_index at, item* first, std::size_t m) {
+    struct task {
+        node_index n;
+        std::size_t begin, count;
+    };
+    std::vector<task> tasks{{at, 0, m}};
+    while (!tasks.empty()) {
+        const task t = tasks.back();
+        tasks.pop_back();
+        item* f = first + t.begin;
+        const std::size_t left = choose_split(f, t.count);
+        if (left == 0) {
+            make_leaf(t.n, f, t.count);
+            continue;
+        }
+        const node_index c = write_inner(t.n);
+        fit_inner_from_items(t.n, f, t.count);
+        tasks.push_back({c + 1, t.begin + left, t.count - left});
+        tasks.push_back({c, t.begin, left});
+    }
+}
+template <stored_object O, class BV, class Config>
+inline std::size_t bvh<O, BV, Config>::choose_split(item* f, std::size_t m) const {
+    if constexpr (Config::builder == bvh_build_method::median_split) {
+        return m <= leaf_size ? 0 : bvh_detail::median_split(f, m);
+    } else {
+        return bvh_detail::binned_sah_split<Config::sah_bins>(
+            f, m, leaf_size, bvh_detail::sah_costs{Config::traversal_cost, Config::intersection_cost, sah_block});
+    }
+}
+template <stored_object O, class BV, class Config>
+inline void bvh<O, BV, Config>::fit_inner_from_items(node_index n, const item* f, std::size_t m) {
+    box_type b;
+    fit_items(f, m, scratch_, b, nodes_[n].volume);
+    if constexpr (!volume_is_box) nodes_[n].own_box = b;
+}
+// The box of items [f, f + m) and the volume fitted to all their hull points (in item
+// order), with a caller-owned scratch buffer (so concurrent planners can fit). For
+// BV = aabb the volume is the box.
+template <stored_object O, class BV, class Config>
+inline void bvh<O, BV, Config>::fit_items(const item* f, std::size_t m, std::vector<bv_point>& scratch, box_type& box,
+                                            BV& volume) const {
+    box = box_type::empty();
+    for (std::size_t i = 0; i < m; ++i)
+        for (std::size_t k = 0; k < D; ++k)
+            box.lo[k] = std::min(box.lo[k], f[i].lo[k]), box.hi[k] = std::max(box.hi[k], f[i].hi[k]);
+    if constexpr (volume_is_box) {
+        volume = box;
+    } else {
+        scratch.clear();
+        for (std::size_t i = 0; i < m; ++i)
+            object_hull_points(slots_.value(f[i].slot), [&](const auto& hp) { scratch.push_back(to_bv(hp)); });
+        volume = bvh_detail::fit_volume<BV>(scratch);
+    }
+}
+template <stored_object O, class BV, class Config>
+inline void bvh<O, BV, Config>::add_hull_points(const O& v) {
+    object_hull_points(v, [&](const auto& hp) { scratch_.push_back(to_bv(hp)); });
+}
+
+// ---- full builds -------------------------------------------------------------------------
+template <stored_object O, class BV, class Config>
+inline void bvh<O, BV, Config>::rebuild() {
+    clear_nodes();
+    std::vector<item> its;
+    its.reserve(slots_.size());
+    for (slot_index s = slots_.next_occupied(0); s < slots_.capacity(); s = slots_.next_occupied(s + 1))
+        its.push_back(item_of(slots_.value(s), s));
+    nodes_.push_back(node{});
+    if (its.empty()) {
+        make_leaf(root, nullptr, 0);
+    } else {
+        build_subtree(root, its.data(), its.size());
+    }
+    finish_build();
+}
+template <stored_object O, class BV, class Config>
+inline void bvh<O, BV, Config>::rebuild(parallel_policy) {
+    if (slots_.size() < 2 * parallel_grain) {
+        rebuild();
+        return;
+    }
+    clear_nodes();
+    std::vector<slot_index> occupied;
+    occupied.reserve(slots_.size());
+    for (slot_index s = slots_.next_occupied(0); s < slots_.capacity(); s = slots_.next_occupied(s + 1))
+        occupied.push_back(s);
+    std::vector<item> its(occupied.size());
+    detail::parallel_chunks(its.size(), 4096, [&](std::size_t b, std::size_t e) {
+        for (std::size_t i = b; i < e; ++i) its[i] = item_of(slots_.value(occupied[i]), occupied[i]);
+    });
+    nodes_.push_back(node{});
+
+    split_plan plan;
+    plan_splits(its.data(), 0, its.size(), plan);
+    plan.sort_to_preorder();
+    std::size_t records = 0, leaves = 0;
+    for (const auto& chunk : plan.chunks) {
+        records += chunk.size();
+        for (const auto& r : chunk) leaves += r.left == 0;
+    }
+    nodes_.reserve(records);
+    items_.reserve(leaves * leaf_size);
+
+    std::vector<node_index> pending{root};
+    for (auto& chunk : plan.chunks)
+        for (split_record& r : chunk) {
+            const node_index at = pending.back();
+            pending.pop_back();
+            nodes_[at].volume = std::move(r.volume);
+            if constexpr (!volume_is_box) nodes_[at].own_box = r.box;
+            if (r.left == 0) {
+                write_leaf(at, its.data() + r.begin, r.count);
+                continue;
+            }
+            const node_index c = write_inner(at);
+            pending.push_back(c + 1);
+            pending.push_back(c);
+        }
+    if constexpr (wide_rays) wide_.reset();
+    finish_build();
+}
+// The bookkeeping after a full build (rebuild() and rebuild(par)).
+template <stored_object O, class BV, class Config>
+inline void bvh<O, BV, Config>::finish_build() {
+    size_at_build_ = slots_.size();
+    updates_since_build_ = 0;
+    stale_ = false;
+    ++full_rebuilds_;
+    quality_at_build_ = quality();
+}
+
+// ---- the parallel builder's plan (see rebuild(parallel_policy)) -----------------------
+// A node of the plan: its items, its split, and its box and volume fitted when the
+// sequential builder fits them (right after the node's own split: order-dependent fits
+// such as Ritter's sphere then see the items in the same order).
+template <stored_object O, class BV, class Config>
+struct bvh<O, BV, Config>::split_record {
+    std::size_t begin, count, left;  // items [begin, begin + count); left == 0: a leaf
+    box_type box;
+    BV volume;
+};
+template <stored_object O, class BV, class Config>
+inline auto bvh<O, BV, Config>::make_record(const item* base, std::size_t b, std::size_t m, std::size_t left,
+                                            std::vector<bv_point>& scratch) const -> split_record {
+    split_record r{b, m, left, box_type{}, BV{}};
+    fit_items(base + b, m, scratch, r.box, r.volume);
+    return r;
+}
+// Chunks of records, each the preorder of a whole subtree or a single node, appended by
+// concurrent planners. Ordering the chunks by their first node's (begin ascending, count
+// descending) — which is preorder for nodes of one partition tree — and concatenating
+// them gives the preorder of the whole tree without sorting the records themselves.
+template <stored_object O, class BV, class Config>
+struct bvh<O, BV, Config>::split_plan {
+    std::mutex mutex;
+    std::vector<std::vector<split_record>> chunks;
+    void append(std::vector<split_record>&& local) {
+        std::lock_guard<std::mutex> lock(mutex);
+        chunks.push_back(std::move(local));
+    }
+    void sort_to_preorder() {
+        std::sort(chunks.begin(), chunks.end(), [](const auto& a, const auto& b) {
+            return a.front().begin != b.front().begin ? a.front().begin < b.front().begin
+                                                      : a.front().count > b.front().count;
+        });
+    }
+};
+template <stored_object O, class BV, class Config>
+inline void bvh<O, BV, Config>::plan_splits(item* base, std::size_t b, std::size_t m, split_plan& plan) const {
+    // The builder's decisions for a range, sequentially (an explicit stack).
+    std::vector<bv_point> scratch;
+    auto plan_sequentially = [&](std::size_t b0, std::size_t m0) {
+        std::vector<split_record> local;
+        std::vector<std::pair<std::size_t, std::size_t>> todo{{b0, m0}};
+        while (!todo.empty()) {
+            const auto [tb, tm] = todo.back();
+            todo.pop_back();
+            const std::size_t left = choose_split(base + tb, tm);
+            local.push_back(make_record(base, tb, tm, left, scratch));
+            if (left == 0) continue;
+            todo.push_back({tb + left, tm - left});
+            todo.push_back({tb, left});
+        }
+        plan.append(std::move(local));
+    };
+    for (;;) {
+        if (m <= parallel_grain) {
+            plan_sequentially(b, m);
+            return;
+        }
+        const std::size_t left = choose_split(base + b, m);
+        std::vector<split_record> single;
+        single.push_back(make_record(base, b, m, left, scratch));
+        plan.append(std::move(single));
+        if (left == 0) return;
+        if (left >= parallel_grain && m - left >= parallel_grain) {
+            detail::parallel_invoke([&] { plan_splits(base, b, left, plan); },
+                                    [&] { plan_splits(base, b + left, m - left, plan); });
+            return;
+        }
+        if (left < m - left) {
+            plan_sequentially(b, left);
+            b += left;
+            m -= left;
+        } else {
+            plan_sequentially(b + left, m - left);
+            m = left;
+        }
+    }
+}
+
+}  // namespace spatial
