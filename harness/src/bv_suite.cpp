@@ -698,9 +698,7 @@ void run_bv_suite(const suite_options& options) {
 
 std::vector<std::string> bv_case_ids(const suite_options& options) {
     context ctx = make_context(options);
-    std::vector<std::string> ids;
-    for (const auto& c : bv_cases(ctx)) ids.push_back(c.id);
-    return ids;
+    return ids_of(bv_cases(ctx));
 }
 
 }  // namespace harness

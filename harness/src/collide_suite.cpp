@@ -475,9 +475,7 @@ void run_collide_suite(const suite_options& options) {
 
 std::vector<std::string> collide_case_ids(const suite_options& options) {
     context ctx = make_context(options);
-    std::vector<std::string> ids;
-    for (const auto& c : collide_cases(ctx)) ids.push_back(c.id);
-    return ids;
+    return ids_of(collide_cases(ctx));
 }
 
 }  // namespace harness

@@ -808,9 +808,7 @@ void run_knn_suite(const suite_options& options) {
 
 std::vector<std::string> knn_case_ids(const suite_options& options) {
     context ctx = make_context(options);
-    std::vector<std::string> ids;
-    for (const auto& c : knn_cases(ctx)) ids.push_back(c.id);
-    return ids;
+    return ids_of(knn_cases(ctx));
 }
 
 }  // namespace harness

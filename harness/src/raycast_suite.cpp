@@ -761,9 +761,7 @@ void run_raycast_suite(const suite_options& options) {
 
 std::vector<std::string> raycast_case_ids(const suite_options& options) {
     context ctx = make_context(options);
-    std::vector<std::string> ids;
-    for (const auto& c : raycast_cases(ctx)) ids.push_back(c.id);
-    return ids;
+    return ids_of(raycast_cases(ctx));
 }
 
 }  // namespace harness

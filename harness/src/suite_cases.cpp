@@ -22,6 +22,12 @@ std::vector<const suite_case*> selected_cases(const std::vector<suite_case>& all
     return out;
 }
 
+std::vector<std::string> ids_of(const std::vector<suite_case>& cases) {
+    std::vector<std::string> ids;
+    for (const auto& c : cases) ids.push_back(c.id);
+    return ids;
+}
+
 void run_cases(const std::vector<suite_case>& all, const suite_options& options) {
     for (const suite_case* c : selected_cases(all, options)) c->run();
 }
