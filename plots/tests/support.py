@@ -113,3 +113,15 @@ class ResultsTestCase(unittest.TestCase):
         self.assertTrue(os.path.isfile(path), f"{name} missing; have {pngs(self.out)}")
         with open(path, "rb") as handle:
             self.assertEqual(handle.read(8), PNG_MAGIC)
+
+
+def linear_timing_rows():
+    """knn and build timings of kd_tree and brute_force on two workloads, time = 5 n exactly."""
+    rows = []
+    for n in NS:
+        for structure in ("kd_tree", "brute_force"):
+            for workload in ("uniform", "clusters"):
+                rows.append(row(structure=structure, workload=workload, n=n, value=5.0 * n))
+                rows.append(row(structure=structure, workload=workload, n=n, operation="build",
+                                params="", metric="build_time", value=5.0 * n, unit="s"))
+    return rows

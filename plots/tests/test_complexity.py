@@ -81,13 +81,7 @@ class ComplexityFiguresTest(support.ResultsTestCase):
     REGISTRY = REGISTRY
 
     def test_one_figure_per_operation_and_metric(self):
-        rows = []
-        for n in NS:
-            for structure in ("kd_tree", "brute_force"):
-                for workload in ("uniform", "clusters"):
-                    rows.append(row(structure=structure, workload=workload, n=n, value=5.0 * n))
-                    rows.append(row(structure=structure, workload=workload, n=n, operation="build",
-                                    params="", metric="build_time", value=5.0 * n, unit="s"))
+        rows = support.linear_timing_rows()
         # One n only: no curve, and a note.
         rows.append(row(structure="kd_tree", operation="radius", params="r=1", n=1000))
         write_csv(self.results, "knn.csv", rows)

@@ -33,13 +33,8 @@ PROBE = textwrap.dedent('''
 
 def known_exponent_rows():
     """time = 5 n exactly for every timing; recall and ratio rows for the other two plots."""
-    rows = []
+    rows = support.linear_timing_rows()
     for n in NS:
-        for structure in ("kd_tree", "brute_force"):
-            for workload in ("uniform", "clusters"):
-                rows.append(row(structure=structure, workload=workload, n=n, value=5.0 * n))
-                rows.append(row(structure=structure, workload=workload, n=n, operation="build",
-                                params="", metric="build_time", value=5.0 * n, unit="s"))
         for eps in (0, 0.5, 1, 2):
             params = f"k=10;eps={eps}"
             rows.append(row(n=n, operation="approx_knn", params=params,
