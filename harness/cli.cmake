@@ -2,7 +2,7 @@
 find_package(CLI11 REQUIRED)
 find_package(nlohmann_json REQUIRED)
 
-add_library(spatial_harness STATIC src/csv_writer.cpp src/run_info.cpp src/knn_suite.cpp src/bv_suite.cpp
+add_library(spatial_harness STATIC src/csv_writer.cpp src/run_info.cpp src/timing.cpp src/knn_suite.cpp src/bv_suite.cpp
                             src/raycast_suite.cpp src/collide_suite.cpp
                             src/scene_runner.cpp src/suite_table.cpp src/suite_cases.cpp
                             src/scene_runner_2d_float.cpp src/scene_runner_2d_double.cpp

@@ -19,6 +19,7 @@
 #include <functional>
 #include <map>
 #include <numeric>
+#include <optional>
 #include <sstream>
 #include <string>
 #include <vector>
@@ -33,6 +34,7 @@
 #include "harness/progress.hpp"
 #include "harness/run_info.hpp"
 #include "harness/suite_cases.hpp"
+#include "harness/suite_context.hpp"
 #include "harness/timing.hpp"
 #include "harness/validation.hpp"
 #include "spatial/bv/aabb.hpp"
@@ -185,39 +187,15 @@ std::function<int(const BV&, const BV&)> polytope_reference() {
 
 // ---------------------------------------------------------------------------------------
 
-struct context {
-    suite_options opt;
-    preset_config cfg;
-    std::string run_id;
-    progress prog;
-    std::vector<result_row> rows;
-    std::map<std::string, std::uint64_t> seeds;
-};
+using context = suite_context<preset_config>;
 
+// A figure of the bv suite (3D double): timed when `t` is given (value = its median x scale).
 result_row make_row(const context& ctx, const std::string& structure, const std::string& bv, const std::string& workload,
                     std::size_t n, const std::string& operation, const std::string& params, const std::string& metric,
                     double value, const std::string& unit, const timing_result* t = nullptr, double scale = 1) {
-    result_row r;
-    r.suite = "bv";
-    r.structure = structure;
-    r.bv = bv;
-    r.workload = workload;
-    r.n = n;
-    r.dim = 3;
-    r.scalar = "double";
-    r.operation = operation;
-    r.params = params;
-    r.metric = metric;
-    r.value = value;
-    r.unit = unit;
-    r.validated = true;
-    r.run_id = ctx.run_id;
-    if (t) {
-        r.repetitions = t->repetitions;
-        r.min_value = t->min_seconds * scale;
-        r.max_value = t->max_seconds * scale;
-    }
-    return r;
+    const row_scope scope = ctx.scope(workload, n);
+    return t ? scope.timed(structure, bv, operation, params, metric, *t, unit, scale)
+             : scope.figure(structure, bv, operation, params, metric, value, unit);
 }
 
 std::string fmt(double v) {
@@ -349,95 +327,108 @@ instance_set make_instances(context& ctx, const std::string& workload, const std
     return s;
 }
 
+// Times `pass` (one pass over all pairs or all rays, returning how many answered yes) after a
+// warm-up, repeated so that one timed repetition lasts ~2 ms; every repetition must count
+// `validated_yes` per pass. Returns the time of ONE pass.
+template <class Pass>
+timing_result time_per_pass(Pass&& pass, std::size_t validated_yes, const std::string& where) {
+    const std::size_t loops = calibrate_loops(pass);
+    timing_result t = time_repeated(
+        1, 5, [] {},
+        [&] {
+            std::size_t c = 0;
+            for (std::size_t l = 0; l < loops; ++l) c += pass();
+            return c;
+        },
+        [&](std::size_t c) {
+            if (c != validated_yes * loops) throw validation_error(where + ": timed answers differ");
+        });
+    const double per_pass = 1.0 / static_cast<double>(loops);
+    t.median_seconds *= per_pass, t.min_seconds *= per_pass, t.max_seconds *= per_pass;
+    return t;
+}
+
+// Every overlap test of `type` on the volumes `bvs` fitted by `meth`: no false negative
+// against the exact reference (validated on every pair), then timed; false-positive rates
+// against the exact volumes and against the shapes' hulls.
 template <class BV>
-void pair_study(context& ctx, const volume_type<BV>& type, const std::string& workload, const instance_set& s) {
-    const std::size_t m = ctx.cfg.instance_points;
-    const std::string inst = ";instances=" + std::to_string(s.points.size());
-    for (const auto& meth : type.methods) {
-        std::vector<BV> bvs;
-        for (const auto& pts : s.points) bvs.push_back(meth.fit(pts));
-        std::vector<int> exact(s.pairs.size());
-        for (std::size_t p = 0; p < s.pairs.size(); ++p) exact[p] = type.exact_intersect(bvs[s.pairs[p].first], bvs[s.pairs[p].second]);
-        for (const auto& test : type.tests) {
-            const std::string params = "method=" + meth.name + ";test=" + test.name + inst;
-            // Validate: no false negative against the exact reference.
-            std::size_t positives = 0, fp_exact = 0, exact_no = 0, fp_shapes = 0;
-            for (std::size_t p = 0; p < s.pairs.size(); ++p) {
-                const bool yes = test.test(bvs[s.pairs[p].first], bvs[s.pairs[p].second]);
-                if (!yes && exact[p] == 1)
-                    throw validation_error("bv " + type.name + " method " + meth.name + " test " + test.name + " on " +
-                                           workload + ": pair (" + std::to_string(s.pairs[p].first) + ", " +
-                                           std::to_string(s.pairs[p].second) +
-                                           ") intersects exactly but the test says disjoint (a false negative)");
-                positives += yes;
-                exact_no += exact[p] == 0;
-                fp_exact += yes && exact[p] == 0;
-                fp_shapes += yes && s.shapes_meet[p] == 0;
-            }
-            // Time: all pairs, repeated so that one repetition lasts ~2 ms.
-            const std::size_t loops = calibrate_loops([&] {
+void overlap_study(context& ctx, const volume_type<BV>& type, const fit_method<BV>& meth, const std::string& workload,
+                   const instance_set& s, const std::vector<BV>& bvs) {
+    std::vector<int> exact(s.pairs.size());
+    for (std::size_t p = 0; p < s.pairs.size(); ++p) exact[p] = type.exact_intersect(bvs[s.pairs[p].first], bvs[s.pairs[p].second]);
+    const row_scope scope = ctx.scope(workload, ctx.cfg.instance_points);
+    for (const auto& test : type.tests) {
+        const std::string where = "bv " + type.name + " method " + meth.name + " test " + test.name + " on " + workload;
+        const std::string params = "method=" + meth.name + ";test=" + test.name + ";instances=" + std::to_string(s.points.size());
+        std::size_t positives = 0, fp_exact = 0, exact_no = 0, fp_shapes = 0;
+        for (std::size_t p = 0; p < s.pairs.size(); ++p) {
+            const bool yes = test.test(bvs[s.pairs[p].first], bvs[s.pairs[p].second]);
+            if (!yes && exact[p] == 1)
+                throw validation_error(where + ": pair (" + std::to_string(s.pairs[p].first) + ", " +
+                                       std::to_string(s.pairs[p].second) +
+                                       ") intersects exactly but the test says disjoint (a false negative)");
+            positives += yes;
+            exact_no += exact[p] == 0;
+            fp_exact += yes && exact[p] == 0;
+            fp_shapes += yes && s.shapes_meet[p] == 0;
+        }
+        const auto t = time_per_pass(
+            [&] {
                 std::size_t c = 0;
                 for (const auto& [i, j] : s.pairs) c += test.test(bvs[i], bvs[j]);
                 return c;
-            });
-            const auto t = time_repeated(
-                1, 5, [] {},
-                [&] {
-                    std::size_t c = 0;
-                    for (std::size_t l = 0; l < loops; ++l)
-                        for (const auto& [i, j] : s.pairs) c += test.test(bvs[i], bvs[j]);
-                    return c;
-                },
-                [&](std::size_t c) {
-                    if (c != positives * loops) throw validation_error("bv " + type.name + " " + test.name + ": timed answers differ");
-                });
-            const double per = 1e9 / static_cast<double>(loops * s.pairs.size());
-            ctx.rows.push_back(make_row(ctx, "spatialbench", type.name, workload, m, "overlap", params, "time_per_op",
-                                        t.median_seconds * per, "ns", &t, per));
-            ctx.rows.push_back(make_row(ctx, "spatialbench", type.name, workload, m, "overlap", params, "positive_rate",
-                                        static_cast<double>(positives) / static_cast<double>(s.pairs.size()), "ratio"));
-            ctx.rows.push_back(make_row(ctx, "spatialbench", type.name, workload, m, "overlap", params,
-                                        "false_positive_rate_exact",
-                                        exact_no ? static_cast<double>(fp_exact) / static_cast<double>(exact_no) : 0.0, "ratio"));
-            ctx.rows.push_back(make_row(ctx, "spatialbench", type.name, workload, m, "overlap", params,
-                                        "false_positive_rate_shapes",
-                                        s.disjoint_pairs ? static_cast<double>(fp_shapes) / static_cast<double>(s.disjoint_pairs) : 0.0,
-                                        "ratio"));
+            },
+            positives, where);
+        auto ratio = [](std::size_t a, std::size_t b) { return b ? static_cast<double>(a) / static_cast<double>(b) : 0.0; };
+        ctx.rows.push_back(scope.timed("spatialbench", type.name, "overlap", params, "time_per_op", t, "ns",
+                                       1e9 / static_cast<double>(s.pairs.size())));
+        ctx.rows.push_back(scope.figure("spatialbench", type.name, "overlap", params, "positive_rate", ratio(positives, s.pairs.size()), "ratio"));
+        ctx.rows.push_back(scope.figure("spatialbench", type.name, "overlap", params, "false_positive_rate_exact", ratio(fp_exact, exact_no), "ratio"));
+        ctx.rows.push_back(scope.figure("spatialbench", type.name, "overlap", params, "false_positive_rate_shapes",
+                                        ratio(fp_shapes, s.disjoint_pairs), "ratio"));
+    }
+}
+
+// Checks one line against one volume: a hit's interval has its middle inside (unless the
+// line only grazes it), a miss has none of 64 samples across the domain inside.
+template <class BV>
+bool checked_ray(const BV& b, const P& o, const P& d, const std::string& where) {
+    double t0 = 0, t1 = 0;
+    if (b.ray_interval(o, d, t0, t1)) {
+        const double tm = (t0 + t1) / 2;
+        P q;
+        for (int k = 0; k < 3; ++k) q[k] = o[k] + tm * d[k];
+        if (!(t0 <= t1) || (t1 - t0 > 1e-6 * std::max(1.0, std::abs(tm)) && !b.contains(q)))
+            throw validation_error(where + " interval [" + fmt(t0) + ", " + fmt(t1) + "] is not inside the volume");
+        return true;
+    }
+    for (int k = 0; k <= 64; ++k) {
+        const double tt = -4.0 + 8.0 * k / 64.0;
+        P q;
+        for (int c = 0; c < 3; ++c) q[c] = o[c] + tt * d[c];
+        if (b.contains(q)) throw validation_error(where + " reported as missing, but its point at t=" + fmt(tt) + " is inside");
+    }
+    return false;
+}
+
+// Every line against every volume `bvs` fitted by `meth`: validated, then timed; the hit
+// rate and the share of hits that miss the shape's hull.
+template <class BV>
+void ray_study(context& ctx, const volume_type<BV>& type, const fit_method<BV>& meth, const std::string& workload,
+               const instance_set& s, const std::vector<BV>& bvs) {
+    std::size_t hits = 0, hull_misses = 0;
+    for (std::size_t r = 0; r < s.rays.size(); ++r) {
+        const auto& [o, d] = s.rays[r];
+        for (std::size_t b = 0; b < bvs.size(); ++b) {
+            if (!checked_ray(bvs[b], o, d, "bv " + type.name + " method " + meth.name + " on " + workload + ": ray " + std::to_string(r)))
+                continue;
+            ++hits;
+            double h0 = 0, h1 = 0;
+            hull_misses += !s.hulls[b].ray_interval(o, d, h0, h1);
         }
-        // Rays: every line against every instance's volume.
-        std::size_t hits = 0, hull_misses = 0;
-        for (std::size_t r = 0; r < s.rays.size(); ++r) {
-            const auto& [o, d] = s.rays[r];
-            for (std::size_t b = 0; b < bvs.size(); ++b) {
-                double t0 = 0, t1 = 0;
-                const bool hit = bvs[b].ray_interval(o, d, t0, t1);
-                if (hit) {
-                    ++hits;
-                    double h0 = 0, h1 = 0;
-                    hull_misses += !s.hulls[b].ray_interval(o, d, h0, h1);
-                    // The middle of the interval is inside (unless the line only grazes it).
-                    const double tm = (t0 + t1) / 2;
-                    P q;
-                    for (int k = 0; k < 3; ++k) q[k] = o[k] + tm * d[k];
-                    if (!(t0 <= t1) || (t1 - t0 > 1e-6 * std::max(1.0, std::abs(tm)) && !bvs[b].contains(q)))
-                        throw validation_error("bv " + type.name + " method " + meth.name + " on " + workload + ": ray " +
-                                               std::to_string(r) + " interval [" + fmt(t0) + ", " + fmt(t1) +
-                                               "] is not inside the volume");
-                } else {
-                    // A missed line has no point inside: check 64 samples across the domain.
-                    for (int k = 0; k <= 64; ++k) {
-                        const double tt = -4.0 + 8.0 * k / 64.0;
-                        P q;
-                        for (int c = 0; c < 3; ++c) q[c] = o[c] + tt * d[c];
-                        if (bvs[b].contains(q))
-                            throw validation_error("bv " + type.name + " method " + meth.name + " on " + workload + ": ray " +
-                                                   std::to_string(r) + " reported as missing, but its point at t=" + fmt(tt) +
-                                                   " is inside");
-                    }
-                }
-            }
-        }
-        const std::size_t loops = calibrate_loops([&] {
+    }
+    const auto t = time_per_pass(
+        [&] {
             std::size_t c = 0;
             for (const auto& [o, d] : s.rays)
                 for (const auto& b : bvs) {
@@ -445,30 +436,25 @@ void pair_study(context& ctx, const volume_type<BV>& type, const std::string& wo
                     c += b.ray_interval(o, d, t0, t1);
                 }
             return c;
-        });
-        const auto t = time_repeated(
-            1, 5, [] {},
-            [&] {
-                std::size_t c = 0;
-                for (std::size_t l = 0; l < loops; ++l)
-                    for (const auto& [o, d] : s.rays)
-                        for (const auto& b : bvs) {
-                            double t0, t1;
-                            c += b.ray_interval(o, d, t0, t1);
-                        }
-                return c;
-            },
-            [&](std::size_t c) {
-                if (c != hits * loops) throw validation_error("bv " + type.name + " ray: timed answers differ");
-            });
-        const double per = 1e9 / static_cast<double>(loops * s.rays.size() * bvs.size());
-        const std::string params = "method=" + meth.name + inst;
-        ctx.rows.push_back(make_row(ctx, "spatialbench", type.name, workload, m, "ray", params, "time_per_op",
-                                    t.median_seconds * per, "ns", &t, per));
-        ctx.rows.push_back(make_row(ctx, "spatialbench", type.name, workload, m, "ray", params, "hit_rate",
-                                    static_cast<double>(hits) / static_cast<double>(s.rays.size() * bvs.size()), "ratio"));
-        ctx.rows.push_back(make_row(ctx, "spatialbench", type.name, workload, m, "ray", params, "false_positive_rate_shapes",
+        },
+        hits, "bv " + type.name + " ray");
+    const double lines = static_cast<double>(s.rays.size() * bvs.size());
+    const std::string params = "method=" + meth.name + ";instances=" + std::to_string(s.points.size());
+    const row_scope scope = ctx.scope(workload, ctx.cfg.instance_points);
+    ctx.rows.push_back(scope.timed("spatialbench", type.name, "ray", params, "time_per_op", t, "ns", 1e9 / lines));
+    ctx.rows.push_back(scope.figure("spatialbench", type.name, "ray", params, "hit_rate", static_cast<double>(hits) / lines, "ratio"));
+    ctx.rows.push_back(scope.figure("spatialbench", type.name, "ray", params, "false_positive_rate_shapes",
                                     hits ? static_cast<double>(hull_misses) / static_cast<double>(hits) : 0.0, "ratio"));
+}
+
+// The pair and ray studies of every fitting method of `type` on the instances.
+template <class BV>
+void pair_study(context& ctx, const volume_type<BV>& type, const std::string& workload, const instance_set& s) {
+    for (const auto& meth : type.methods) {
+        std::vector<BV> bvs;
+        for (const auto& pts : s.points) bvs.push_back(meth.fit(pts));
+        overlap_study(ctx, type, meth, workload, s, bvs);
+        ray_study(ctx, type, meth, workload, s, bvs);
     }
 }
 
@@ -533,98 +519,93 @@ volume_type<hull3> hull_type() {
 
 // ---------------------------------------------------------------------------------------
 
+// Calls f(volume_type) for every volume type of the study, in table order.
+template <class F>
+void for_each_volume_type(F&& f) {
+    f(aabb_type());
+    f(sphere_type());
+    f(obb_type());
+    f(kdop_type<6>());
+    f(kdop_type<14>());
+    f(kdop_type<18>());
+    f(kdop_type<26>());
+    f(ellipsoid_type());
+    f(hull_type());
+}
+
+#if defined(SPATIAL_HAVE_CGAL) && SPATIAL_HAVE_CGAL
+// CGAL's fits on the same points, each validated before its row: the minimum ball contains
+// every point (returned, to check ours against), the hull matches ours in volume and vertex
+// count, the ellipsoid's volume is within tolerance of ours.
+sphere3 cgal_fits(context& ctx, const std::string& workload, std::span<const P> pts, const hull3& hull) {
+    const std::size_t n = pts.size();
+    const auto arr = to_arrays(pts);
+    const double hull_volume = static_cast<double>(hull.volume());
+    auto fit_rows = [&](const std::string& bv, const std::string& method, double seconds, double volume, bool tightness) {
+        ctx.rows.push_back(make_row(ctx, "cgal", bv, workload, n, "fit", "method=" + method, "fit_time", seconds, "s"));
+        if (volume < 0) return;
+        ctx.rows.push_back(make_row(ctx, "cgal", bv, workload, n, "fit", "method=" + method, "volume", volume, "u^3"));
+        if (tightness && hull_volume > 0)
+            ctx.rows.push_back(make_row(ctx, "cgal", bv, workload, n, "fit", "method=" + method, "tightness", volume / hull_volume, "ratio"));
+    };
+    const auto b = cgal_min_sphere(arr);
+    sphere3 ball;
+    ball.radius = b.radius;
+    for (int d = 0; d < 3; ++d) ball.center[d] = b.center[static_cast<std::size_t>(d)];
+    for (const auto& p : pts)
+        if (spatial::squared_distance(p, ball.center) > b.radius * b.radius * (1 + 1e-12) + 1e-300)
+            throw validation_error("CGAL's minimum ball misses a point on " + workload);
+    fit_rows("sphere", "min_sphere_of_spheres_d", b.seconds, -1, false);
+    if (workload != "thin_shell" || n <= ctx.cfg.cgal_hull_shell_max_n) {
+        const auto h = cgal_convex_hull(arr);
+        if (std::abs(h.volume - hull_volume) > 1e-9 * std::max(h.volume, 1e-300) || h.vertices.size() != hull.vertices().size())
+            throw validation_error("convex hull on " + workload + " n=" + std::to_string(n) + ": volume " + fmt(hull_volume) +
+                                   " with " + std::to_string(hull.vertices().size()) + " vertices, CGAL's convex_hull_3 " +
+                                   fmt(h.volume) + " with " + std::to_string(h.vertices.size()));
+        fit_rows("convex_hull", "convex_hull_3", h.seconds, h.volume, false);
+    }
+    const auto o = cgal_oriented_bounding_box(arr);
+    fit_rows("obb", "oriented_bounding_box", o.seconds, o.volume, true);
+    if (n <= ctx.cfg.cgal_ellipsoid_max_n) {
+        const auto e = cgal_min_ellipsoid(arr, 1e-3);
+        if (e.full_dimensional) {
+            // Both are within (1 + tolerance) of the minimum (CGAL's double arithmetic
+            // overshoots its epsilon slightly: a factor 2 of slack on the tolerance).
+            const double v = static_cast<double>(ellipsoid3::fit_khachiyan(pts, 1e-3).volume());
+            if (e.volume < v / (1 + 2e-3) || v < e.volume / (1 + 2e-3))
+                throw validation_error("minimum ellipsoid on " + workload + ": volume " + fmt(v) + " but CGAL's " +
+                                       fmt(e.volume) + " (both should be within 0.1% of the minimum)");
+            fit_rows("ellipsoid", "approximate_min_ellipsoid_d_1e-3", e.seconds, e.volume, true);
+        }
+    }
+    return ball;
+}
+#endif
+
 void run_shape(context& ctx, const std::string& workload, const std::vector<P>* mesh, std::uint64_t seed) {
     std::vector<std::size_t> sizes = ctx.cfg.sizes;
     if (mesh) sizes = {mesh->size()};
-    const bool shell = workload == "thin_shell";
     for (std::size_t n : sizes) {
         const std::vector<P> pts = mesh ? *mesh : datasets::generate_shape(workload, n, seed);
         const std::span<const P> sp(pts);
-        const auto arr = to_arrays(sp);
-        // The reference hull: ours, timed as the convex_hull type's fit below; checked here
-        // against CGAL's volume and vertex count.
+        // The reference hull: ours, timed as the convex_hull type's fit below; checked against
+        // CGAL's volume and vertex count.
         const auto hull = hull3::fit(sp);
         const double hull_volume = static_cast<double>(hull.volume());
-        sphere3 cgal_ball;
-        const sphere3* cgal_ball_ptr = nullptr;
+        std::optional<sphere3> cgal_ball;
 #if defined(SPATIAL_HAVE_CGAL) && SPATIAL_HAVE_CGAL
-        {
-            const auto b = cgal_min_sphere(arr);
-            cgal_ball.radius = b.radius;
-            for (int d = 0; d < 3; ++d) cgal_ball.center[d] = b.center[static_cast<std::size_t>(d)];
-            cgal_ball_ptr = &cgal_ball;
-            ctx.rows.push_back(make_row(ctx, "cgal", "sphere", workload, n, "fit", "method=min_sphere_of_spheres_d",
-                                        "fit_time", b.seconds, "s"));
-            // CGAL's ball is validated like ours: it must contain every point.
-            for (const auto& p : pts)
-                if (spatial::squared_distance(p, cgal_ball.center) > b.radius * b.radius * (1 + 1e-12) + 1e-300)
-                    throw validation_error("CGAL's minimum ball misses a point on " + workload);
-            if (!shell || n <= ctx.cfg.cgal_hull_shell_max_n) {
-                const auto h = cgal_convex_hull(arr);
-                if (std::abs(h.volume - hull_volume) > 1e-9 * std::max(h.volume, 1e-300) ||
-                    h.vertices.size() != hull.vertices().size())
-                    throw validation_error("convex hull on " + workload + " n=" + std::to_string(n) + ": volume " + fmt(hull_volume) +
-                                           " with " + std::to_string(hull.vertices().size()) + " vertices, CGAL's convex_hull_3 " +
-                                           fmt(h.volume) + " with " + std::to_string(h.vertices.size()));
-                ctx.rows.push_back(make_row(ctx, "cgal", "convex_hull", workload, n, "fit", "method=convex_hull_3", "fit_time",
-                                            h.seconds, "s"));
-                ctx.rows.push_back(make_row(ctx, "cgal", "convex_hull", workload, n, "fit", "method=convex_hull_3", "volume",
-                                            h.volume, "u^3"));
-            }
-            {
-                const auto o = cgal_oriented_bounding_box(arr);
-                ctx.rows.push_back(make_row(ctx, "cgal", "obb", workload, n, "fit", "method=oriented_bounding_box", "fit_time",
-                                            o.seconds, "s"));
-                ctx.rows.push_back(make_row(ctx, "cgal", "obb", workload, n, "fit", "method=oriented_bounding_box", "volume",
-                                            o.volume, "u^3"));
-                if (hull_volume > 0)
-                    ctx.rows.push_back(make_row(ctx, "cgal", "obb", workload, n, "fit", "method=oriented_bounding_box",
-                                                "tightness", o.volume / hull_volume, "ratio"));
-            }
-            if (n <= ctx.cfg.cgal_ellipsoid_max_n) {
-                const auto e = cgal_min_ellipsoid(arr, 1e-3);
-                if (e.full_dimensional) {
-                    // Cross-check with ours: both are within (1 + tolerance) of the minimum
-                    // (CGAL's double arithmetic overshoots its epsilon slightly: a factor 2 of
-                    // slack on the tolerance).
-                    const auto mine = ellipsoid3::fit_khachiyan(sp, 1e-3);
-                    const double v = static_cast<double>(mine.volume());
-                    if (e.volume < v / (1 + 2e-3) || v < e.volume / (1 + 2e-3))
-                        throw validation_error("minimum ellipsoid on " + workload + ": volume " + fmt(v) + " but CGAL's " +
-                                               fmt(e.volume) + " (both should be within 0.1% of the minimum)");
-                    ctx.rows.push_back(make_row(ctx, "cgal", "ellipsoid", workload, n, "fit", "method=approximate_min_ellipsoid_d_1e-3",
-                                                "fit_time", e.seconds, "s"));
-                    ctx.rows.push_back(make_row(ctx, "cgal", "ellipsoid", workload, n, "fit", "method=approximate_min_ellipsoid_d_1e-3",
-                                                "volume", e.volume, "u^3"));
-                    if (hull_volume > 0)
-                        ctx.rows.push_back(make_row(ctx, "cgal", "ellipsoid", workload, n, "fit",
-                                                    "method=approximate_min_ellipsoid_d_1e-3", "tightness", e.volume / hull_volume, "ratio"));
-                }
-            }
-        }
+        cgal_ball = cgal_fits(ctx, workload, sp, hull);
 #endif
-        fit_study(ctx, aabb_type(), workload, sp, hull_volume, nullptr);
-        fit_study(ctx, sphere_type(), workload, sp, hull_volume, cgal_ball_ptr);
-        fit_study(ctx, obb_type(), workload, sp, hull_volume, nullptr);
-        fit_study(ctx, kdop_type<6>(), workload, sp, hull_volume, nullptr);
-        fit_study(ctx, kdop_type<14>(), workload, sp, hull_volume, nullptr);
-        fit_study(ctx, kdop_type<18>(), workload, sp, hull_volume, nullptr);
-        fit_study(ctx, kdop_type<26>(), workload, sp, hull_volume, nullptr);
-        fit_study(ctx, ellipsoid_type(), workload, sp, hull_volume, nullptr);
-        fit_study(ctx, hull_type(), workload, sp, hull_volume, nullptr);
+        for_each_volume_type([&]<class BV>(const volume_type<BV>& type) {
+            const sphere3* ball = nullptr;
+            if constexpr (std::is_same_v<BV, sphere3>) ball = cgal_ball ? &*cgal_ball : nullptr;
+            fit_study(ctx, type, workload, sp, hull_volume, ball);
+        });
         ctx.prog.say("fit " + workload + " n=" + std::to_string(n) + " hull volume " + fmt(hull_volume));
     }
 #if defined(SPATIAL_HAVE_CGAL) && SPATIAL_HAVE_CGAL
     const auto inst = make_instances(ctx, workload, mesh, seed);
-    pair_study(ctx, aabb_type(), workload, inst);
-    pair_study(ctx, sphere_type(), workload, inst);
-    pair_study(ctx, obb_type(), workload, inst);
-    pair_study(ctx, kdop_type<6>(), workload, inst);
-    pair_study(ctx, kdop_type<14>(), workload, inst);
-    pair_study(ctx, kdop_type<18>(), workload, inst);
-    pair_study(ctx, kdop_type<26>(), workload, inst);
-    pair_study(ctx, ellipsoid_type(), workload, inst);
-    pair_study(ctx, hull_type(), workload, inst);
+    for_each_volume_type([&](const auto& type) { pair_study(ctx, type, workload, inst); });
     ctx.prog.say("pairs " + workload + ": " + std::to_string(inst.pairs.size()) + " pairs, " +
                  std::to_string(inst.disjoint_pairs) + " disjoint");
 #else
@@ -650,9 +631,8 @@ std::vector<P> normalized_mesh(const std::filesystem::path& file) {
 namespace {
 
 context make_context(const suite_options& options) {
-    context ctx{options, preset(options.preset), make_run_id("bv", options.preset), progress(options.quiet), {}, {}};
+    context ctx = make_suite_context("bv", options, preset(options.preset));
     if (!options.sizes.empty()) ctx.cfg.sizes = options.sizes;
-    ctx.seeds["data"] = options.seed;
     return ctx;
 }
 
@@ -685,7 +665,6 @@ std::vector<suite_case> bv_cases(context& ctx) {
 
 void run_bv_suite(const suite_options& options) {
     context ctx = make_context(options);
-    const auto t0 = std::chrono::steady_clock::now();
     std::size_t real = 0;
     if (!options.real_data_dir.empty())
         for (const auto& f : ctx.cfg.real_meshes) {
@@ -693,7 +672,7 @@ void run_bv_suite(const suite_options& options) {
             else ctx.prog.say("no " + (options.real_data_dir / f).string() + " (run datasets/fetch_real_data.sh)");
         }
     run_cases(bv_cases(ctx), options);
-    finish_suite(options, ctx.rows, ctx.run_id, ctx.seeds, {{"real_meshes", std::to_string(real)}}, t0, ctx.prog);
+    ctx.finish({{"real_meshes", std::to_string(real)}});
 }
 
 std::vector<std::string> bv_case_ids(const suite_options& options) {

@@ -33,6 +33,7 @@
 #include "harness/peer_registry.hpp"
 #include "harness/structure_registry.hpp"
 #include "harness/suite_cases.hpp"
+#include "harness/suite_context.hpp"
 #include "harness/timing.hpp"
 #include "harness/validation.hpp"
 #include "spatial/brute/brute_force.hpp"
@@ -79,42 +80,19 @@ std::vector<collide_box> random_cubes(std::size_t n, std::uint64_t seed) {
     return out;
 }
 
-struct context {
-    suite_options opt;
-    preset_config cfg;
-    std::string run_id;
-    progress prog;
-    std::vector<result_row> rows;
-    std::map<std::string, std::uint64_t> seeds;
-    bool wants(const std::string& s) const {
-        return opt.structures.empty() || std::find(opt.structures.begin(), opt.structures.end(), s) != opt.structures.end();
-    }
-    void add(const std::string& structure, const std::string& bv, const std::string& workload, std::size_t n,
-             const std::string& operation, const std::string& params, const std::string& metric, double value,
-             const std::string& unit, const timing_result* t = nullptr) {
-        result_row r;
-        r.suite = "collide";
-        r.structure = structure;
-        r.bv = bv;
-        r.workload = workload;
-        r.n = n;
-        r.dim = 3;
-        r.scalar = "double";
-        r.operation = operation;
-        r.params = params;
-        r.metric = metric;
-        r.value = value;
-        r.unit = unit;
-        r.validated = true;
-        r.run_id = run_id;
-        if (t) {
-            r.repetitions = t->repetitions;
-            r.min_value = t->min_seconds;
-            r.max_value = t->max_seconds;
-        }
-        rows.push_back(std::move(r));
-    }
-};
+using context = suite_context<preset_config>;
+
+// Keeps an untimed figure of the collide suite (all its workloads are 3D double).
+void add(context& ctx, const std::string& structure, const std::string& bv, const std::string& workload, std::size_t n,
+         const std::string& operation, const std::string& params, const std::string& metric, double value,
+         const std::string& unit) {
+    ctx.rows.push_back(ctx.scope(workload, n).figure(structure, bv, operation, params, metric, value, unit));
+}
+// Keeps a timed figure, in seconds.
+void add_timed(context& ctx, const std::string& structure, const std::string& bv, const std::string& workload,
+               std::size_t n, const std::string& operation, const std::string& params, const timing_result& t) {
+    ctx.rows.push_back(ctx.scope(workload, n).timed(structure, bv, operation, params, "time", t, "s"));
+}
 
 // ---- validation --------------------------------------------------------------------------
 
@@ -191,20 +169,24 @@ std::vector<participant> participants(const context& ctx, std::size_t n, bool mo
 
 // ---- static boxes -------------------------------------------------------------------------
 
-void run_static_boxes(context& ctx, std::size_t n) {
-    const std::string workload = "boxes";
-    const std::string params = "overlaps_per_box=2";
-    const auto boxes = random_cubes(n, ctx.opt.seed);
-    auto ps = participants(ctx, n, false);
-    if (ps.empty()) return;
-    // Validated run: the first participant against brute force / the sample, every other one
-    // against the first.
+// A checksum of a pair list (order-sensitive: the lists are sorted): a 64-bit FNV-1a over
+// the pairs, kept to the 53 bits a double holds exactly.
+double pairs_checksum(const std::vector<index_pair>& pairs) {
+    std::uint64_t h = 14695981039346656037ull;
+    for (const auto& [a, b] : pairs) h = ((h ^ a) * 1099511628211ull ^ b) * 1099511628211ull;
+    return static_cast<double>(h >> 11);
+}
+
+// The validated run: every participant built and asked once, the first against brute force
+// (or its sample), every other one against the first. Returns the first's pairs.
+std::vector<index_pair> validated_self_pairs(const context& ctx, std::vector<participant>& ps,
+                                             const std::vector<collide_box>& boxes) {
     std::vector<index_pair> reference;
     for (std::size_t i = 0; i < ps.size(); ++i) {
         auto& p = *ps[i].index;
         p.build(boxes);
         auto pairs = p.self_pairs();
-        const std::string where = p.name() + " on boxes n=" + fmt_n(n);
+        const std::string where = p.name() + " on boxes n=" + fmt_n(boxes.size());
         if (i == 0) {
             validate_pairs(ctx, boxes, pairs, datasets::derive_seed(ctx.opt.seed, 0xC1u), where);
             reference = std::move(pairs);
@@ -213,34 +195,49 @@ void run_static_boxes(context& ctx, std::size_t n) {
                                    " reports " + std::to_string(reference.size()) + " (or different ones)");
         }
     }
-    // Timed repetitions, interleaved across participants so that the shared machine's noise
-    // hits all alike; each must reproduce the validated set.
+    return reference;
+}
+
+void run_static_boxes(context& ctx, std::size_t n) {
+    const std::string workload = "boxes";
+    const std::string params = "overlaps_per_box=2";
+    const auto boxes = random_cubes(n, ctx.opt.seed);
+    auto ps = participants(ctx, n, false);
+    if (ps.empty()) return;
+    const std::vector<index_pair> reference = validated_self_pairs(ctx, ps, boxes);
+    const double checksum = pairs_checksum(reference);
+    // Timed: the build, the query on the built structure, and both back to back (what a
+    // one-shot broad phase costs), each interleaved across participants; every query must
+    // reproduce the validated pairs.
+    std::vector<timed_work> builds, queries, totals;
+    for (auto& p : ps) {
+        collide_index& index = *p.index;
+        const std::string where = index.name() + " on boxes n=" + fmt_n(n);
+        builds.push_back({where + ", build", [&index, &boxes] {
+                              index.build(boxes);
+                              return 0.0;
+                          }, 0.0});
+        queries.push_back({where + ", self pairs", [&index] { return pairs_checksum(index.self_pairs()); }, checksum});
+        totals.push_back({where + ", build and self pairs",
+                          [&index, &boxes] {
+                              index.build(boxes);
+                              return pairs_checksum(index.self_pairs());
+                          },
+                          checksum});
+    }
     const std::size_t reps = n >= 1000000 ? std::max<std::size_t>(1, ctx.cfg.repetitions - 1) : ctx.cfg.repetitions;
-    std::vector<std::vector<double>> build_s(ps.size()), query_s(ps.size()), total_s(ps.size());
-    for (std::size_t r = 0; r < reps; ++r)
-        for (std::size_t i = 0; i < ps.size(); ++i) {
-            auto& p = *ps[i].index;
-            auto t0 = std::chrono::steady_clock::now();
-            p.build(boxes);
-            const double b = seconds_since(t0);
-            t0 = std::chrono::steady_clock::now();
-            const auto pairs = p.self_pairs();
-            const double q = seconds_since(t0);
-            if (pairs != reference) throw validation_error(p.name() + ": a timed query gave a different pair set");
-            build_s[i].push_back(b);
-            query_s[i].push_back(q);
-            total_s[i].push_back(b + q);
-        }
+    const auto tb = time_interleaved(builds, 0, reps), tq = time_interleaved(queries, 0, reps);
+    const auto tt = time_interleaved(totals, 0, reps);
     for (std::size_t i = 0; i < ps.size(); ++i) {
         const std::string& name = ps[i].index->name();
-        const auto tb = summarize(build_s[i]), tq = summarize(query_s[i]), tt = summarize(total_s[i]);
-        ctx.add(name, ps[i].bv, workload, n, "build", params, "time", tb.median_seconds, "s", &tb);
-        ctx.add(name, ps[i].bv, workload, n, "self_pairs", params, "time", tq.median_seconds, "s", &tq);
-        ctx.add(name, ps[i].bv, workload, n, "build_and_self_pairs", params, "time", tt.median_seconds, "s", &tt);
-        ctx.add(name, ps[i].bv, workload, n, "self_pairs", params, "pairs", static_cast<double>(reference.size()), "count");
-        ctx.add(name, ps[i].bv, workload, n, "build", params, "memory", static_cast<double>(ps[i].index->memory_bytes()), "bytes");
-        ctx.prog.say("collide boxes n=" + fmt_n(n) + " " + name + ": build " + std::to_string(tb.median_seconds) +
-                     " s, pairs " + std::to_string(tq.median_seconds) + " s (" + std::to_string(reference.size()) + " pairs)");
+        const std::string& bv = ps[i].bv;
+        add_timed(ctx, name, bv, workload, n, "build", params, tb[i]);
+        add_timed(ctx, name, bv, workload, n, "self_pairs", params, tq[i]);
+        add_timed(ctx, name, bv, workload, n, "build_and_self_pairs", params, tt[i]);
+        add(ctx, name, bv, workload, n, "self_pairs", params, "pairs", static_cast<double>(reference.size()), "count");
+        add(ctx, name, bv, workload, n, "build", params, "memory", static_cast<double>(ps[i].index->memory_bytes()), "bytes");
+        ctx.prog.say("collide boxes n=" + fmt_n(n) + " " + name + ": build " + std::to_string(tb[i].median_seconds) +
+                     " s, pairs " + std::to_string(tq[i].median_seconds) + " s (" + std::to_string(reference.size()) + " pairs)");
     }
 }
 
@@ -331,18 +328,18 @@ void run_moving_boxes(context& ctx, std::size_t n) {
         const std::string name = p.name();
         for (std::size_t s = 0; s < quality.size(); ++s) {
             const std::string sp = params + ";step=" + std::to_string(s + 1);
-            ctx.add(name, "aabb", workload, n, "update_and_self_pairs", sp, "quality", quality[s], "ratio");
-            ctx.add(name, "aabb", workload, n, "update_and_self_pairs", sp, "time", step_s[s], "s");
+            add(ctx, name, "aabb", workload, n, "update_and_self_pairs", sp, "quality", quality[s], "ratio");
+            add(ctx, name, "aabb", workload, n, "update_and_self_pairs", sp, "time", step_s[s], "s");
         }
         const auto ts = summarize(step_s);
         const auto tc = summarize(changed);
         double total = 0;
         for (double x : step_s) total += x;
-        ctx.add(name, ps[i].bv, workload, n, "build", params, "time", build_s, "s");
-        ctx.add(name, ps[i].bv, workload, n, "update_and_self_pairs", params, "time", ts.median_seconds, "s", &ts);
-        ctx.add(name, ps[i].bv, workload, n, "update_and_self_pairs", params, "steps_per_second",
+        add(ctx, name, ps[i].bv, workload, n, "build", params, "time", build_s, "s");
+        add_timed(ctx, name, ps[i].bv, workload, n, "update_and_self_pairs", params, ts);
+        add(ctx, name, ps[i].bv, workload, n, "update_and_self_pairs", params, "steps_per_second",
                 static_cast<double>(step_s.size()) / total, "1/s");
-        ctx.add(name, ps[i].bv, workload, n, "update_and_self_pairs", params, "pairs_changed_per_step", tc.median_seconds,
+        add(ctx, name, ps[i].bv, workload, n, "update_and_self_pairs", params, "pairs_changed_per_step", tc.median_seconds,
                 "count");
         ctx.prog.say("collide moving_boxes n=" + fmt_n(n) + " " + name + ": " +
                      std::to_string(ts.median_seconds * 1e3) + " ms per step (median of " +
@@ -371,65 +368,67 @@ std::vector<triangle3> random_triangles(std::size_t n, std::uint64_t seed) {
     return out;
 }
 
+// The exact pairs of a tree of triangles as (slot, slot): slots are insertion order, so the
+// same for every tree and for brute force.
+template <class Pairs>
+std::vector<index_pair> slot_pairs(const Pairs& pairs) {
+    std::vector<index_pair> out;
+    out.reserve(pairs.size());
+    for (const auto& [a, b] : pairs) out.emplace_back(a.slot(), b.slot());
+    return out;
+}
+
+// One bvh of one volume type on the triangle soup: its exact pairs validated (the first tree
+// against brute force up to brute_max_n, later trees against the first, whose pairs become
+// `reference`), then build, candidate search and exact search timed, in turn, repetition by
+// repetition.
 template <class Tree>
-void bv_row(context& ctx, const structure_info& info, const std::vector<triangle3>& tris,
-            std::vector<std::pair<std::uint32_t, std::uint32_t>>& reference) {
+void bv_row(context& ctx, const structure_info& info, const std::vector<triangle3>& tris, std::vector<index_pair>& reference) {
     const std::size_t n = tris.size();
     const std::string name = bv_study_name(info), bv = info.bv, workload = "triangles", params = "soup";
     if (!ctx.wants(name) && !ctx.wants(info.family)) return;
-    Tree tree;
-    std::vector<double> build_s, cand_s, exact_s;
-    std::size_t candidates = 0, exact_pairs = 0;
-    for (std::size_t r = 0; r <= ctx.cfg.repetitions; ++r) {
-        tree.clear();
-        auto t0 = std::chrono::steady_clock::now();
-        tree.insert(tris.begin(), tris.end());
-        const double b = seconds_since(t0);
-        t0 = std::chrono::steady_clock::now();
-        const auto cand = tree.self_pairs(spatial::pair_filter::candidates);
-        const double c = seconds_since(t0);
-        t0 = std::chrono::steady_clock::now();
-        const auto exact = tree.self_pairs(spatial::pair_filter::exact);
-        const double e = seconds_since(t0);
-        std::vector<std::pair<std::uint32_t, std::uint32_t>> got;
-        for (const auto& [a, bb] : exact) got.emplace_back(a.slot(), bb.slot());  // slots = insertion order
-        if (reference.empty()) {
-            // The first tree's exact set against brute force (the O(n^2) narrow phase).
-            spatial::brute_force<triangle3> oracle(tris.begin(), tris.end());
-            if (n <= ctx.cfg.brute_max_n) {
-                std::vector<std::pair<std::uint32_t, std::uint32_t>> want;
-                for (const auto& [a, bb] : oracle.self_pairs()) want.emplace_back(a.slot(), bb.slot());
-                if (want != got) throw validation_error(name + " on triangles n=" + fmt_n(n) + ": exact pairs differ from brute force");
-            }
-            reference = got;
-        } else if (got != reference) {
-            throw validation_error(name + " on triangles n=" + fmt_n(n) + ": exact pairs differ from bvh_aabb's");
-        }
-        if (cand.size() < exact.size()) throw validation_error(name + ": fewer candidates than exact pairs");
-        candidates = cand.size();
-        exact_pairs = exact.size();
-        if (r == 0) continue;  // the validated warm-up run
-        build_s.push_back(b);
-        cand_s.push_back(c);
-        exact_s.push_back(e);
+    const std::string where = name + " on triangles n=" + fmt_n(n);
+    Tree tree(tris.begin(), tris.end());
+    const auto exact = slot_pairs(tree.self_pairs(spatial::pair_filter::exact));
+    if (reference.empty()) {
+        if (n <= ctx.cfg.brute_max_n && slot_pairs(spatial::brute_force<triangle3>(tris.begin(), tris.end()).self_pairs()) != exact)
+            throw validation_error(where + ": exact pairs differ from brute force");
+        reference = exact;
+    } else if (exact != reference) {
+        throw validation_error(where + ": exact pairs differ from bvh_aabb's");
     }
-    const auto tb = summarize(build_s), tc = summarize(cand_s), te = summarize(exact_s);
-    ctx.add(name, bv, workload, n, "build", params, "time", tb.median_seconds, "s", &tb);
-    ctx.add(name, bv, workload, n, "candidate_pairs", params, "time", tc.median_seconds, "s", &tc);
-    ctx.add(name, bv, workload, n, "exact_pairs", params, "time", te.median_seconds, "s", &te);
-    ctx.add(name, bv, workload, n, "candidate_pairs", params, "pairs", static_cast<double>(candidates), "count");
-    ctx.add(name, bv, workload, n, "exact_pairs", params, "pairs", static_cast<double>(exact_pairs), "count");
-    ctx.add(name, bv, workload, n, "candidate_pairs", params, "false_positive_ratio",
-            candidates ? static_cast<double>(candidates - exact_pairs) / static_cast<double>(candidates) : 0.0, "ratio");
+    const std::size_t candidates = tree.self_pairs(spatial::pair_filter::candidates).size();
+    if (candidates < exact.size()) throw validation_error(where + ": fewer candidates than exact pairs");
+    const auto t = time_interleaved(
+        {{where + ", build",
+          [&] {
+              tree.clear();
+              tree.insert(tris.begin(), tris.end());
+              return static_cast<double>(tree.size());
+          },
+          static_cast<double>(n)},
+         {where + ", candidate pairs",
+          [&] { return static_cast<double>(tree.self_pairs(spatial::pair_filter::candidates).size()); },
+          static_cast<double>(candidates)},
+         {where + ", exact pairs", [&] { return pairs_checksum(slot_pairs(tree.self_pairs(spatial::pair_filter::exact))); },
+          pairs_checksum(exact)}},
+        0, ctx.cfg.repetitions);
+    add_timed(ctx, name, bv, workload, n, "build", params, t[0]);
+    add_timed(ctx, name, bv, workload, n, "candidate_pairs", params, t[1]);
+    add_timed(ctx, name, bv, workload, n, "exact_pairs", params, t[2]);
+    add(ctx, name, bv, workload, n, "candidate_pairs", params, "pairs", static_cast<double>(candidates), "count");
+    add(ctx, name, bv, workload, n, "exact_pairs", params, "pairs", static_cast<double>(exact.size()), "count");
+    add(ctx, name, bv, workload, n, "candidate_pairs", params, "false_positive_ratio",
+        candidates ? static_cast<double>(candidates - exact.size()) / static_cast<double>(candidates) : 0.0, "ratio");
     ctx.prog.say("collide triangles n=" + fmt_n(n) + " " + name + ": " + std::to_string(candidates) + " candidates, " +
-                 std::to_string(exact_pairs) + " exact, " + std::to_string(te.median_seconds) + " s");
+                 std::to_string(exact.size()) + " exact, " + std::to_string(t[2].median_seconds) + " s");
 }
 
 // One bvh per volume type (the registry's in::collide_bv entries), in registry order: aabb
 // first, whose pairs are checked against brute force and then are the others' reference.
 void run_triangles(context& ctx, std::size_t n) {
     const auto tris = random_triangles(n, ctx.opt.seed);
-    std::vector<std::pair<std::uint32_t, std::uint32_t>> reference;
+    std::vector<index_pair> reference;
     for_each_structure<triangle3, in::collide_bv>([&]<class E>() {
         bv_row<typename E::template container<triangle3>>(ctx, E::info(), tris, reference);
     });
@@ -440,9 +439,7 @@ void run_triangles(context& ctx, std::size_t n) {
 namespace {
 
 context make_context(const suite_options& options) {
-    context ctx{options, preset(options.preset), make_run_id("collide", options.preset), progress(options.quiet), {}, {}};
-    ctx.seeds["data"] = options.seed;
-    return ctx;
+    return make_suite_context("collide", options, preset(options.preset));
 }
 
 // The suite's independent cases: static boxes, moving boxes and triangles at each size.
@@ -468,9 +465,8 @@ std::vector<suite_case> collide_cases(context& ctx) {
 
 void run_collide_suite(const suite_options& options) {
     context ctx = make_context(options);
-    const auto t0 = std::chrono::steady_clock::now();
     run_cases(collide_cases(ctx), options);
-    finish_suite(options, ctx.rows, ctx.run_id, ctx.seeds, {}, t0, ctx.prog);
+    ctx.finish();
 }
 
 std::vector<std::string> collide_case_ids(const suite_options& options) {

@@ -29,6 +29,7 @@
 #include "harness/run_info.hpp"
 #include "harness/structure_registry.hpp"
 #include "harness/suite_cases.hpp"
+#include "harness/suite_context.hpp"
 #include "harness/timing.hpp"
 #include "harness/validation.hpp"
 
@@ -63,19 +64,7 @@ const char* scalar_name() {
     return std::is_same_v<T, float> ? "float" : "double";
 }
 
-// Shared state of one suite run.
-struct context {
-    suite_options opt;
-    preset_config cfg;
-    std::string run_id;
-    progress prog;
-    std::vector<result_row> rows;
-    std::map<std::string, std::uint64_t> seeds;
-
-    bool wants_structure(const std::string& s) const {
-        return opt.structures.empty() || std::find(opt.structures.begin(), opt.structures.end(), s) != opt.structures.end();
-    }
-};
+using context = suite_context<preset_config>;
 
 // Key of one measured figure, for ratio rows.
 struct figure_key {
@@ -93,32 +82,10 @@ struct workload_case {
     std::vector<point_type> queries;
 };
 
-// One CSV row of this suite for workload `wc`; with a timing, its repetitions and the spread
-// (min, max) scaled like the value.
+// The rows of workload `wc`.
 template <class T, std::size_t D>
-result_row make_row(const context& ctx, const workload_case<T, D>& wc, const std::string& structure,
-                    const std::string& operation, const std::string& params, const std::string& metric, double value,
-                    const std::string& unit, const timing_result* t = nullptr, double scale = 1) {
-    result_row r;
-    r.suite = ctx.opt.suite_name;
-    r.structure = structure;
-    r.workload = wc.label;
-    r.n = wc.points.size();
-    r.dim = D;
-    r.scalar = scalar_name<T>();
-    r.operation = operation;
-    r.params = params;
-    r.metric = metric;
-    r.value = value;
-    r.unit = unit;
-    r.validated = true;
-    r.run_id = ctx.run_id;
-    if (t) {
-        r.repetitions = t->repetitions;
-        r.min_value = t->min_seconds * scale;
-        r.max_value = t->max_seconds * scale;
-    }
-    return r;
+row_scope scope_of(const context& ctx, const workload_case<T, D>& wc) {
+    return ctx.scope(wc.label, wc.points.size(), D, scalar_name<T>());
 }
 
 // ---------------------------------------------------------------------------------------
@@ -162,7 +129,7 @@ void add_registered(const context& ctx, std::vector<std::unique_ptr<point_index<
     using point_type = spatial::point<T, D>;
     auto add = [&]<class E>() {
         const structure_info info = E::info();
-        if (!ctx.wants_structure(info.name) || !within_limits(info, n, 0, ctx.cfg.brute_max_n)) return;
+        if (!ctx.wants(info.name) || !within_limits(info, n, 0, ctx.cfg.brute_max_n)) return;
         if (dynamic && info.kind == "oracle") return;
         out.push_back(std::make_unique<container_index<typename E::template container<point_type>, T, D>>(info.name));
     };
@@ -212,7 +179,7 @@ public:
         std::vector<std::unique_ptr<point_index<T, D>>> structures;
         add_registered(ctx_, structures, n, false);
         for (auto& p : make_peer_indices<T, D>())
-            if (p->name() != "nanoflann_dynamic" && ctx_.wants_structure(p->name())) structures.push_back(std::move(p));
+            if (p->name() != "nanoflann_dynamic" && ctx_.wants(p->name())) structures.push_back(std::move(p));
         // The oracle is timed last (the others are compared with the first, kd_tree).
         std::stable_partition(structures.begin(), structures.end(), [](const auto& s) { return !is_oracle(s->name()); });
         measure_interleaved(structures);
@@ -228,15 +195,15 @@ private:
 
     result_row row(const std::string& structure, const std::string& operation, const std::string& params,
                    const std::string& metric, double value, const std::string& unit) const {
-        return make_row(ctx_, wc_, structure, operation, params, metric, value, unit);
+        return scope_of(ctx_, wc_).figure(structure, "", operation, params, metric, value, unit);
+    }
+    result_row timed_row(const std::string& structure, const std::string& operation, const std::string& params,
+                         const std::string& metric, const timing_result& t, const std::string& unit, double scale = 1) const {
+        return scope_of(ctx_, wc_).timed(structure, "", operation, params, metric, t, unit, scale);
     }
 
-    void record(result_row r, const timing_result* t = nullptr, double scale = 1) {
-        if (t) {
-            r.repetitions = t->repetitions;
-            r.min_value = t->min_seconds * scale;
-            r.max_value = t->max_seconds * scale;
-        }
+    // Keeps the row, and its value for the kd_tree / peer ratios.
+    void record(result_row r) {
         figures_[{r.workload, r.n, r.dim, r.scalar, r.operation, r.params, r.metric}][r.structure] = r.value;
         ctx_.rows.push_back(std::move(r));
     }
@@ -308,88 +275,82 @@ private:
     void measure_interleaved(std::vector<std::unique_ptr<point_index<T, D>>>& structures) {
         const std::size_t n = wc_.points.size();
         const std::span<const point_type> pts(wc_.points);
-        const std::size_t S = structures.size();
-        // ---- build (interleaved; the last repetition leaves every structure built) ----
-        std::vector<std::vector<double>> build_samples(S);
-        for (std::size_t rep = 0; rep < ctx_.cfg.build_repetitions; ++rep)
-            for (std::size_t i = 0; i < S; ++i) {
-                const auto t0 = std::chrono::steady_clock::now();
-                structures[i]->build(pts);
-                build_samples[i].push_back(seconds_since(t0));
-                if (structures[i]->size() != n)
-                    throw validation_error(tag(structures[i]->name(), "build") + ": size " +
-                                           std::to_string(structures[i]->size()));
-            }
-        std::vector<timing_result> builds(S);
-        for (std::size_t i = 0; i < S; ++i) builds[i] = summarize(build_samples[i]);
-        // ---- queries ----
-        std::vector<std::map<std::string, double>> knn_us(S);
-        for (const auto& op : ops_) {
-            std::vector<std::size_t> who;
-            std::vector<std::size_t> count(S, 0);
-            std::vector<double> expected(S, 0);
-            std::vector<std::vector<std::vector<double>>> answers(S);
-            for (std::size_t i = 0; i < S; ++i) {
-                auto& s = *structures[i];
-                const bool is_brute = is_oracle(s.name());
-                if (is_brute && op.operation != "knn") continue;
-                if (op.operation == "approx_knn" && !s.can(capability::approximate_knn)) continue;
-                count[i] = is_brute ? std::min<std::size_t>(wc_.queries.size(), 200) : wc_.queries.size();
-                answers[i] = answer_all(s, op, count[i], expected[i]);
-                validate(s.name(), op, answers[i]);
-                who.push_back(i);
-            }
-            std::vector<std::vector<double>> samples(S);
-            std::vector<neighbor<T>> out;
-            for (std::size_t rep = 0; rep < 1 + ctx_.cfg.repetitions; ++rep)  // the first is a warm-up
-                for (std::size_t i : who) {
-                    auto& s = *structures[i];
-                    const auto t0 = std::chrono::steady_clock::now();
-                    double sum = 0;
-                    for (std::size_t q = 0; q < count[i]; ++q) {
-                        run_one(s, op, wc_.queries[q], out);
-                        sum += raw_checksum(out);
-                    }
-                    const double sec = seconds_since(t0);
-                    if (sum != expected[i])
-                        throw validation_error(tag(s.name(), op.operation + "(" + op.params + ")") +
-                                               ": a timed repetition gave different answers than the validated run");
-                    if (rep > 0) samples[i].push_back(sec);
-                }
-            for (std::size_t i : who) {
-                const std::string name = structures[i]->name();
-                const timing_result t = summarize(samples[i]);
-                const double per_op_ns = 1e9 / static_cast<double>(count[i]);
-                record(row(name, op.operation, op.params, "time_per_op", t.median_seconds * per_op_ns, "ns"), &t,
-                       per_op_ns);
-                if (op.operation == "approx_knn") {
-                    const auto& exact = reference_.at("knn|k=10");
-                    double rec = 0;
-                    for (std::size_t q = 0; q < count[i]; ++q) rec += recall(as_t(answers[i][q]), as_t(exact[q]));
-                    record(row(name, op.operation, op.params, "recall", rec / static_cast<double>(count[i]), "ratio"));
-                }
-                if (op.operation == "knn") knn_us[i][op.params] = t.median_seconds * 1e6 / static_cast<double>(count[i]);
-            }
-        }
-        for (std::size_t i = 0; i < S; ++i) {
+        // Builds, interleaved; the last repetition leaves every structure built with n points.
+        std::vector<timed_work> build_work;
+        for (auto& s : structures)
+            build_work.push_back({tag(s->name(), "build") + ", size after build",
+                                  [&s, pts] {
+                                      s->build(pts);
+                                      return static_cast<double>(s->size());
+                                  },
+                                  static_cast<double>(n)});
+        const std::vector<timing_result> builds = time_interleaved(build_work, 0, ctx_.cfg.build_repetitions);
+        std::vector<std::map<std::string, double>> knn_us(structures.size());
+        for (const auto& op : ops_) measure_operation(structures, op, knn_us);
+        for (std::size_t i = 0; i < structures.size(); ++i) {
             const std::string name = structures[i]->name();
-            const std::size_t bytes = structures[i]->memory_bytes();
-            record(row(name, "build", "", "build_time", builds[i].median_seconds, "s"), &builds[i]);
-            record(row(name, "build", "", "memory_bytes", static_cast<double>(bytes), "B"));
-            record(row(name, "build", "", "bytes_per_point", static_cast<double>(bytes) / static_cast<double>(n), "B"));
+            const double bytes = static_cast<double>(structures[i]->memory_bytes());
+            record(timed_row(name, "build", "", "build_time", builds[i], "s"));
+            record(row(name, "build", "", "memory_bytes", bytes, "B"));
+            record(row(name, "build", "", "bytes_per_point", bytes / static_cast<double>(n), "B"));
             std::ostringstream msg;
             msg.precision(3);
-            msg << tag(name, "") << ": build " << builds[i].median_seconds << " s, "
-                << static_cast<double>(bytes) / static_cast<double>(n) << " B/pt";
+            msg << tag(name, "") << ": build " << builds[i].median_seconds << " s, " << bytes / static_cast<double>(n)
+                << " B/pt";
             for (const auto& [params, us] : knn_us[i]) msg << ", " << params << " " << us << " us";
             ctx_.prog.say(msg.str());
+        }
+    }
+
+    // One operation on every structure that has it: its answers to every query (the oracle:
+    // to the first 200) validated, then timed, interleaved; each timed repetition must
+    // reproduce the validated checksum. knn_us collects the k-NN times for the summary line.
+    void measure_operation(std::vector<std::unique_ptr<point_index<T, D>>>& structures, const operation_spec& op,
+                           std::vector<std::map<std::string, double>>& knn_us) {
+        std::vector<std::size_t> who, count;
+        std::vector<std::vector<std::vector<double>>> answers;
+        std::vector<timed_work> work;
+        for (std::size_t i = 0; i < structures.size(); ++i) {
+            auto& s = *structures[i];
+            const bool is_brute = is_oracle(s.name());
+            if (is_brute && op.operation != "knn") continue;
+            if (op.operation == "approx_knn" && !s.can(capability::approximate_knn)) continue;
+            const std::size_t queries = is_brute ? std::min<std::size_t>(wc_.queries.size(), 200) : wc_.queries.size();
+            double checksum = 0;
+            answers.push_back(answer_all(s, op, queries, checksum));
+            validate(s.name(), op, answers.back());
+            work.push_back({tag(s.name(), op.operation + "(" + op.params + ")"),
+                            [this, &s, &op, queries, out = std::vector<neighbor<T>>()]() mutable {
+                                double sum = 0;
+                                for (std::size_t q = 0; q < queries; ++q) {
+                                    run_one(s, op, wc_.queries[q], out);
+                                    sum += raw_checksum(out);
+                                }
+                                return sum;
+                            },
+                            checksum});
+            who.push_back(i);
+            count.push_back(queries);
+        }
+        const std::vector<timing_result> times = time_interleaved(work, 1, ctx_.cfg.repetitions);
+        for (std::size_t w = 0; w < who.size(); ++w) {
+            const std::string name = structures[who[w]]->name();
+            const double per_op_ns = 1e9 / static_cast<double>(count[w]);
+            record(timed_row(name, op.operation, op.params, "time_per_op", times[w], "ns", per_op_ns));
+            if (op.operation == "approx_knn") {
+                const auto& exact = reference_.at("knn|k=10");
+                double rec = 0;
+                for (std::size_t q = 0; q < count[w]; ++q) rec += recall(as_t(answers[w][q]), as_t(exact[q]));
+                record(row(name, op.operation, op.params, "recall", rec / static_cast<double>(count[w]), "ratio"));
+            }
+            if (op.operation == "knn") knn_us[who[w]][op.params] = times[w].median_seconds * 1e6 / static_cast<double>(count[w]);
         }
     }
 
     // Nodes visited per query, from a kd_tree built with statistics compiled in (a separate,
     // untimed instance: counting costs time).
     void nodes_visited() {
-        if (!ctx_.wants_structure("kd_tree")) return;
+        if (!ctx_.wants("kd_tree")) return;
         kd_tree_stats_index<T, D> s("kd_tree");
         s.build(std::span<const point_type>(wc_.points));
         std::vector<neighbor<T>> out;
@@ -449,16 +410,21 @@ private:
         std::vector<std::unique_ptr<point_index<T, D>>> v;
         add_registered(ctx_, v, wc_.points.size(), true);
         for (auto& p : make_peer_indices<T, D>())
-            if (p->can(capability::dynamic) && ctx_.wants_structure(p->name()) &&
+            if (p->can(capability::dynamic) && ctx_.wants(p->name()) &&
                 (include_cgal || p->name().find("cgal") == std::string::npos))
                 v.push_back(std::move(p));
         return v;
     }
 
     result_row row(const std::string& structure, const std::string& operation, const std::string& params,
-                   const std::string& metric, double value, const std::string& unit, const timing_result* t = nullptr,
-                   double scale = 1) {
-        return make_row(ctx_, wc_, structure, operation, params, metric, value, unit, t, scale);
+                   const std::string& metric, double value, const std::string& unit) const {
+        return scope_of(ctx_, wc_).figure(structure, "", operation, params, metric, value, unit);
+    }
+    // A time per operation: the median of `t` over `ops` operations, in ns.
+    result_row per_op_row(const std::string& structure, const std::string& operation, const std::string& params,
+                          const timing_result& t, std::size_t ops) const {
+        return scope_of(ctx_, wc_).timed(structure, "", operation, params, "time_per_op", t, "ns",
+                                         1e9 / static_cast<double>(ops));
     }
 
     // After a dynamic workload: the structure holds exactly `expected` (size, and kNN
@@ -514,10 +480,9 @@ private:
                     return 0;
                 },
                 [&](int) { validate_contents(*s, expected, where(name, "churn")); });
-            const double scale = 1e9 / static_cast<double>(2 * rounds);
-            ctx_.rows.push_back(row(name, "churn", "rounds=min_n_" + std::to_string(ctx_.cfg.churn_rounds), "time_per_op",
-                                    t.median_seconds * scale, "ns", &t, scale));
-            ctx_.prog.say(where(name, "churn") + ": " + std::to_string(t.median_seconds * scale) + " ns/op");
+            const result_row r = per_op_row(name, "churn", "rounds=min_n_" + std::to_string(ctx_.cfg.churn_rounds), t, 2 * rounds);
+            ctx_.prog.say(where(name, "churn") + ": " + std::to_string(r.value) + " ns/op");
+            ctx_.rows.push_back(r);
         }
     }
 
@@ -583,9 +548,8 @@ private:
                             return 0;
                         },
                         [&](int) { validate_contents(*s, expected, where(name, op + " " + params)); });
-                    const double scale = 1e9 / static_cast<double>(m);
-                    ctx_.rows.push_back(row(name, op, params, "time_per_op", t.median_seconds * scale, "ns", &t, scale));
-                    per_op[name + "|" + op] = t.median_seconds * scale;
+                    ctx_.rows.push_back(per_op_row(name, op, params, t, m));
+                    per_op[name + "|" + op] = ctx_.rows.back().value;
                 }
                 const auto plain = per_op.find(s->name() + "|insert"), hint = per_op.find(s->name() + "|insert_hinted");
                 if (plain != per_op.end() && hint != per_op.end()) {
@@ -595,7 +559,7 @@ private:
                                   " ns vs plain " + std::to_string(plain->second) + " ns");
                 }
             }
-            if (ctx_.wants_structure("kd_tree")) {
+            if (ctx_.wants("kd_tree")) {
                 for (bool hinted : {false, true}) {
                     kd_tree_stats_index<T, D> s("kd_tree");
                     s.build(wc_.points);
@@ -642,8 +606,7 @@ private:
                             return 0;
                         },
                         [&](int) { validate_contents(*s, expected, where(name, op)); });
-                    const double scale = 1e9 / static_cast<double>(add.size());
-                    ctx_.rows.push_back(row(name, op, params, "time_per_op", t.median_seconds * scale, "ns", &t, scale));
+                    ctx_.rows.push_back(per_op_row(name, op, params, t, add.size()));
                     t_of[bulk] = t.median_seconds;
                 }
                 ctx_.rows.push_back(row(name, "insert_bulk", params, "speedup_ratio", t_of[false] / t_of[true], "ratio"));
@@ -655,7 +618,7 @@ private:
 
     // Bulk against looped erasure of an iterator range (kd_tree's range erase): 10% and 50%.
     void bulk_erasure() {
-        if (!ctx_.wants_structure("kd_tree")) return;
+        if (!ctx_.wants("kd_tree")) return;
         using tree = spatial::kd_tree<point_type>;
         const std::size_t n = wc_.points.size();
         for (double fraction : {0.1, 0.5}) {
@@ -696,8 +659,7 @@ private:
                                                     " vs brute-force oracle");
                         }
                     });
-                const double scale = 1e9 / static_cast<double>(m);
-                ctx_.rows.push_back(row("kd_tree", op, params, "time_per_op", tr.median_seconds * scale, "ns", &tr, scale));
+                ctx_.rows.push_back(per_op_row("kd_tree", op, params, tr, m));
                 t_of[bulk] = tr.median_seconds;
             }
             ctx_.rows.push_back(row("kd_tree", "erase_bulk", params, "speedup_ratio", t_of[false] / t_of[true], "ratio"));
@@ -736,7 +698,7 @@ void run_real(context& ctx, const std::filesystem::path& file) {
         for (int d = 0; d < 3; ++d) lo[d] = std::min(lo[d], p[d]), hi[d] = std::max(hi[d], p[d]);
     const double diag = std::sqrt((hi[0] - lo[0]) * (hi[0] - lo[0]) + (hi[1] - lo[1]) * (hi[1] - lo[1]) +
                                   (hi[2] - lo[2]) * (hi[2] - lo[2]));
-    std::mt19937_64 rng(ctx.opt.seed ^ std::hash<std::string>{}(wc.label));
+    std::mt19937_64 rng(datasets::derive_seed(ctx.opt.seed, datasets::label_stream(wc.label)));
     for (std::size_t i = 0; i < ctx.cfg.queries; ++i) {
         auto q = wc.points[rng() % wc.points.size()];
         for (int d = 0; d < 3; ++d) q[d] += (static_cast<double>(rng() >> 11) * 0x1.0p-53 - 0.5) * 2e-3 * diag;
@@ -751,14 +713,13 @@ void run_real(context& ctx, const std::filesystem::path& file) {
 namespace {
 
 context make_context(const suite_options& options) {
-    context ctx{options, preset(options.preset), make_run_id(options.suite_name, options.preset), progress(options.quiet), {}, {}};
+    context ctx = make_suite_context(options.suite_name, options, preset(options.preset));
     // The structures suite stops at 1e5 in the quick preset (every structure, ~8 of them, is
     // built and queried at every size; the knn suite covers 1e6 for the kd-tree and the peers).
     if (options.all_structures && options.preset == "quick") std::erase(ctx.cfg.sizes, std::size_t{1000000});
     if (!options.sizes.empty()) ctx.cfg.sizes = options.sizes;
     if (!options.workloads.empty()) ctx.cfg.workloads = options.workloads;
     for (const auto& w : ctx.cfg.workloads) (void)datasets::parse_point_workload(w);  // fail fast on a typo
-    ctx.seeds["data"] = options.seed;
     return ctx;
 }
 
@@ -797,13 +758,11 @@ std::vector<suite_case> knn_cases(context& ctx) {
 
 void run_knn_suite(const suite_options& options) {
     context ctx = make_context(options);
-    const auto t0 = std::chrono::steady_clock::now();
     const auto real_files = real_point_files(options);
     if (!options.real_data_dir.empty() && real_files.empty())
         ctx.prog.say("no real point sets in " + options.real_data_dir.string() + " (run datasets/fetch_real_data.sh)");
     run_cases(knn_cases(ctx), options);
-    finish_suite(options, ctx.rows, ctx.run_id, ctx.seeds, {{"real_data", std::to_string(real_files.size()) + " files"}},
-                 t0, ctx.prog);
+    ctx.finish({{"real_data", std::to_string(real_files.size()) + " files"}});
 }
 
 std::vector<std::string> knn_case_ids(const suite_options& options) {

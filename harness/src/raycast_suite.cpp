@@ -41,6 +41,7 @@
 #include "harness/run_info.hpp"
 #include "harness/structure_registry.hpp"
 #include "harness/suite_cases.hpp"
+#include "harness/suite_context.hpp"
 #include "harness/timing.hpp"
 #include "harness/validation.hpp"
 #include "spatial/brute/brute_force.hpp"
@@ -86,59 +87,11 @@ preset_config preset(const std::string& name) {
     throw std::invalid_argument("unknown preset '" + name + "' (expected smoke, quick or full)");
 }
 
-// FNV-1a of a workload label: a per-workload ray stream that is the same on every standard
-// library (std::hash is implementation-defined).
-std::uint64_t fnv1a(const std::string& text) {
-    std::uint64_t h = 14695981039346656037ull;
-    for (unsigned char c : text) h = (h ^ c) * 1099511628211ull;
-    return h;
-}
-
-struct context {
-    suite_options opt;
-    preset_config cfg;
-    std::string run_id;
-    progress prog;
-    std::vector<result_row> rows;
-    std::map<std::string, std::uint64_t> seeds;
-
-    bool wants(const std::string& s) const {
-        return opt.structures.empty() || std::find(opt.structures.begin(), opt.structures.end(), s) != opt.structures.end();
-    }
-};
+using context = suite_context<preset_config>;
 
 struct ray {
     point3 origin, direction;  // |direction| = 1
 };
-
-// One validated raycast row (rows are written only after validation passed); t gives the
-// repetitions and the spread, scaled like the value.
-result_row raycast_row(const context& ctx, const std::string& structure, const std::string& bv,
-                       const std::string& workload, std::size_t n, const std::string& operation,
-                       const std::string& params, const std::string& metric, double value, const std::string& unit,
-                       const timing_result* t, double scale) {
-    result_row r;
-    r.suite = "raycast";
-    r.structure = structure;
-    r.bv = bv;
-    r.workload = workload;
-    r.n = n;
-    r.dim = 3;
-    r.scalar = "double";
-    r.operation = operation;
-    r.params = params;
-    r.metric = metric;
-    r.value = value;
-    r.unit = unit;
-    r.validated = true;
-    r.run_id = ctx.run_id;
-    if (t) {
-        r.repetitions = t->repetitions;
-        r.min_value = t->min_seconds * scale;
-        r.max_value = t->max_seconds * scale;
-    }
-    return r;
-}
 
 struct ray_set {
     std::string kind;    // incoherent | coherent
@@ -237,7 +190,7 @@ public:
         triangles_ = datasets::to_triangles<T>(mesh_);
         bounds_ = datasets::bounds_of(mesh_);
         scale_ = scene_scale(mesh_);
-        const std::uint64_t seed = datasets::derive_seed(ctx_.opt.seed, fnv1a(label_));
+        const std::uint64_t seed = datasets::derive_seed(ctx_.opt.seed, datasets::label_stream(label_));
         ray_set incoherent{"incoherent", "rays=incoherent", incoherent_rays(bounds_, ctx_.cfg.incoherent_rays, seed), {}};
         const std::string side = std::to_string(ctx_.cfg.camera_side);
         ray_set coherent{"coherent", "rays=coherent;camera=" + side + "x" + side, camera_rays(bounds_, ctx_.cfg.camera_side), {}};
@@ -347,97 +300,49 @@ private:
         return excused;
     }
 
-    result_row row(const ray_index<T>& s, const std::string& operation, const std::string& params,
-                   const std::string& metric, double value, const std::string& unit,
-                   const timing_result* t = nullptr, double scale = 1) const {
-        return raycast_row(ctx_, s.name(), s.bv(), label_, triangles_.size(), operation, params, metric, value, unit,
-                           t, scale);
+    row_scope rows() const { return ctx_.scope(label_, triangles_.size()); }
+    void add(result_row r) { ctx_.rows.push_back(std::move(r)); }
+
+    // The reference for the every-ray check: the first structure of double precision that
+    // answers every ray (ours, else CGAL) moves to the front; it is validated against the
+    // oracle alone. Returns whether there is one.
+    static bool put_reference_first(std::vector<std::unique_ptr<ray_index<T>>>& structures) {
+        const auto it = std::find_if(structures.begin(), structures.end(), [](const auto& s) {
+            return !is_oracle(s->name()) && tolerance_of(*s).time_relative < 1e-6;
+        });
+        if (it == structures.end()) return false;
+        std::rotate(structures.begin(), it, it + 1);
+        return true;
+    }
+
+    // Builds, interleaved; the last repetition leaves every structure built. A build must hold
+    // every triangle.
+    std::vector<timing_result> build_all(std::vector<std::unique_ptr<ray_index<T>>>& structures) {
+        std::vector<timed_work> work;
+        for (auto& s : structures)
+            work.push_back({s->name() + " on " + label_ + " n=" + fmt_n(triangles_.size()) + ", size after build",
+                            [this, &s] {
+                                s->build(mesh_, triangles_);
+                                return static_cast<double>(s->size());
+                            },
+                            static_cast<double>(triangles_.size())});
+        return time_interleaved(work, 0, ctx_.cfg.build_repetitions);
     }
 
     void measure(std::vector<std::unique_ptr<ray_index<T>>>& structures) {
-        const std::size_t S = structures.size();
-        // ---- build, interleaved; the last repetition leaves every structure built ----
-        std::vector<std::vector<double>> build_samples(S);
-        for (std::size_t rep = 0; rep < ctx_.cfg.build_repetitions; ++rep)
-            for (std::size_t i = 0; i < S; ++i) {
-                const auto t0 = std::chrono::steady_clock::now();
-                structures[i]->build(mesh_, triangles_);
-                build_samples[i].push_back(seconds_since(t0));
-                if (structures[i]->size() != triangles_.size())
-                    throw validation_error(structures[i]->name() + " on " + label_ + ": size " +
-                                           std::to_string(structures[i]->size()) + " after build, expected " +
-                                           std::to_string(triangles_.size()));
-            }
-        // The reference for the every-ray check: the first structure of double precision that
-        // answers every ray (ours, else CGAL), validated against the oracle first.
-        std::size_t reference = S;
-        for (std::size_t i = 0; i < S && reference == S; ++i)
-            if (!is_oracle(structures[i]->name()) && tolerance_of(*structures[i]).time_relative < 1e-6)
-                reference = i;
-        if (reference != S) std::rotate(structures.begin(), structures.begin() + static_cast<long>(reference),
-                                        structures.begin() + static_cast<long>(reference) + 1);
-        if (reference != S) std::rotate(build_samples.begin(), build_samples.begin() + static_cast<long>(reference),
-                                        build_samples.begin() + static_cast<long>(reference) + 1);
-        const bool have_reference = reference != S;
-
-        std::vector<std::string> summary(S);
-        for (std::size_t k = 0; k < sets_.size(); ++k) {
-            const ray_set& set = sets_[k];
-            std::vector<answers> validated(S);
-            std::vector<std::vector<std::size_t>> which(S);
-            std::vector<std::size_t> excused(S, 0);
-            for (std::size_t i = 0; i < S; ++i) {
-                which[i] = rays_for(*structures[i], set);
-                validated[i] = answer(*structures[i], set, which[i]);
-                const bool is_reference = have_reference && i == 0;
-                excused[i] = validate(*structures[i], k, which[i], validated[i],
-                                      is_reference || !have_reference ? nullptr : &validated[0],
-                                      have_reference ? tolerance_of(*structures[0]) : double_peer_tolerance,
-                                      have_reference ? structures[0]->name() : std::string());
-            }
-            // ---- timed repetitions, interleaved ----
-            std::vector<std::vector<double>> samples(S);
-            for (std::size_t rep = 0; rep < 1 + ctx_.cfg.repetitions; ++rep)  // the first is a warm-up
-                for (std::size_t i = 0; i < S; ++i) {
-                    auto& s = *structures[i];
-                    const auto t0 = std::chrono::steady_clock::now();
-                    double sum = 0;
-                    for (std::size_t r : which[i]) sum += checksum_of(cast(s, set.rays[r]));
-                    const double sec = seconds_since(t0);
-                    if (sum != validated[i].checksum)
-                        throw validation_error(where(s.name(), set) +
-                                               ": a timed repetition gave different answers than the validated run");
-                    if (rep > 0) samples[i].push_back(sec);
-                }
-            for (std::size_t i = 0; i < S; ++i) {
-                const auto& s = *structures[i];
-                const timing_result t = summarize(samples[i]);
-                const double per_ray_ns = 1e9 / static_cast<double>(which[i].size());
-                ctx_.rows.push_back(row(s, "ray", set.params, "time_per_op", t.median_seconds * per_ray_ns, "ns", &t,
-                                        per_ray_ns));
-                ctx_.rows.push_back(row(s, "ray", set.params, "rays", static_cast<double>(which[i].size()), "count"));
-                ctx_.rows.push_back(row(s, "ray", set.params, "hits", static_cast<double>(validated[i].hits), "count"));
-                ctx_.rows.push_back(row(s, "ray", set.params, "ambiguous_rays", static_cast<double>(excused[i]), "count"));
-                if (validated[i].nodes_visited >= 0)
-                    ctx_.rows.push_back(row(s, "ray", set.params, "nodes_visited", validated[i].nodes_visited, "count"));
-                std::ostringstream msg;
-                msg.precision(3);
-                msg << ", " << set.kind << " " << t.median_seconds * per_ray_ns / 1000 << " us/ray ("
-                    << validated[i].hits << "/" << which[i].size() << " hit";
-                if (excused[i]) msg << ", " << excused[i] << " ambiguous";
-                msg << ")";
-                summary[i] += msg.str();
-            }
-        }
-        for (std::size_t i = 0; i < S; ++i) {
+        const bool have_reference = put_reference_first(structures);
+        const std::vector<timing_result> builds = build_all(structures);
+        std::vector<std::string> summary(structures.size());
+        for (std::size_t k = 0; k < sets_.size(); ++k) measure_set(structures, k, have_reference, summary);
+        const row_scope scope = rows();
+        for (std::size_t i = 0; i < structures.size(); ++i) {
             const auto& s = *structures[i];
-            const timing_result b = summarize(build_samples[i]);
+            const timing_result& b = builds[i];
             const double bytes = static_cast<double>(s.memory_bytes());
-            ctx_.rows.push_back(row(s, "build", "", "build_time", b.median_seconds, "s", &b));
-            ctx_.rows.push_back(row(s, "build", "", "memory_bytes", bytes, "B"));
-            ctx_.rows.push_back(
-                row(s, "build", "", "bytes_per_triangle", bytes / static_cast<double>(triangles_.size()), "B"));
-            for (const auto& [metric, value] : s.build_metrics()) ctx_.rows.push_back(row(s, "build", "", metric, value, "ratio"));
+            add(scope.timed(s.name(), s.bv(), "build", "", "build_time", b, "s"));
+            add(scope.figure(s.name(), s.bv(), "build", "", "memory_bytes", bytes, "B"));
+            add(scope.figure(s.name(), s.bv(), "build", "", "bytes_per_triangle", bytes / static_cast<double>(triangles_.size()), "B"));
+            for (const auto& [metric, value] : s.build_metrics()) add(scope.figure(s.name(), s.bv(), "build", "", metric, value, "ratio"));
             std::ostringstream msg;
             msg.precision(3);
             msg << s.name() << " on " << label_ << " n=" << fmt_n(triangles_.size()) << ": build " << b.median_seconds
@@ -446,14 +351,98 @@ private:
         }
     }
 
+    // Ray set k: every structure answers once and is validated (the reference, first, against
+    // the oracle; the others also against the reference on every ray), then the timed
+    // repetitions, interleaved.
+    void measure_set(std::vector<std::unique_ptr<ray_index<T>>>& structures, std::size_t k, bool have_reference,
+                     std::vector<std::string>& summary) {
+        const ray_set& set = sets_[k];
+        const std::size_t S = structures.size();
+        std::vector<answers> validated(S);
+        std::vector<std::vector<std::size_t>> which(S);
+        std::vector<std::size_t> excused(S, 0);
+        std::vector<timed_work> work;
+        for (std::size_t i = 0; i < S; ++i) {
+            auto& s = *structures[i];
+            which[i] = rays_for(s, set);
+            validated[i] = answer(s, set, which[i]);
+            const bool against_reference = have_reference && i > 0;
+            excused[i] = validate(s, k, which[i], validated[i], against_reference ? &validated[0] : nullptr,
+                                  have_reference ? tolerance_of(*structures[0]) : double_peer_tolerance,
+                                  have_reference ? structures[0]->name() : std::string());
+            work.push_back({where(s.name(), set),
+                            [&s, &set, &rays = which[i]] {
+                                double sum = 0;
+                                for (std::size_t r : rays) sum += checksum_of(cast(s, set.rays[r]));
+                                return sum;
+                            },
+                            validated[i].checksum});
+        }
+        const std::vector<timing_result> times = time_interleaved(work, 1, ctx_.cfg.repetitions);
+        const row_scope scope = rows();
+        for (std::size_t i = 0; i < S; ++i) {
+            const auto& s = *structures[i];
+            const double per_ray_ns = 1e9 / static_cast<double>(which[i].size());
+            auto figure = [&](const std::string& metric, double value) {
+                add(scope.figure(s.name(), s.bv(), "ray", set.params, metric, value, "count"));
+            };
+            add(scope.timed(s.name(), s.bv(), "ray", set.params, "time_per_op", times[i], "ns", per_ray_ns));
+            figure("rays", static_cast<double>(which[i].size()));
+            figure("hits", static_cast<double>(validated[i].hits));
+            figure("ambiguous_rays", static_cast<double>(excused[i]));
+            if (validated[i].nodes_visited >= 0) figure("nodes_visited", validated[i].nodes_visited);
+            std::ostringstream msg;
+            msg.precision(3);
+            msg << ", " << set.kind << " " << times[i].median_seconds * per_ray_ns / 1000 << " us/ray ("
+                << validated[i].hits << "/" << which[i].size() << " hit";
+            if (excused[i]) msg << ", " << excused[i] << " ambiguous";
+            msg << ")";
+            summary[i] += msg.str();
+        }
+    }
+
+    using tree = spatial::bvh<triangle3>;
+
+    // The checksum of a batched cast (hit t + 1 summed over the hits), leaving each ray's
+    // answer in hits / infos.
+    static double batch_checksum(const tree& t, std::span<const spatial::ray<point3>> rays, std::vector<tree::iterator>& hits,
+                                 std::vector<spatial::intersect_info<point3>>& infos, bool parallel) {
+        for (auto& i : infos) i = {};
+        if (parallel) t.intersect_batch(rays, hits, infos, spatial::par);
+        else t.intersect_batch(rays, hits, infos, spatial::seq);
+        double sum = 0;
+        for (std::size_t i = 0; i < rays.size(); ++i) sum += hits[i] == t.end() ? 0.0 : infos[i].hit_time + 1;
+        return sum;
+    }
+
+    // The parallel tree's batched answers must equal the one-thread batch on every ray, and
+    // brute force on the oracle sample. Returns the validated checksum.
+    double validate_parallel(const tree& one, const tree& many, std::span<const spatial::ray<point3>> rays) {
+        const ray_set& set = sets_[0];
+        const std::size_t n = rays.size();
+        std::vector<tree::iterator> hits_one(n), hits_many(n);
+        std::vector<spatial::intersect_info<point3>> infos_one(n), infos_many(n);
+        const double checksum = batch_checksum(one, rays, hits_one, infos_one, false);
+        batch_checksum(many, rays, hits_many, infos_many, true);
+        for (std::size_t i = 0; i < n; ++i)
+            if ((hits_one[i] == one.end()) != (hits_many[i] == many.end()) || !(infos_one[i].hit_time == infos_many[i].hit_time))
+                throw validation_error(where("bvh", set) + ": the parallel build and batch disagree with one thread on ray " +
+                                       std::to_string(i));
+        for (std::size_t j = 0; j < set.oracle_sample.size(); ++j) {
+            const std::size_t i = set.oracle_sample[j];
+            const ray_answer& want = oracle_[0][j];
+            const bool hit = hits_many[i] != many.end();
+            if (hit != want.hit || (hit && !(infos_many[i].hit_time == want.t)))
+                throw validation_error(where("bvh", set) + ": the parallel batch disagrees with brute force on ray " +
+                                       std::to_string(i));
+        }
+        return checksum;
+    }
+
     // Multi-threaded build (bvh(first, last, spatial::par)) and batched incoherent casts
     // (intersect_batch with spatial::par) of `bvh` on every core the back end uses, against
-    // the same work on one thread, interleaved in the same run. Validated before timing: the
-    // parallel tree's batched answers equal the one-thread batch on every ray, and brute
-    // force on the oracle sample.
+    // the same work on one thread, interleaved in the same run and validated before timing.
     void measure_parallel() {
-        using tree = spatial::bvh<triangle3>;
-        const container_ray_index<tree> label("bvh", "aabb");
         std::size_t threads = 1;
 #if defined(SPATIAL_HAVE_TBB)
         threads = static_cast<std::size_t>(tbb::info::default_concurrency());
@@ -462,84 +451,47 @@ private:
             ctx_.prog.say("bvh parallel: skipped (the parallel back end has one thread)");
             return;
         }
-        std::vector<double> build_seq, build_par;
-        std::unique_ptr<tree> one, many;
-        for (std::size_t rep = 0; rep < ctx_.cfg.build_repetitions; ++rep) {
-            auto t0 = std::chrono::steady_clock::now();
-            auto a = std::make_unique<tree>(triangles_.begin(), triangles_.end());
-            a->prepare_rays();
-            build_seq.push_back(seconds_since(t0));
-            t0 = std::chrono::steady_clock::now();
-            auto b = std::make_unique<tree>(triangles_.begin(), triangles_.end(), spatial::par);
-            b->prepare_rays();
-            build_par.push_back(seconds_since(t0));
-            one = std::move(a);
-            many = std::move(b);
-        }
         const ray_set& set = sets_[0];  // incoherent
+        const std::string t1 = "threads=1", tn = "threads=" + std::to_string(threads);
+        std::unique_ptr<tree> one, many;
+        auto build = [this](std::unique_ptr<tree>& t, bool parallel) {
+            t = parallel ? std::make_unique<tree>(triangles_.begin(), triangles_.end(), spatial::par)
+                         : std::make_unique<tree>(triangles_.begin(), triangles_.end());
+            t->prepare_rays();
+            return static_cast<double>(t->size());
+        };
+        const double n_tris = static_cast<double>(triangles_.size());
+        const auto builds = time_interleaved({{where("bvh", set) + " " + t1 + " build", [&] { return build(one, false); }, n_tris},
+                                              {where("bvh", set) + " " + tn + " build", [&] { return build(many, true); }, n_tris}},
+                                             0, ctx_.cfg.build_repetitions);
         std::vector<spatial::ray<point3>> rays;
         rays.reserve(set.rays.size());
         for (const auto& r : set.rays) rays.push_back({r.origin, r.direction, T(0)});
-        const std::size_t n = rays.size();
-        std::vector<tree::iterator> hits_one(n), hits_many(n);
-        std::vector<spatial::intersect_info<point3>> infos_one(n), infos_many(n);
-        auto batch = [&](const tree& t, std::vector<tree::iterator>& hits, std::vector<spatial::intersect_info<point3>>& infos,
-                         bool parallel) {
-            for (auto& i : infos) i = {};
-            const auto t0 = std::chrono::steady_clock::now();
-            if (parallel) t.intersect_batch(rays, hits, infos, spatial::par);
-            else t.intersect_batch(rays, hits, infos, spatial::seq);
-            const double sec = seconds_since(t0);
-            double sum = 0;
-            for (std::size_t i = 0; i < n; ++i) sum += hits[i] == t.end() ? 0.0 : infos[i].hit_time + 1;
-            return std::pair{sec, sum};
-        };
-        const double checksum = batch(*one, hits_one, infos_one, false).second;
-        batch(*many, hits_many, infos_many, true);
-        for (std::size_t i = 0; i < n; ++i)
-            if ((hits_one[i] == one->end()) != (hits_many[i] == many->end()) ||
-                !(infos_one[i].hit_time == infos_many[i].hit_time))
-                throw validation_error(where("bvh", set) + ": the parallel build and batch disagree with one thread on ray " +
-                                       std::to_string(i));
-        for (std::size_t j = 0; j < set.oracle_sample.size(); ++j) {
-            const std::size_t i = set.oracle_sample[j];
-            const ray_answer& want = oracle_[0][j];
-            const bool hit = hits_many[i] != many->end();
-            if (hit != want.hit || (hit && !(infos_many[i].hit_time == want.t)))
-                throw validation_error(where("bvh", set) + ": the parallel batch disagrees with brute force on ray " +
-                                       std::to_string(i));
-        }
-        std::vector<double> ray_seq, ray_par;
-        for (std::size_t rep = 0; rep < 1 + ctx_.cfg.repetitions; ++rep) {  // the first is a warm-up
-            const auto a = batch(*one, hits_one, infos_one, false);
-            const auto b = batch(*many, hits_many, infos_many, true);
-            if (a.second != checksum || b.second != checksum)
-                throw validation_error(where("bvh", set) + ": a timed batch gave different answers than the validated one");
-            if (rep > 0) ray_seq.push_back(a.first), ray_par.push_back(b.first);
-        }
-        const std::string t1 = "threads=1", tn = "threads=" + std::to_string(threads);
-        const timing_result bs = summarize(build_seq), bp = summarize(build_par);
-        const timing_result rs = summarize(ray_seq), rp = summarize(ray_par);
-        const double per_ray_ns = 1e9 / static_cast<double>(n);
-        ctx_.rows.push_back(row(label, "parallel_build", t1, "build_time", bs.median_seconds, "s", &bs));
-        ctx_.rows.push_back(row(label, "parallel_build", tn, "build_time", bp.median_seconds, "s", &bp));
-        ctx_.rows.push_back(row(label, "parallel_build", tn, "speedup", bs.median_seconds / bp.median_seconds, "x"));
-        ctx_.rows.push_back(row(label, "parallel_ray", set.params + ";" + t1, "time_per_op",
-                                rs.median_seconds * per_ray_ns, "ns", &rs, per_ray_ns));
-        ctx_.rows.push_back(row(label, "parallel_ray", set.params + ";" + tn, "time_per_op",
-                                rp.median_seconds * per_ray_ns, "ns", &rp, per_ray_ns));
-        ctx_.rows.push_back(row(label, "parallel_ray", set.params + ";" + tn, "speedup",
-                                rs.median_seconds / rp.median_seconds, "x"));
+        const double checksum = validate_parallel(*one, *many, rays);
+        std::vector<tree::iterator> hits(rays.size());
+        std::vector<spatial::intersect_info<point3>> infos(rays.size());
+        const auto casts = time_interleaved(
+            {{where("bvh", set) + " batched, " + t1, [&] { return batch_checksum(*one, rays, hits, infos, false); }, checksum},
+             {where("bvh", set) + " batched, " + tn, [&] { return batch_checksum(*many, rays, hits, infos, true); }, checksum}},
+            1, ctx_.cfg.repetitions);
+        const double per_ray_ns = 1e9 / static_cast<double>(rays.size());
+        const row_scope scope = rows();
+        add(scope.timed("bvh", "aabb", "parallel_build", t1, "build_time", builds[0], "s"));
+        add(scope.timed("bvh", "aabb", "parallel_build", tn, "build_time", builds[1], "s"));
+        add(scope.figure("bvh", "aabb", "parallel_build", tn, "speedup", builds[0].median_seconds / builds[1].median_seconds, "x"));
+        add(scope.timed("bvh", "aabb", "parallel_ray", set.params + ";" + t1, "time_per_op", casts[0], "ns", per_ray_ns));
+        add(scope.timed("bvh", "aabb", "parallel_ray", set.params + ";" + tn, "time_per_op", casts[1], "ns", per_ray_ns));
+        add(scope.figure("bvh", "aabb", "parallel_ray", set.params + ";" + tn, "speedup",
+                         casts[0].median_seconds / casts[1].median_seconds, "x"));
         std::ostringstream msg;
         msg.precision(3);
-        msg << "bvh parallel on " << label_ << " n=" << fmt_n(triangles_.size()) << ", " << threads
-            << " threads: build " << bs.median_seconds << " -> " << bp.median_seconds << " s ("
-            << bs.median_seconds / bp.median_seconds << "x), batched incoherent rays "
-            << rs.median_seconds * per_ray_ns << " -> " << rp.median_seconds * per_ray_ns << " ns/ray ("
-            << rs.median_seconds / rp.median_seconds << "x)";
+        msg << "bvh parallel on " << label_ << " n=" << fmt_n(triangles_.size()) << ", " << threads << " threads: build "
+            << builds[0].median_seconds << " -> " << builds[1].median_seconds << " s ("
+            << builds[0].median_seconds / builds[1].median_seconds << "x), batched incoherent rays "
+            << casts[0].median_seconds * per_ray_ns << " -> " << casts[1].median_seconds * per_ray_ns << " ns/ray ("
+            << casts[0].median_seconds / casts[1].median_seconds << "x)";
         ctx_.prog.say(msg.str());
     }
-
     context& ctx_;
     std::string label_;
     datasets::triangle_mesh mesh_;
@@ -564,7 +516,52 @@ public:
     object_measurement(context& ctx, std::string workload, std::size_t n) : ctx_(ctx), workload_(std::move(workload)), n_(n) {}
 
     void run() {
-        const std::uint64_t seed = datasets::derive_seed(ctx_.opt.seed, fnv1a(workload_ + std::to_string(n_)));
+        const std::uint64_t seed = datasets::derive_seed(ctx_.opt.seed, datasets::label_stream(workload_ + std::to_string(n_)));
+        make_objects(seed);
+        thickness_ = std::is_same_v<O, point3> ? 0.25 / std::cbrt(static_cast<double>(n_)) : 0.0;
+        datasets::mesh_bounds cube;
+        cube.lo = {0, 0, 0};
+        cube.hi = {1, 1, 1};
+        rays_ = incoherent_rays(cube, ctx_.cfg.incoherent_rays, seed);
+        sample_ = random_sample(rays_.size(), ctx_.cfg.oracle_rays, seed);
+        params_ = std::is_same_v<O, point3> ? "rays=thick;objects=points" : "rays=incoherent;objects=boxes";
+        ctx_.prog.say("== " + workload_ + " n=" + fmt_n(n_) + (thickness_ > 0 ? ", ray radius " + std::to_string(thickness_) : ""));
+
+        spatial::brute_force<O> oracle;
+        oracle.insert(objects_.begin(), objects_.end());
+        for (std::size_t i : sample_) oracle_.push_back(answer_of(oracle, rays_[i]));
+
+        auto structures = participants();
+        if (structures.empty()) return;
+        std::vector<timed_work> builds;
+        for (auto& st : structures)  // object_ray_index reports no size: the rays validate the build
+            builds.push_back({where(st->name()) + " build",
+                              [this, &st] {
+                                  st->build(objects_, thickness_);
+                                  return 0.0;
+                              },
+                              0.0});
+        const auto build_times = time_interleaved(builds, 0, ctx_.cfg.build_repetitions);
+        std::vector<timed_work> casts;
+        std::vector<std::size_t> hits(structures.size(), 0);
+        for (std::size_t i = 0; i < structures.size(); ++i) {
+            auto& st = *structures[i];
+            const double checksum = validate(st, structures[0]->name(), i == 0, hits[i]);
+            casts.push_back({where(st.name()),
+                             [this, &st] {
+                                 double sum = 0;
+                                 for (const auto& r : rays_) sum += checksum_of(cast_object(st, r));
+                                 return sum;
+                             },
+                             checksum});
+        }
+        const auto ray_times = time_interleaved(casts, 1, ctx_.cfg.repetitions);
+        for (std::size_t i = 0; i < structures.size(); ++i) record(*structures[i], build_times[i], ray_times[i], hits[i]);
+    }
+
+private:
+    // n objects, centres uniform in the unit cube (boxes: half-sizes as described above).
+    void make_objects(std::uint64_t seed) {
         datasets::random_stream rng(seed);
         const double scale = std::cbrt(1e5 / static_cast<double>(n_));
         for (std::size_t i = 0; i < n_; ++i) {
@@ -582,86 +579,58 @@ public:
                 objects_.emplace_back(lo, hi);
             }
         }
-        thickness_ = std::is_same_v<O, point3> ? 0.25 / std::cbrt(static_cast<double>(n_)) : 0.0;
-        datasets::mesh_bounds cube;
-        cube.lo = {0, 0, 0};
-        cube.hi = {1, 1, 1};
-        rays_ = incoherent_rays(cube, ctx_.cfg.incoherent_rays, seed);
-        sample_ = random_sample(rays_.size(), ctx_.cfg.oracle_rays, seed);
-        params_ = std::is_same_v<O, point3> ? "rays=thick;objects=points" : "rays=incoherent;objects=boxes";
-        ctx_.prog.say("== " + workload_ + " n=" + fmt_n(n_) + (thickness_ > 0 ? ", ray radius " + std::to_string(thickness_) : ""));
+    }
 
-        spatial::brute_force<O> oracle;
-        oracle.insert(objects_.begin(), objects_.end());
-        for (std::size_t i : sample_) oracle_.push_back(answer_of(oracle, rays_[i]));
-
+    // The registry's in::raycast_objects structures (not the oracle: it answered the sample
+    // above) and Embree's user geometry, as --structure selects.
+    std::vector<std::unique_ptr<object_ray_index<O>>> participants() const {
         std::vector<std::unique_ptr<object_ray_index<O>>> structures;
         add_registered<O, in::raycast_objects, container_object_ray_index>(structures, n_, 0);
-        std::erase_if(structures, [](const auto& st) { return is_oracle(st->name()); });  // the oracle answered above
+        std::erase_if(structures, [](const auto& st) { return is_oracle(st->name()); });
 #if defined(SPATIAL_HAVE_EMBREE) && SPATIAL_HAVE_EMBREE
         if constexpr (std::is_same_v<O, point3>) structures.push_back(make_embree_point_ray_index());
         else structures.push_back(make_embree_box_ray_index());
 #endif
         std::erase_if(structures, [&](const auto& st) { return !ctx_.wants(st->name()); });
-        if (structures.empty()) return;
-
-        const std::size_t S = structures.size();
-        std::vector<std::vector<double>> build_samples(S);
-        for (std::size_t rep = 0; rep < ctx_.cfg.build_repetitions; ++rep)
-            for (std::size_t i = 0; i < S; ++i) {
-                const auto t0 = std::chrono::steady_clock::now();
-                structures[i]->build(objects_, thickness_);
-                build_samples[i].push_back(seconds_since(t0));
-            }
-        // Validation: the oracle sample for everyone, every ray against the first structure.
-        std::vector<std::vector<ray_answer>> answers(S);
-        std::vector<double> checksum(S, 0.0);
-        std::vector<std::size_t> hits(S, 0);
-        for (std::size_t i = 0; i < S; ++i) {
-            auto& st = *structures[i];
-            for (const auto& r : rays_) answers[i].push_back(cast_object(st, r));
-            for (const auto& a : answers[i]) checksum[i] += checksum_of(a), hits[i] += a.hit;
-            for (std::size_t j = 0; j < sample_.size(); ++j)
-                if (!same(answers[i][sample_[j]], oracle_[j]))
-                    throw validation_error(st.name() + " on " + workload_ + " n=" + fmt_n(n_) +
-                                           ": differs from brute force on ray " + std::to_string(sample_[j]));
-            for (std::size_t k = 0; k < rays_.size(); ++k)
-                if (!same(answers[i][k], answers[0][k]))
-                    throw validation_error(st.name() + " on " + workload_ + " n=" + fmt_n(n_) + ": differs from " +
-                                           structures[0]->name() + " on ray " + std::to_string(k));
-        }
-        std::vector<std::vector<double>> samples(S);
-        for (std::size_t rep = 0; rep < 1 + ctx_.cfg.repetitions; ++rep)
-            for (std::size_t i = 0; i < S; ++i) {
-                const auto t0 = std::chrono::steady_clock::now();
-                double sum = 0;
-                for (const auto& r : rays_) sum += checksum_of(cast_object(*structures[i], r));
-                const double sec = seconds_since(t0);
-                if (sum != checksum[i])
-                    throw validation_error(structures[i]->name() + " on " + workload_ +
-                                           ": a timed repetition gave different answers than the validated run");
-                if (rep > 0) samples[i].push_back(sec);
-            }
-        const double per_ray_ns = 1e9 / static_cast<double>(rays_.size());
-        for (std::size_t i = 0; i < S; ++i) {
-            const auto& st = *structures[i];
-            const timing_result t = summarize(samples[i]), b = summarize(build_samples[i]);
-            ctx_.rows.push_back(row(st, "ray", params_, "time_per_op", t.median_seconds * per_ray_ns, "ns", &t, per_ray_ns));
-            ctx_.rows.push_back(row(st, "ray", params_, "rays", static_cast<double>(rays_.size()), "count"));
-            ctx_.rows.push_back(row(st, "ray", params_, "hits", static_cast<double>(hits[i]), "count"));
-            ctx_.rows.push_back(row(st, "build", "", "build_time", b.median_seconds, "s", &b));
-            const double bytes = static_cast<double>(st.memory_bytes());
-            ctx_.rows.push_back(row(st, "build", "", "memory_bytes", bytes, "B"));
-            ctx_.rows.push_back(row(st, "build", "", "bytes_per_object", bytes / static_cast<double>(n_), "B"));
-            std::ostringstream msg;
-            msg.precision(3);
-            msg << st.name() << " on " << workload_ << " n=" << fmt_n(n_) << ": build " << b.median_seconds << " s, "
-                << t.median_seconds * per_ray_ns / 1000 << " us/ray (" << hits[i] << "/" << rays_.size() << " hit)";
-            ctx_.prog.say(msg.str());
-        }
+        return structures;
     }
 
-private:
+    // Every ray once: equal to brute force on the oracle sample, and to the first structure
+    // (`reference`, unless this is it) on every ray. Returns the answers' checksum.
+    double validate(object_ray_index<O>& st, const std::string& reference, bool is_reference, std::size_t& hits) {
+        std::vector<ray_answer> answers;
+        double checksum = 0;
+        for (const auto& r : rays_) answers.push_back(cast_object(st, r));
+        for (const auto& a : answers) checksum += checksum_of(a), hits += a.hit;
+        for (std::size_t j = 0; j < sample_.size(); ++j)
+            if (!same(answers[sample_[j]], oracle_[j]))
+                throw validation_error(where(st.name()) + ": differs from brute force on ray " + std::to_string(sample_[j]));
+        if (is_reference) reference_answers_ = answers;
+        for (std::size_t k = 0; k < rays_.size(); ++k)
+            if (!same(answers[k], reference_answers_[k]))
+                throw validation_error(where(st.name()) + ": differs from " + reference + " on ray " + std::to_string(k));
+        return checksum;
+    }
+
+    void record(const object_ray_index<O>& st, const timing_result& b, const timing_result& t, std::size_t hits) {
+        const row_scope scope = ctx_.scope(workload_, n_);
+        const double per_ray_ns = 1e9 / static_cast<double>(rays_.size());
+        const double bytes = static_cast<double>(st.memory_bytes());
+        auto add = [&](result_row r) { ctx_.rows.push_back(std::move(r)); };
+        add(scope.timed(st.name(), st.bv(), "ray", params_, "time_per_op", t, "ns", per_ray_ns));
+        add(scope.figure(st.name(), st.bv(), "ray", params_, "rays", static_cast<double>(rays_.size()), "count"));
+        add(scope.figure(st.name(), st.bv(), "ray", params_, "hits", static_cast<double>(hits), "count"));
+        add(scope.timed(st.name(), st.bv(), "build", "", "build_time", b, "s"));
+        add(scope.figure(st.name(), st.bv(), "build", "", "memory_bytes", bytes, "B"));
+        add(scope.figure(st.name(), st.bv(), "build", "", "bytes_per_object", bytes / static_cast<double>(n_), "B"));
+        std::ostringstream msg;
+        msg.precision(3);
+        msg << where(st.name()) << ": build " << b.median_seconds << " s, " << t.median_seconds * per_ray_ns / 1000
+            << " us/ray (" << hits << "/" << rays_.size() << " hit)";
+        ctx_.prog.say(msg.str());
+    }
+
+    std::string where(const std::string& structure) const { return structure + " on " + workload_ + " n=" + fmt_n(n_); }
     static ray_answer cast_object(object_ray_index<O>& st, const ray& r) {
         ray_hit<T> hit;
         if (!st.intersect(r.origin, r.direction, std::numeric_limits<T>::infinity(), hit)) return {};
@@ -673,11 +642,6 @@ private:
         return {true, info.hit_time};
     }
     static bool same(const ray_answer& a, const ray_answer& b) { return a.hit == b.hit && (!a.hit || a.t == b.t); }
-    result_row row(const object_ray_index<O>& st, const std::string& operation, const std::string& params,
-                   const std::string& metric, double value, const std::string& unit, const timing_result* t = nullptr,
-                   double scale = 1) const {
-        return raycast_row(ctx_, st.name(), st.bv(), workload_, n_, operation, params, metric, value, unit, t, scale);
-    }
 
     context& ctx_;
     std::string workload_;
@@ -687,6 +651,7 @@ private:
     std::vector<ray> rays_;
     std::vector<std::size_t> sample_;
     std::vector<ray_answer> oracle_;
+    std::vector<ray_answer> reference_answers_;
     std::string params_;
 };
 
@@ -695,9 +660,8 @@ private:
 namespace {
 
 context make_context(const suite_options& options) {
-    context ctx{options, preset(options.preset), make_run_id("raycast", options.preset), progress(options.quiet), {}, {}};
+    context ctx = make_suite_context("raycast", options, preset(options.preset));
     if (!options.sizes.empty()) ctx.cfg.sizes = options.sizes;
-    ctx.seeds["data"] = options.seed;
     ctx.seeds["rays"] = options.seed;
     return ctx;
 }
@@ -748,15 +712,13 @@ std::vector<suite_case> raycast_cases(context& ctx) {
 
 void run_raycast_suite(const suite_options& options) {
     context ctx = make_context(options);
-    const auto t0 = std::chrono::steady_clock::now();
     const auto real_files = real_mesh_files(options);
     if (!options.real_data_dir.empty() && supported_mesh_extensions().empty())
         ctx.prog.say("real meshes skipped: loading them needs CGAL (-DSPATIAL_WITH_CGAL=ON)");
     else if (!options.real_data_dir.empty() && real_files.empty())
         ctx.prog.say("no meshes in " + options.real_data_dir.string() + " (run scripts/fetch_meshes.sh)");
     run_cases(raycast_cases(ctx), options);
-    finish_suite(options, ctx.rows, ctx.run_id, ctx.seeds, {{"real_meshes", std::to_string(real_files.size()) + " files"}},
-                 t0, ctx.prog);
+    ctx.finish({{"real_meshes", std::to_string(real_files.size()) + " files"}});
 }
 
 std::vector<std::string> raycast_case_ids(const suite_options& options) {

@@ -21,6 +21,7 @@
 #include "datasets/scene_queries.hpp"
 #include "harness/mesh_loading.hpp"
 #include "harness/progress.hpp"
+#include "harness/row_scope.hpp"
 #include "harness/structure_registry.hpp"
 #include "harness/timing.hpp"
 #include "harness/validation.hpp"
@@ -661,42 +662,23 @@ std::vector<result_row> run_typed(const datasets::scene_description& scene, cons
             throw validation_error("scene " + scene.name + ": " + name + " and " + reference_name +
                                    " report different pair sets");
         }
-        auto row = [&](const std::string& op, const std::string& metric, double value, const std::string& unit,
-                       const timing_result* t) {
-            result_row r;
-            r.suite = "scenes";
-            r.structure = name;
-            const structure_info* info = find_structure(name);
-            r.bv = info && !info->bv.empty() ? info->bv : "-";
-            r.workload = scene.name;
-            r.n = run.object_count();
-            r.dim = D;
-            r.scalar = std::is_same_v<T, float> ? "float" : "double";
-            r.operation = op;
-            r.params = "steps=" + std::to_string(steps) +
-                       (scene.collide ? ";strategy=" + std::string(datasets::to_string(scene.collide->strategy)) +
-                                            ";filter=" + std::string(datasets::to_string(scene.collide->filter))
-                                      : "");
-            r.metric = metric;
-            r.value = value;
-            r.unit = unit;
-            r.validated = true;
-            r.run_id = opt.run_id;
-            if (t) r.repetitions = t->repetitions, r.min_value = t->min_seconds, r.max_value = t->max_seconds;
-            rows.push_back(std::move(r));
-        };
-        for (const auto& [stage, secs] : run.times.seconds) {
-            const auto t = summarize(secs);
-            row(stage, "time", t.median_seconds, "s", &t);
-        }
-        for (const auto& [what, counts] : run.times.counts) {
-            const auto t = summarize(counts);
-            row("step", what, t.median_seconds, "count", nullptr);
-        }
+        const structure_info* info = find_structure(name);
+        const std::string bv = info && !info->bv.empty() ? info->bv : "-";
+        const std::string params = "steps=" + std::to_string(steps) +
+                                   (scene.collide ? ";strategy=" + std::string(datasets::to_string(scene.collide->strategy)) +
+                                                        ";filter=" + std::string(datasets::to_string(scene.collide->filter))
+                                                  : "");
+        const row_scope scope{"scenes", opt.run_id, scene.name, run.object_count(), D,
+                              std::is_same_v<T, float> ? "float" : "double"};
+        for (const auto& [stage, secs] : run.times.seconds)
+            rows.push_back(scope.timed(name, bv, stage, params, "time", summarize(secs), "s"));
+        for (const auto& [what, counts] : run.times.counts)
+            rows.push_back(scope.figure(name, bv, "step", params, what, summarize(counts).median_seconds, "count"));
         const auto& step_s = run.times.seconds["step"];
         double total = 0;
         for (double s : step_s) total += s;
-        if (total > 0) row("step", "steps_per_second", static_cast<double>(step_s.size()) / total, "1/s", nullptr);
+        if (total > 0)
+            rows.push_back(scope.figure(name, bv, "step", params, "steps_per_second", static_cast<double>(step_s.size()) / total, "1/s"));
     }
     return rows;
 }

@@ -16,6 +16,7 @@
 #include <cmath>
 #include <cstdint>
 #include <random>
+#include <string_view>
 #include <type_traits>
 
 #include "datasets/deterministic_math.hpp"
@@ -34,6 +35,15 @@ constexpr std::uint64_t splitmix64(std::uint64_t x) noexcept {
 // same stream of distinct seeds, give unrelated values.
 constexpr std::uint64_t derive_seed(std::uint64_t seed, std::uint64_t stream) noexcept {
     return splitmix64(splitmix64(seed) ^ splitmix64(~stream));
+}
+
+// The stream number of a text label (a workload, a mesh file name): FNV-1a (Fowler, Noll &
+// Vo), the same on every standard library (std::hash is implementation-defined). Pass it to
+// derive_seed as the stream. O(length).
+constexpr std::uint64_t label_stream(std::string_view label) noexcept {
+    std::uint64_t h = 14695981039346656037ull;
+    for (const char c : label) h = (h ^ static_cast<unsigned char>(c)) * 1099511628211ull;
+    return h;
 }
 
 class random_stream {

@@ -1,10 +1,18 @@
 #pragma once
-// Timing: a warm-up run, then `repetitions` timed runs; the MEDIAN is reported (robust to
-// the noise of a shared machine), with min and max kept for the CSV's spread columns.
+// Timing — the one place the harness times anything (docs/harness.md, "Methodology").
+// Every measurement is: warm-up run(s), then `repetitions` timed runs, the MEDIAN reported
+// (robust to the noise of a shared machine) with min and max kept for the CSV's spread
+// columns, and every timed run checked against the answers validated before timing began.
+//   * time_interleaved: several participants doing the same work, round by round (A, B, C,
+//     A, B, C, ...), so that a noisy interval hits all alike and same-run ratios hold;
+//   * time_repeated: one participant whose work changes its state (insertions, erasures),
+//     with an untimed reset before each run.
 
 #include <algorithm>
 #include <chrono>
 #include <cstddef>
+#include <functional>
+#include <string>
 #include <vector>
 
 namespace harness {
@@ -49,5 +57,19 @@ timing_result time_repeated(std::size_t warmup, std::size_t repetitions, Before&
     }
     return summarize(std::move(samples));
 }
+
+// One participant's share of an interleaved measurement.
+struct timed_work {
+    std::string where;            // names the participant and its work, for the error message
+    std::function<double()> run;  // one repetition of the work; returns its answers' checksum
+    double validated = 0;         // the checksum of the answers that passed validation
+};
+
+// `warmup` untimed rounds, then `repetitions` timed rounds; each round runs every work once,
+// in order. A run whose checksum differs from its validated one throws validation_error
+// (harness/validation.hpp): a timing is kept only for the validated answers. Returns one
+// timing per work, in order.
+std::vector<timing_result> time_interleaved(const std::vector<timed_work>& work, std::size_t warmup,
+                                            std::size_t repetitions);
 
 }  // namespace harness

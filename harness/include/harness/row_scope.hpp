@@ -1,0 +1,54 @@
+#pragma once
+// harness::row_scope — the one place a result_row is filled in. A case fixes once what all of
+// its rows share (suite, run id, workload, n, dim, scalar); each figure then names only what
+// varies: structure, bounding volume, operation, params, metric, value and unit. A timed
+// figure carries its repetitions and spread (min, max), scaled like the value.
+
+#include <cstddef>
+#include <string>
+
+#include "harness/csv_writer.hpp"
+#include "harness/timing.hpp"
+
+namespace harness {
+
+struct row_scope {
+    std::string suite, run_id, workload;
+    std::size_t n = 0;
+    std::size_t dim = 3;
+    std::string scalar = "double";
+
+    // An untimed figure: a count, a ratio, a size.
+    result_row figure(const std::string& structure, const std::string& bv, const std::string& operation,
+                      const std::string& params, const std::string& metric, double value, const std::string& unit) const {
+        result_row r;
+        r.suite = suite;
+        r.structure = structure;
+        r.bv = bv;
+        r.workload = workload;
+        r.n = n;
+        r.dim = dim;
+        r.scalar = scalar;
+        r.operation = operation;
+        r.params = params;
+        r.metric = metric;
+        r.value = value;
+        r.unit = unit;
+        r.validated = true;  // rows exist only for answers that passed validation
+        r.run_id = run_id;
+        return r;
+    }
+
+    // A timed figure: the median of `t` times `scale` (say 1e9 / queries for ns per query).
+    result_row timed(const std::string& structure, const std::string& bv, const std::string& operation,
+                     const std::string& params, const std::string& metric, const timing_result& t,
+                     const std::string& unit, double scale = 1) const {
+        result_row r = figure(structure, bv, operation, params, metric, t.median_seconds * scale, unit);
+        r.repetitions = t.repetitions;
+        r.min_value = t.min_seconds * scale;
+        r.max_value = t.max_seconds * scale;
+        return r;
+    }
+};
+
+}  // namespace harness

@@ -1,0 +1,34 @@
+// The interleaved measurement loop (see timing.hpp).
+
+#include "harness/timing.hpp"
+
+#include <sstream>
+
+#include "harness/validation.hpp"
+
+namespace harness {
+
+std::vector<timing_result> time_interleaved(const std::vector<timed_work>& work, std::size_t warmup,
+                                            std::size_t repetitions) {
+    std::vector<std::vector<double>> samples(work.size());
+    for (std::size_t round = 0; round < warmup + repetitions; ++round)
+        for (std::size_t i = 0; i < work.size(); ++i) {
+            const auto t0 = std::chrono::steady_clock::now();
+            const double checksum = work[i].run();
+            const double seconds = seconds_since(t0);
+            if (checksum != work[i].validated) {
+                std::ostringstream os;
+                os.precision(17);
+                os << work[i].where << ": a timed repetition gave different answers than the validated run (checksum "
+                   << checksum << ", validated " << work[i].validated << ")";
+                throw validation_error(os.str());
+            }
+            if (round >= warmup) samples[i].push_back(seconds);
+        }
+    std::vector<timing_result> out;
+    out.reserve(work.size());
+    for (auto& s : samples) out.push_back(summarize(std::move(s)));
+    return out;
+}
+
+}  // namespace harness
