@@ -15,6 +15,7 @@
 #include <cstdint>
 #include <limits>
 #include <random>
+#include <map>
 #include <set>
 #include <span>
 #include <stdexcept>
@@ -238,6 +239,10 @@ TYPED_TEST(adapters_test, every_configured_peer_is_listed) {
 #if defined(SPATIAL_HAVE_CGAL) && SPATIAL_HAVE_CGAL
     expected.insert("cgal_kd_tree");
 #endif
+#if defined(SPATIAL_HAVE_BOOST_GEOMETRY) && SPATIAL_HAVE_BOOST_GEOMETRY
+    expected.insert("boost_rtree");
+    expected.insert("boost_rtree_quadratic");
+#endif
     EXPECT_EQ(names, expected);
     if (expected.empty()) GTEST_SKIP() << "no peer adapter configured";
 }
@@ -245,17 +250,24 @@ TYPED_TEST(adapters_test, every_configured_peer_is_listed) {
 TYPED_TEST(adapters_test, capabilities_are_as_documented) {
     using T = typename TypeParam::scalar;
     constexpr std::size_t D = TypeParam::dim;
+    // What harness/adapters.hpp documents for each peer. rebuilds_on_query keeps CGAL's
+    // deferred rebuild out of the timed dynamic workloads, dynamic_variant keeps the dynamic
+    // configurations out of the static ones.
+    const unsigned exact = capability::knn | capability::radius;
+    const std::map<std::string, unsigned> documented{
+        {"nanoflann", exact | capability::approximate_knn},
+        {"nanoflann_dynamic", exact | capability::approximate_knn | capability::dynamic | capability::bulk_insert |
+                                  capability::dynamic_variant},
+        {"cgal_kd_tree", exact | capability::approximate_knn | capability::dynamic | capability::bulk_insert |
+                             capability::rebuilds_on_query},
+        {"boost_rtree", exact},
+        {"boost_rtree_quadratic", exact | capability::dynamic | capability::dynamic_variant},
+    };
     for (const auto& index : harness::make_peer_indices<T, D>()) {
         SCOPED_TRACE(index->name());
-        EXPECT_TRUE(index->can(capability::knn));
-        EXPECT_TRUE(index->can(capability::approximate_knn));
-        EXPECT_TRUE(index->can(capability::radius));
-        EXPECT_FALSE(index->can(capability::hinted_insert));
-        EXPECT_FALSE(index->can(capability::bulk_erase));
-        const bool dynamic = index->name() != "nanoflann";
-        EXPECT_EQ(index->can(capability::dynamic), dynamic);
-        EXPECT_EQ(index->can(capability::bulk_insert), dynamic);
-        if (!dynamic) {
+        ASSERT_TRUE(documented.count(index->name()));
+        EXPECT_EQ(index->capabilities(), documented.at(index->name()));
+        if (!index->can(capability::dynamic)) {
             EXPECT_THROW(index->insert(0, pt<T, D>{}), std::logic_error);
             EXPECT_THROW(index->erase(0), std::logic_error);
         }
@@ -541,9 +553,11 @@ TYPED_TEST(adapters_test, memory_and_node_counters) {
         const auto pts = uniform_points<T, D>(rng, n_points);
         index->build(pts);
         const std::size_t bytes = index->memory_bytes();
-        // At least the points, and not absurdly more (nodes + permutations are O(n)).
+        // At least the points, and not absurdly more (nodes + permutations are O(n)). The
+        // largest overhead is the R-tree built by insertion: fixed-capacity nodes (17 values
+        // of 32 B in 3D double) about 60% full, plus its adapter's id -> point table.
         EXPECT_GE(bytes, pts.size() * sizeof(pt<T, D>));
-        EXPECT_LE(bytes, pts.size() * (sizeof(pt<T, D>) + 64) + (1u << 16));
+        EXPECT_LE(bytes, pts.size() * (sizeof(pt<T, D>) + 128) + (1u << 16));
         std::vector<neighbor<T>> out;
         index->knn(pts[0], 10, T(0), out);
         const long long visited = index->last_nodes_visited();

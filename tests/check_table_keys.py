@@ -28,7 +28,7 @@ ANSWER_METRICS = {
     "nodes_visited",
 }
 # Structures whose answers are compared by value: ours (the peers' are compared by key).
-PEER_PREFIXES = ("nanoflann", "cgal", "embree", "fcl")
+PEER_PREFIXES = ("nanoflann", "cgal", "embree", "fcl", "boost")
 
 
 def read_rows(paths):

@@ -137,12 +137,41 @@ void add_registered(const context& ctx, std::vector<std::unique_ptr<point_index<
     else for_each_structure<point_type, in::knn>(add);
 }
 
+// What the static and the dynamic measurement of one workload share: the suite's context,
+// the workload, and its rows (no bounding volume column in this suite).
 template <class T, std::size_t D>
-class static_measurement {
+class workload_measurement {
+protected:
+    using point_type = spatial::point<T, D>;
+    workload_measurement(context& ctx, workload_case<T, D>& wc) : ctx_(ctx), wc_(wc) {}
+
+    result_row row(const std::string& structure, const std::string& operation, const std::string& params,
+                   const std::string& metric, double value, const std::string& unit) const {
+        return scope_of(ctx_, wc_).figure(structure, "", operation, params, metric, value, unit);
+    }
+    result_row timed_row(const std::string& structure, const std::string& operation, const std::string& params,
+                         const std::string& metric, const timing_result& t, const std::string& unit, double scale = 1) const {
+        return scope_of(ctx_, wc_).timed(structure, "", operation, params, metric, t, unit, scale);
+    }
+    // A time per operation: the median of `t` over `ops` operations, in ns.
+    result_row per_op_row(const std::string& structure, const std::string& operation, const std::string& params,
+                          const timing_result& t, std::size_t ops) const {
+        return timed_row(structure, operation, params, "time_per_op", t, "ns", 1e9 / static_cast<double>(ops));
+    }
+
+    context& ctx_;
+    workload_case<T, D>& wc_;
+};
+
+template <class T, std::size_t D>
+class static_measurement : workload_measurement<T, D> {
+    using base = workload_measurement<T, D>;
+    using base::ctx_, base::wc_, base::row, base::timed_row;
+
 public:
     using point_type = spatial::point<T, D>;
 
-    static_measurement(context& ctx, workload_case<T, D>& wc) : ctx_(ctx), wc_(wc) {}
+    static_measurement(context& ctx, workload_case<T, D>& wc) : base(ctx, wc) {}
 
     void run() {
         const std::size_t n = wc_.points.size();
@@ -179,7 +208,7 @@ public:
         std::vector<std::unique_ptr<point_index<T, D>>> structures;
         add_registered(ctx_, structures, n, false);
         for (auto& p : make_peer_indices<T, D>())
-            if (p->name() != "nanoflann_dynamic" && ctx_.wants(p->name())) structures.push_back(std::move(p));
+            if (!p->can(capability::dynamic_variant) && ctx_.wants(p->name())) structures.push_back(std::move(p));
         // The oracle is timed last (the others are compared with the first, kd_tree).
         std::stable_partition(structures.begin(), structures.end(), [](const auto& s) { return !is_oracle(s->name()); });
         measure_interleaved(structures);
@@ -191,15 +220,6 @@ private:
     std::string tag(const std::string& structure, const std::string& op) const {
         return structure + " " + op + " on " + wc_.label + " n=" + fmt_n(wc_.points.size()) + " " +
                std::to_string(D) + "d " + scalar_name<T>();
-    }
-
-    result_row row(const std::string& structure, const std::string& operation, const std::string& params,
-                   const std::string& metric, double value, const std::string& unit) const {
-        return scope_of(ctx_, wc_).figure(structure, "", operation, params, metric, value, unit);
-    }
-    result_row timed_row(const std::string& structure, const std::string& operation, const std::string& params,
-                         const std::string& metric, const timing_result& t, const std::string& unit, double scale = 1) const {
-        return scope_of(ctx_, wc_).timed(structure, "", operation, params, metric, t, unit, scale);
     }
 
     // Keeps the row, and its value for the kd_tree / peer ratios.
@@ -380,8 +400,6 @@ private:
         }
     }
 
-    context& ctx_;
-    workload_case<T, D>& wc_;
     T radius_ = 0;
     std::vector<operation_spec> ops_;
     std::vector<std::vector<T>> oracle_k10_, oracle_radius_;
@@ -393,10 +411,13 @@ private:
 // ---------------------------------------------------------------------------------------
 // Dynamic operations (3D double): churn, hinted insertion, bulk vs loop.
 template <class T, std::size_t D>
-class dynamic_measurement {
+class dynamic_measurement : workload_measurement<T, D> {
+    using base = workload_measurement<T, D>;
+    using base::ctx_, base::wc_, base::row, base::per_op_row;
+
 public:
     using point_type = spatial::point<T, D>;
-    dynamic_measurement(context& ctx, workload_case<T, D>& wc) : ctx_(ctx), wc_(wc) {}
+    dynamic_measurement(context& ctx, workload_case<T, D>& wc) : base(ctx, wc) {}
 
     void run() {
         churn();
@@ -406,26 +427,17 @@ public:
     }
 
 private:
-    std::vector<std::unique_ptr<point_index<T, D>>> dynamic_structures(bool include_cgal) {
+    // The registry's dynamic structures and the peers whose insertions and erasures can be
+    // timed as they happen (capability::dynamic, not rebuilds_on_query).
+    std::vector<std::unique_ptr<point_index<T, D>>> dynamic_structures() {
         std::vector<std::unique_ptr<point_index<T, D>>> v;
         add_registered(ctx_, v, wc_.points.size(), true);
         for (auto& p : make_peer_indices<T, D>())
-            if (p->can(capability::dynamic) && ctx_.wants(p->name()) &&
-                (include_cgal || p->name().find("cgal") == std::string::npos))
+            if (p->can(capability::dynamic) && !p->can(capability::rebuilds_on_query) && ctx_.wants(p->name()))
                 v.push_back(std::move(p));
         return v;
     }
 
-    result_row row(const std::string& structure, const std::string& operation, const std::string& params,
-                   const std::string& metric, double value, const std::string& unit) const {
-        return scope_of(ctx_, wc_).figure(structure, "", operation, params, metric, value, unit);
-    }
-    // A time per operation: the median of `t` over `ops` operations, in ns.
-    result_row per_op_row(const std::string& structure, const std::string& operation, const std::string& params,
-                          const timing_result& t, std::size_t ops) const {
-        return scope_of(ctx_, wc_).timed(structure, "", operation, params, "time_per_op", t, "ns",
-                                         1e9 / static_cast<double>(ops));
-    }
 
     // After a dynamic workload: the structure holds exactly `expected` (size, and kNN
     // answers equal to brute force over `expected` on a sample of queries).
@@ -464,7 +476,7 @@ private:
         std::vector<point_type> expected;
         for (std::size_t id = 0; id < n + rounds; ++id)
             if (alive[id]) expected.push_back(id < n ? wc_.points[id] : fresh[id - n]);
-        for (auto& s : dynamic_structures(false)) {
+        for (auto& s : dynamic_structures()) {
             const std::string name = s->name();
             const timing_result t = time_repeated(
                 0, ctx_.cfg.repetitions,
@@ -532,7 +544,7 @@ private:
                 }
             };
             std::map<std::string, double> per_op;
-            for (auto& s : dynamic_structures(false)) {
+            for (auto& s : dynamic_structures()) {
                 for (bool hinted : {false, true}) {
                     if (hinted && !s->can(capability::hinted_insert)) continue;
                     const std::string name = s->name();
@@ -582,7 +594,8 @@ private:
         const auto batch = datasets::generate_points<T, D>(workload_name(), m, ctx_.opt.seed ^ 0xBA7Cull);
         std::vector<point_type> merged = wc_.points;
         merged.insert(merged.end(), batch.begin(), batch.end());
-        for (auto& s : dynamic_structures(false)) {
+        for (auto& s : dynamic_structures()) {
+            if (!s->can(capability::bulk_insert)) continue;  // insert_bulk would be the loop itself
             const std::string name = s->name();
             for (bool into_empty : {true, false}) {
                 const std::vector<point_type>& add = into_empty ? wc_.points : batch;
@@ -672,8 +685,6 @@ private:
         return wc_.label.rfind("real:", 0) == 0 ? std::string("uniform") : wc_.label;
     }
 
-    context& ctx_;
-    workload_case<T, D>& wc_;
 };
 
 template <class T, std::size_t D>

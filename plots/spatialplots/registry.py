@@ -167,11 +167,20 @@ class Registry:
                 fail(f"{where}: '{key}' must be a list of strings")
             return tuple(value)
 
-        def named(entry, what, index):
-            if not isinstance(entry, dict) or not isinstance(entry.get("name"), str) \
-                    or not entry["name"]:
-                fail(f"{what}[{index}] has no 'name'")
-            return entry["name"]
+        def named_entries(what, noun):
+            """(name, where, entry) of each entry of data[what]; fails on a missing or
+            repeated name."""
+            seen = set()
+            for index, entry in enumerate(data[what]):
+                if not isinstance(entry, dict) or not isinstance(entry.get("name"), str) \
+                        or not entry["name"]:
+                    fail(f"{what}[{index}] has no 'name'")
+                name = entry["name"]
+                where = f"{noun} '{name}'"
+                if name in seen:
+                    fail(f"{where} is listed twice")
+                seen.add(name)
+                yield name, where, entry
 
         def number(entry, key, where):
             value = entry.get(key)
@@ -179,13 +188,8 @@ class Registry:
                 fail(f"{where}: '{key}' must be a number")
             return value
 
-        suites, seen = [], set()
-        for i, entry in enumerate(data["suites"]):
-            name = named(entry, "suites", i)
-            where = f"suite '{name}'"
-            if name in seen:
-                fail(f"{where} is listed twice")
-            seen.add(name)
+        suites = []
+        for name, where, entry in named_entries("suites", "suite"):
             targets = entry.get("targets", [])
             if not isinstance(targets, list) or not all(isinstance(t, dict) for t in targets):
                 fail(f"{where}: 'targets' must be a list of objects")
@@ -205,13 +209,8 @@ class Registry:
                 total_stage=text(entry, "total_stage", where),
                 once_stages=texts(entry, "once_stages", where)))
 
-        structures, seen = [], set()
-        for i, entry in enumerate(data["structures"]):
-            name = named(entry, "structures", i)
-            where = f"structure '{name}'"
-            if name in seen:
-                fail(f"{where} is listed twice")
-            seen.add(name)
+        structures = []
+        for name, where, entry in named_entries("structures", "structure"):
             kind = text(entry, "kind", where, "library") or "library"
             mappings = {}
             for key, allowed in (("settings", (str, int, float, bool)), ("complexity", (str,))):

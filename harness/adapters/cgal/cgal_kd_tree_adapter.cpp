@@ -106,7 +106,7 @@ public:
     std::string name() const override { return "cgal_kd_tree"; }
     unsigned capabilities() const override {
         return capability::knn | capability::approximate_knn | capability::radius | capability::dynamic |
-               capability::bulk_insert;
+               capability::bulk_insert | capability::rebuilds_on_query;
     }
 
     void build(std::span<const point_type> pts) override {

@@ -32,7 +32,6 @@
 
 #include <embree3/rtcore.h>
 
-#include <atomic>
 #include <cstdint>
 #include <mutex>
 #include <stdexcept>
@@ -42,6 +41,7 @@
 
 #include "harness/collide_adapters.hpp"
 #include "spatial/bv/rounding.hpp"
+#include "embree_device.hpp"
 
 namespace harness {
 namespace {
@@ -55,17 +55,6 @@ namespace {
 // degrade over many steps, as a refitted one does; REFIT's BVH is smaller (2.5 MB against
 // 9 MB). Both give identical pairs. MEDIUM it is.
 constexpr bool embree_refit_on_update = false;
-
-[[noreturn]] void embree_collide_failure(RTCDevice device, const std::string& what) {
-    const RTCError code = device ? rtcGetDeviceError(device) : RTC_ERROR_UNKNOWN;
-    throw std::runtime_error("embree_collide: " + what + " failed (RTCError " + std::to_string(static_cast<int>(code)) +
-                             ")");
-}
-
-bool count_collide_bytes(void* user, ssize_t bytes, bool /*post*/) {
-    static_cast<std::atomic<long long>*>(user)->fetch_add(static_cast<long long>(bytes), std::memory_order_relaxed);
-    return true;
-}
 
 // geometryUserPtr of a geometry: the boxes its bounds come from.
 void bounds_of(const RTCBoundsFunctionArguments* args) {
@@ -107,14 +96,9 @@ void record_collisions(void* user, RTCCollision* collisions, unsigned int count)
 
 class embree_collide_index final : public collide_index {
 public:
-    embree_collide_index() {
-        device_ = rtcNewDevice("threads=1");
-        if (!device_) embree_collide_failure(nullptr, "rtcNewDevice");
-        rtcSetDeviceMemoryMonitorFunction(device_, &count_collide_bytes, &embree_bytes_);
-    }
+    embree_collide_index() = default;
     ~embree_collide_index() override {
         release();
-        rtcReleaseDevice(device_);
     }
     embree_collide_index(const embree_collide_index&) = delete;
     embree_collide_index& operator=(const embree_collide_index&) = delete;
@@ -135,7 +119,7 @@ public:
         if (!scene_) return;
         rtcCommitGeometry(geometry_);
         rtcCommitScene(scene_);
-        if (rtcGetDeviceError(device_) != RTC_ERROR_NONE) embree_collide_failure(device_, "rtcCommitScene (update)");
+        device_.check("rtcCommitScene (update)");
     }
 
     std::vector<index_pair> self_pairs(const exact_test& exact) override {
@@ -147,7 +131,7 @@ public:
         q.exact = &exact;
         q.out = &out;
         rtcCollide(scene_, scene_, &record_collisions, &q);
-        if (rtcGetDeviceError(device_) != RTC_ERROR_NONE) embree_collide_failure(device_, "rtcCollide");
+        device_.check("rtcCollide");
         sort_unique_pairs(out);
         return out;
     }
@@ -166,16 +150,16 @@ public:
         q.exact = &exact;
         q.out = &out;
         rtcCollide(scene_, other, &record_collisions, &q);
-        const RTCError error = rtcGetDeviceError(device_);
+        const RTCError error = rtcGetDeviceError(device_.get());
         rtcReleaseGeometry(other_geometry);
         rtcReleaseScene(other);
-        if (error != RTC_ERROR_NONE) embree_collide_failure(device_, "rtcCollide (bipartite)");
+        if (error != RTC_ERROR_NONE) device_.fail("rtcCollide (bipartite)");
         sort_unique_pairs(out);
         return out;
     }
 
     std::size_t memory_bytes() const override {
-        const long long embree = embree_bytes_.load(std::memory_order_relaxed);
+        const long long embree = device_.bytes();
         return sizeof(*this) + static_cast<std::size_t>(embree > 0 ? embree : 0);
     }
 
@@ -183,10 +167,10 @@ private:
     // A committed scene with one user geometry over *boxes (the span must outlive the scene's
     // commits). The geometry is returned retained, for later commits.
     RTCScene make_scene(const std::span<const collide_box>* boxes, RTCGeometry* geometry) {
-        RTCScene scene = rtcNewScene(device_);
-        if (!scene) embree_collide_failure(device_, "rtcNewScene");
-        RTCGeometry g = rtcNewGeometry(device_, RTC_GEOMETRY_TYPE_USER);
-        if (!g) embree_collide_failure(device_, "rtcNewGeometry(USER)");
+        RTCScene scene = rtcNewScene(device_.get());
+        if (!scene) device_.fail("rtcNewScene");
+        RTCGeometry g = rtcNewGeometry(device_.get(), RTC_GEOMETRY_TYPE_USER);
+        if (!g) device_.fail("rtcNewGeometry(USER)");
         if (embree_refit_on_update) {
             rtcSetSceneBuildQuality(scene, RTC_BUILD_QUALITY_LOW);
             rtcSetGeometryBuildQuality(g, RTC_BUILD_QUALITY_REFIT);
@@ -199,7 +183,7 @@ private:
         rtcCommitGeometry(g);
         rtcAttachGeometry(scene, g);
         rtcCommitScene(scene);
-        if (rtcGetDeviceError(device_) != RTC_ERROR_NONE) embree_collide_failure(device_, "rtcCommitScene");
+        device_.check("rtcCommitScene");
         *geometry = g;
         return scene;
     }
@@ -210,11 +194,10 @@ private:
         scene_ = nullptr;
     }
 
-    RTCDevice device_ = nullptr;
+    embree_device device_{"embree_collide"};
     RTCScene scene_ = nullptr;
     RTCGeometry geometry_ = nullptr;
     std::span<const collide_box> boxes_;  // the caller's (kept alive until the next build/update)
-    std::atomic<long long> embree_bytes_{0};
 };
 
 }  // namespace

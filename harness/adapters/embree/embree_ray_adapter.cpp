@@ -14,7 +14,6 @@
 
 #include <embree3/rtcore.h>
 
-#include <atomic>
 #include <cmath>
 #include <limits>
 #include <memory>
@@ -23,21 +22,10 @@
 #include <vector>
 
 #include "harness/ray_adapters.hpp"
+#include "embree_device.hpp"
 
 namespace harness {
 namespace {
-
-[[noreturn]] void embree_failure(RTCDevice device, const std::string& what) {
-    const RTCError code = device ? rtcGetDeviceError(device) : RTC_ERROR_UNKNOWN;
-    throw std::runtime_error("embree: " + what + " failed (RTCError " + std::to_string(static_cast<int>(code)) + ")");
-}
-
-// Bytes Embree holds, from its memory monitor callback (called before each allocation with
-// bytes > 0 and after each free with bytes < 0).
-bool count_bytes(void* user, ssize_t bytes, bool /*post*/) {
-    static_cast<std::atomic<long long>*>(user)->fetch_add(static_cast<long long>(bytes), std::memory_order_relaxed);
-    return true;  // never refuse an allocation
-}
 
 template <class T>
 class embree_ray_index final : public ray_index<T> {
@@ -45,14 +33,9 @@ public:
     using typename ray_index<T>::point_type;
     using typename ray_index<T>::triangle_type;
 
-    explicit embree_ray_index(bool robust) : robust_(robust) {
-        device_ = rtcNewDevice("threads=1");
-        if (!device_) embree_failure(nullptr, "rtcNewDevice");
-        rtcSetDeviceMemoryMonitorFunction(device_, &count_bytes, &embree_bytes_);
-    }
+    explicit embree_ray_index(bool robust) : robust_(robust) {}
     ~embree_ray_index() override {
         release_scene();
-        rtcReleaseDevice(device_);
     }
     embree_ray_index(const embree_ray_index&) = delete;
     embree_ray_index& operator=(const embree_ray_index&) = delete;
@@ -67,12 +50,12 @@ public:
         index_bytes_ = mesh.triangles.size() * sizeof(datasets::triangle_mesh::index_triple);
         size_ = mesh.triangles.size();
 
-        scene_ = rtcNewScene(device_);
-        if (!scene_) embree_failure(device_, "rtcNewScene");
+        scene_ = rtcNewScene(device_.get());
+        if (!scene_) device_.fail("rtcNewScene");
         if (robust_) rtcSetSceneFlags(scene_, RTC_SCENE_FLAG_ROBUST);
         if (size_ > 0) {
-            RTCGeometry geometry = rtcNewGeometry(device_, RTC_GEOMETRY_TYPE_TRIANGLE);
-            if (!geometry) embree_failure(device_, "rtcNewGeometry");
+            RTCGeometry geometry = rtcNewGeometry(device_.get(), RTC_GEOMETRY_TYPE_TRIANGLE);
+            if (!geometry) device_.fail("rtcNewGeometry");
             rtcSetSharedGeometryBuffer(geometry, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT3, vertices_.data(), 0,
                                        3 * sizeof(float), mesh.vertices.size());
             rtcSetSharedGeometryBuffer(geometry, RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT3, mesh.triangles.data(), 0,
@@ -82,11 +65,11 @@ public:
             rtcReleaseGeometry(geometry);  // the scene holds it
         }
         rtcCommitScene(scene_);
-        if (rtcGetDeviceError(device_) != RTC_ERROR_NONE) embree_failure(device_, "rtcCommitScene");
+        device_.check("rtcCommitScene");
     }
     std::size_t size() const override { return size_; }
     std::size_t memory_bytes() const override {
-        const long long embree = embree_bytes_.load(std::memory_order_relaxed);
+        const long long embree = device_.bytes();
         return sizeof(*this) + static_cast<std::size_t>(embree > 0 ? embree : 0) + vertices_.capacity() * sizeof(float) +
                index_bytes_;
     }
@@ -141,12 +124,11 @@ private:
     }
 
     bool robust_;
-    RTCDevice device_ = nullptr;
+    embree_device device_{"embree"};
     RTCScene scene_ = nullptr;
     std::vector<float> vertices_;
     std::size_t index_bytes_ = 0;
     std::size_t size_ = 0;
-    std::atomic<long long> embree_bytes_{0};
 };
 
 }  // namespace

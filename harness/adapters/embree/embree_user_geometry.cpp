@@ -15,7 +15,6 @@
 #include <embree3/rtcore.h>
 
 #include <algorithm>
-#include <atomic>
 #include <cmath>
 #include <limits>
 #include <memory>
@@ -26,20 +25,10 @@
 #include "harness/object_ray_index.hpp"
 #include "spatial/bv/rounding.hpp"
 #include "spatial/core/object_geometry.hpp"
+#include "embree_device.hpp"
 
 namespace harness {
 namespace {
-
-[[noreturn]] void embree_user_failure(RTCDevice device, const std::string& what) {
-    const RTCError code = device ? rtcGetDeviceError(device) : RTC_ERROR_UNKNOWN;
-    throw std::runtime_error("embree_user: " + what + " failed (RTCError " + std::to_string(static_cast<int>(code)) +
-                             ")");
-}
-
-bool count_user_bytes(void* user, ssize_t bytes, bool /*post*/) {
-    static_cast<std::atomic<long long>*>(user)->fetch_add(static_cast<long long>(bytes), std::memory_order_relaxed);
-    return true;
-}
 
 template <class O>
 class embree_object_index final : public object_ray_index<O> {
@@ -47,14 +36,9 @@ public:
     using T = double;
     using P = spatial::point<double, 3>;
 
-    embree_object_index() {
-        device_ = rtcNewDevice("threads=1");
-        if (!device_) embree_user_failure(nullptr, "rtcNewDevice");
-        rtcSetDeviceMemoryMonitorFunction(device_, &count_user_bytes, &embree_bytes_);
-    }
+    embree_object_index() = default;
     ~embree_object_index() override {
         release_scene();
-        rtcReleaseDevice(device_);
     }
     embree_object_index(const embree_object_index&) = delete;
     embree_object_index& operator=(const embree_object_index&) = delete;
@@ -71,11 +55,11 @@ public:
                 magnitude_ = std::max({magnitude_, std::abs(spatial::object_lower(x, k)),
                                        std::abs(spatial::object_upper(x, k))});
         grow_ = thickness + 0x1p-16 * 65 * magnitude_ + std::numeric_limits<float>::min();
-        scene_ = rtcNewScene(device_);
-        if (!scene_) embree_user_failure(device_, "rtcNewScene");
+        scene_ = rtcNewScene(device_.get());
+        if (!scene_) device_.fail("rtcNewScene");
         if (!objects.empty()) {
-            RTCGeometry g = rtcNewGeometry(device_, RTC_GEOMETRY_TYPE_USER);
-            if (!g) embree_user_failure(device_, "rtcNewGeometry(USER)");
+            RTCGeometry g = rtcNewGeometry(device_.get(), RTC_GEOMETRY_TYPE_USER);
+            if (!g) device_.fail("rtcNewGeometry(USER)");
             rtcSetGeometryUserPrimitiveCount(g, static_cast<unsigned>(objects.size()));
             rtcSetGeometryUserData(g, this);
             rtcSetGeometryBoundsFunction(g, &bounds_of, this);
@@ -86,10 +70,10 @@ public:
             rtcReleaseGeometry(g);
         }
         rtcCommitScene(scene_);
-        if (rtcGetDeviceError(device_) != RTC_ERROR_NONE) embree_user_failure(device_, "rtcCommitScene");
+        device_.check("rtcCommitScene");
     }
     std::size_t memory_bytes() const override {
-        const long long embree = embree_bytes_.load(std::memory_order_relaxed);
+        const long long embree = device_.bytes();
         return sizeof(*this) + static_cast<std::size_t>(embree > 0 ? embree : 0) + objects_.size_bytes();
     }
 
@@ -189,11 +173,10 @@ private:
         scene_ = nullptr;
     }
 
-    RTCDevice device_ = nullptr;
+    embree_device device_{"embree_user"};
     RTCScene scene_ = nullptr;
     std::span<const O> objects_;
     T thickness_ = 0, magnitude_ = 0, grow_ = 0;
-    std::atomic<long long> embree_bytes_{0};
 };
 
 }  // namespace

@@ -203,7 +203,7 @@ public:
     std::string name() const override { return "nanoflann_dynamic"; }
     unsigned capabilities() const override {
         return capability::knn | capability::approximate_knn | capability::radius | capability::dynamic |
-               capability::bulk_insert;
+               capability::bulk_insert | capability::dynamic_variant;
     }
 
     void build(std::span<const point_type> pts) override {

@@ -60,6 +60,17 @@ std::unique_ptr<point_index<T, D>> make_nanoflann_dynamic_index();
 template <class T, std::size_t D>
 std::unique_ptr<point_index<T, D>> make_cgal_kd_tree_index();
 
+// Boost.Geometry 1.74 rtree over (point, id) values, node capacity 16: "boost_rtree" is an
+// R*-tree bulk-loaded by the packing constructor (knn | radius; the static workloads),
+// "boost_rtree_quadratic" a quadratic-split tree built by insertion (knn | radius | dynamic |
+// dynamic_variant: the dynamic workloads). kNN answers are sorted by the adapter (Boost's
+// come unordered); radius is a closed box query filtered by distance. No approximate kNN.
+// memory_bytes() counts the tree's allocations through its allocator.
+template <class T, std::size_t D>
+std::unique_ptr<point_index<T, D>> make_boost_rtree_index();
+template <class T, std::size_t D>
+std::unique_ptr<point_index<T, D>> make_boost_rtree_quadratic_index();
+
 // Every peer index compiled into this build, in a fixed order (static before dynamic).
 template <class T, std::size_t D>
 std::vector<std::unique_ptr<point_index<T, D>>> make_peer_indices() {
@@ -70,6 +81,10 @@ std::vector<std::unique_ptr<point_index<T, D>>> make_peer_indices() {
 #endif
 #if defined(SPATIAL_HAVE_CGAL) && SPATIAL_HAVE_CGAL
     out.push_back(make_cgal_kd_tree_index<T, D>());
+#endif
+#if defined(SPATIAL_HAVE_BOOST_GEOMETRY) && SPATIAL_HAVE_BOOST_GEOMETRY
+    out.push_back(make_boost_rtree_index<T, D>());
+    out.push_back(make_boost_rtree_quadratic_index<T, D>());
 #endif
     return out;
 }

@@ -25,6 +25,8 @@ inline const std::vector<structure_info>& registered_peers() {
         {"nanoflann", "nanoflann", "", "peer", "nanoflann 1.4.3", "static kd-tree (KDTreeSingleIndexAdaptor)", any, 0, motion_strategy::automatic, {{"leaf_max_size", "10"}}, peer_tree, in::knn | in::structures},
         {"nanoflann_dynamic", "nanoflann", "", "peer", "nanoflann 1.4.3", "dynamic kd-tree forest (KDTreeSingleIndexDynamicAdaptor), dynamic workloads", any, 0, motion_strategy::automatic, {{"leaf_max_size", "10"}}, peer_tree, in::knn},
         {"cgal_kd_tree", "cgal_kd_tree", "", "peer", "CGAL 5.5", "Kd_tree, sliding midpoint", any, 0, motion_strategy::automatic, {{"bucket_size", "10"}}, peer_tree, in::knn | in::structures},
+        {"boost_rtree", "boost_rtree", "", "peer", "Boost.Geometry 1.74", "R*-tree, bulk-loaded (packing constructor)", any, 0, motion_strategy::automatic, {{"params", "rstar<16>"}, {"build", "packed"}}, peer_tree, in::knn | in::structures},
+        {"boost_rtree_quadratic", "boost_rtree", "", "peer", "Boost.Geometry 1.74", "quadratic R-tree built by insertion, dynamic workloads", any, 0, motion_strategy::automatic, {{"params", "quadratic<16>"}, {"build", "insert"}}, peer_tree, in::knn},
         {"embree", "embree", "", "peer", "Embree 3.13", "rtcIntersect1 on a triangle mesh", any, 0, motion_strategy::automatic, {{"build_quality", "medium"}}, peer_tree, in::raycast},
         {"embree_robust", "embree", "", "peer", "Embree 3.13", "rtcIntersect1, RTC_SCENE_FLAG_ROBUST", any, 0, motion_strategy::automatic, {{"build_quality", "medium"}, {"flags", "robust"}}, peer_tree, in::raycast},
         {"embree_user", "embree", "", "peer", "Embree 3.13", "user geometry (boxes, thick points)", any, 0, motion_strategy::automatic, {}, peer_tree, in::raycast_objects},

@@ -28,6 +28,13 @@ enum class capability : unsigned {
     hinted_insert = 1u << 4,    // insert_near(prev_id, id, p)
     bulk_insert = 1u << 5,  // insert_bulk(first_id, pts)
     bulk_erase = 1u << 6,   // erase_bulk(ids)
+    // Insertions after build are deferred to a full rebuild inside the next query (CGAL's
+    // Kd_tree): a timed insert/erase loop would leave the rebuild out, so the dynamic
+    // workloads do not time it.
+    rebuilds_on_query = 1u << 7,
+    // A peer's dynamic variant (nanoflann's KDTreeSingleIndexDynamicAdaptor): timed in the
+    // dynamic workloads only; its static sibling stands for the library in the static ones.
+    dynamic_variant = 1u << 8,
 };
 
 constexpr unsigned operator|(capability a, capability b) {

@@ -21,22 +21,10 @@ struct row_scope {
     // An untimed figure: a count, a ratio, a size.
     result_row figure(const std::string& structure, const std::string& bv, const std::string& operation,
                       const std::string& params, const std::string& metric, double value, const std::string& unit) const {
-        result_row r;
-        r.suite = suite;
-        r.structure = structure;
-        r.bv = bv;
-        r.workload = workload;
-        r.n = n;
-        r.dim = dim;
-        r.scalar = scalar;
-        r.operation = operation;
-        r.params = params;
-        r.metric = metric;
-        r.value = value;
-        r.unit = unit;
-        r.validated = true;  // rows exist only for answers that passed validation
-        r.run_id = run_id;
-        return r;
+        // validated: rows exist only for answers that passed validation.
+        return {.suite = suite, .structure = structure, .bv = bv, .workload = workload, .n = n, .dim = dim,
+                .scalar = scalar, .operation = operation, .params = params, .metric = metric, .value = value,
+                .unit = unit, .validated = true, .run_id = run_id};
     }
 
     // A timed figure: the median of `t` times `scale` (say 1e9 / queries for ns per query).
