@@ -18,8 +18,7 @@ using bvh_test::differential;
 
 namespace {
 
-using P3 = point<double, 3>;
-using B3 = objects::box<double, 3>;
+using spatial_test::B3, spatial_test::P3;
 
 template <class Tree>
 class bvh_differential : public ::testing::Test {};
