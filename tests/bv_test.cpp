@@ -12,60 +12,31 @@
 
 #include "spatial/bv/aabb.hpp"
 #include "spatial/bv/sphere.hpp"
+#include "bv_test_support.hpp"
 #include "test_support.hpp"
 
 using namespace spatial;
 
 namespace {
 
-template <class T, std::size_t D>
-struct dims {
-    using scalar = T;
-    static constexpr std::size_t dim = D;
-};
-
 template <class C>
-class bv : public ::testing::Test {
+class bv : public spatial_test::dims_fixture<C> {
 protected:
-    using scalar_t = typename C::scalar;
-    static constexpr std::size_t dim = C::dim;
-    using point_t = point<scalar_t, dim>;
-
     // Named adversarial sets from a logged seed.
-    static std::vector<std::pair<std::string, std::vector<point_t>>> sets(std::uint64_t seed) {
+    static auto sets(std::uint64_t seed) {
         std::mt19937_64 rng(seed);
-        auto u = [&] { return static_cast<double>(rng() >> 11) * 0x1.0p-53; };
-        std::vector<std::pair<std::string, std::vector<point_t>>> out;
-        auto make = [&](const std::string& name, std::size_t n, auto f) {
-            std::vector<point_t> v;
-            for (std::size_t i = 0; i < n; ++i) {
-                point_t p;
-                for (std::size_t d = 0; d < dim; ++d) p[d] = static_cast<scalar_t>(f(i, d));
-                v.push_back(p);
-            }
-            out.push_back({name, v});
-        };
-        make("random", 500, [&](std::size_t, std::size_t) { return u() * 10 - 5; });
-        make("one point", 1, [&](std::size_t, std::size_t d) { return 1.5 + static_cast<double>(d); });
-        make("two points", 2, [&](std::size_t i, std::size_t d) { return static_cast<double>(i * 3 + d); });
-        make("all equal", 100, [&](std::size_t, std::size_t) { return 0.25; });
-        make("collinear", 200, [&](std::size_t i, std::size_t d) { return static_cast<double>(i) * 0.01 * static_cast<double>(d + 1); });
-        make("coplanar", 200, [&](std::size_t, std::size_t d) { return d + 1 == dim ? 0.5 : u(); });
-        make("offset 1e8", 200, [&](std::size_t, std::size_t) { return 1e8 + u() * (sizeof(scalar_t) == 4 ? 1e3 : 1.0); });
-        make("spread 1e-12", 200, [&](std::size_t, std::size_t) { return 0.5 + u() * 1e-12; });
-        return out;
+        return spatial_test::basic_hard_sets<typename C::scalar, C::dim>(
+            500, [&] { return static_cast<double>(rng() >> 11) * 0x1.0p-53; });
     }
 };
-
-using dim_types = ::testing::Types<dims<float, 2>, dims<float, 3>, dims<double, 2>, dims<double, 3>>;
-TYPED_TEST_SUITE(bv, dim_types);
+// Every build runs all four types (this suite has never had a sanitizer subset).
+TYPED_TEST_SUITE(bv, spatial_test::all_dim_types);
 
 TYPED_TEST(bv, every_fit_contains_every_point_without_nan) {
     using P = typename TestFixture::point_t;
     using T = typename TestFixture::scalar_t;
     constexpr std::size_t D = TestFixture::dim;
-    const std::uint64_t seed = spatial_test::test_seed(31);
-    SCOPED_TRACE(spatial_test::replay_hint(seed));
+    const spatial_test::logged_seed seed(31);
     for (const auto& [name, pts] : TestFixture::sets(seed)) {
         SCOPED_TRACE(name);
         const std::span<const P> s(pts);
@@ -111,10 +82,7 @@ TYPED_TEST(bv, ray_intervals_agree_with_point_sampling_including_axis_rays) {
     ball.radius = T(1.25);
     for (int trial = 0; trial < 400; ++trial) {
         P o, dir;
-        for (std::size_t d = 0; d < D; ++d) o[d] = u() * 8 - 4, dir[d] = u() - T(0.5);
-        if (trial % 4 == 0)  // axis rays: zero and negative-zero components
-            for (std::size_t d = 0; d < D; ++d)
-                if (d != static_cast<std::size_t>(trial / 4) % D) dir[d] = trial % 8 == 0 ? T(0) : T(-0.0);
+        spatial_test::random_trial_ray(trial, u, o, dir);  // axis rays: zero and negative-zero components
         if (trial % 5 == 0) o[0] = T(-1);  // origin on a slab plane
         T t0 = 0, t1 = 0;
         for (int which = 0; which < 2; ++which) {
@@ -247,9 +215,7 @@ double brute_min_radius(const std::vector<std::array<double, D>>& p) {
 
 template <std::size_t D>
 void minimum_ball_matches_brute_force() {
-    const std::uint64_t seed = spatial_test::test_seed(2026);
-    SCOPED_TRACE(spatial_test::replay_hint(seed));
-    std::mt19937_64 rng(seed);
+    spatial_test::seeded_rng rng(2026);
     auto u = [&] { return static_cast<double>(rng() >> 11) * 0x1.0p-53; };
     for (int trial = 0; trial < 300; ++trial) {
         const std::size_t n = 1 + rng() % 10;

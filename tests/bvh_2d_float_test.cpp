@@ -6,7 +6,6 @@
 #include "bvh_test_support.hpp"
 
 using namespace spatial;
-using bvh_test::differential;
 
 namespace {
 
@@ -32,14 +31,13 @@ using part3_trees = ::testing::Types<bvh<objects::box<float, 2>, kdop<float, 2, 
 TYPED_TEST_SUITE(bvh_2d_float, part3_trees);
 
 TYPED_TEST(bvh_2d_float, matches_brute_force_under_interleaved_updates_and_motion) {
-    for (std::uint64_t seed : {21u, 22u}) differential<TypeParam>(spatial_test::test_seed(seed * 104729), 250, 5);
+    bvh_test::interleaved_updates_and_motion<TypeParam>();
 }
 TYPED_TEST(bvh_2d_float, matches_brute_force_at_offset_and_small_scales) {
-    differential<TypeParam>(spatial_test::test_seed(31), 150, 2, 1e6, 10);
-    differential<TypeParam>(spatial_test::test_seed(32), 150, 2, 0, 1e-12);
+    bvh_test::offset_and_small_scales<TypeParam>();
 }
 TYPED_TEST(bvh_2d_float, small_trees) {
-    for (std::size_t n : {0u, 1u, 3u}) differential<TypeParam>(spatial_test::test_seed(200 + n), n, 3);
+    bvh_test::small_trees<TypeParam>();
 }
 
 }  // namespace

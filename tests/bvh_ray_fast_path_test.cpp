@@ -135,32 +135,27 @@ void run_fast_path_case(std::uint64_t seed) {
 }  // namespace
 
 TEST(bvh_ray_fast_path, triangles_3d_double_match_brute_force_bit_for_bit) {
-    const std::uint64_t seed = spatial_test::test_seed(31);
-    SCOPED_TRACE(spatial_test::replay_hint(seed));
+    const spatial_test::logged_seed seed(31);
     run_fast_path_case<double, 3>(seed);
 }
 
 TEST(bvh_ray_fast_path, triangles_3d_float_match_brute_force_bit_for_bit) {
-    const std::uint64_t seed = spatial_test::test_seed(32);
-    SCOPED_TRACE(spatial_test::replay_hint(seed));
+    const spatial_test::logged_seed seed(32);
     run_fast_path_case<float, 3>(seed);
 }
 
 TEST(bvh_ray_fast_path, triangles_2d_match_brute_force_bit_for_bit) {
-    const std::uint64_t seed = spatial_test::test_seed(33);
-    SCOPED_TRACE(spatial_test::replay_hint(seed));
+    const spatial_test::logged_seed seed(33);
     run_fast_path_case<double, 2>(seed);
 }
 
 TEST(bvh_ray_fast_path, binary_path_3d_double_matches_brute_force_bit_for_bit) {
-    const std::uint64_t seed = spatial_test::test_seed(34);
-    SCOPED_TRACE(spatial_test::replay_hint(seed));
+    const spatial_test::logged_seed seed(34);
     run_fast_path_case<double, 3, binary_rays>(seed);
 }
 
 TEST(bvh_ray_fast_path, four_and_eight_wide_layouts_match_brute_force_bit_for_bit) {
-    const std::uint64_t seed = spatial_test::test_seed(35);
-    SCOPED_TRACE(spatial_test::replay_hint(seed));
+    const spatial_test::logged_seed seed(35);
     run_fast_path_case<double, 3, four_wide_rays>(seed);
     run_fast_path_case<float, 3, eight_wide_rays>(seed);
     run_fast_path_case<float, 2, four_wide_rays>(seed);

@@ -18,8 +18,7 @@ using bvh_test::differential;
 
 namespace {
 
-using P3 = point<double, 3>;
-using B3 = objects::box<double, 3>;
+using spatial_test::B3, spatial_test::P3;
 
 template <class Tree>
 class bvh_differential : public ::testing::Test {};
@@ -195,8 +194,8 @@ TEST(bvh_structure, deep_trees_from_sorted_incremental_inserts_are_traversed_wit
     EXPECT_EQ(tree.full_rebuilds(), 0u);
     ASSERT_EQ(tree.check_invariants(), "");
     const P3 q{{0, 700, 0}};
-    EXPECT_EQ(bvh_test::sorted_distances<P3>(q, tree.find_nearest(q, 20)),
-              bvh_test::sorted_distances<P3>(q, oracle.find_nearest(q, 20)));
+    EXPECT_EQ(spatial_test::distances_from(q, tree.find_nearest(q, 20)),
+              spatial_test::distances_from(q, oracle.find_nearest(q, 20)));
     intersect_info<P3> a, b;
     const P3 o{{0, -1, 0}}, d{{0, 1, -0.0}};
     EXPECT_EQ(tree.intersect(o, d, 0.25, a), oracle.intersect(o, d, 0.25, b));
@@ -276,8 +275,8 @@ TEST(bvh_structure, refit_after_moving_every_object_matches_the_oracle) {
         intersect_info<P3> a, b;
         EXPECT_EQ(tree.intersect(o, d, 0.0, a), oracle.intersect(o, d, 0.0, b));
         EXPECT_EQ(a.hit_time, b.hit_time);
-        EXPECT_EQ(bvh_test::sorted_distances<B3>(o, tree.find_nearest(o, 5)),
-                  bvh_test::sorted_distances<B3>(o, oracle.find_nearest(o, 5)));
+        EXPECT_EQ(spatial_test::distances_from(o, tree.find_nearest(o, 5)),
+                  spatial_test::distances_from(o, oracle.find_nearest(o, 5)));
     }
 }
 

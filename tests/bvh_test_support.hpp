@@ -87,13 +87,6 @@ private:
 };
 
 template <class O>
-std::vector<double> sorted_distances(const point_type_of<O>& q, const auto& its) {
-    std::vector<double> d;
-    for (const auto& it : its) d.push_back(static_cast<double>(object_squared_distance(*it, q)));
-    std::sort(d.begin(), d.end());
-    return d;
-}
-template <class O>
 std::vector<std::vector<double>> signatures(const auto& range) {
     std::vector<std::vector<double>> v;
     for (const auto& x : range) {
@@ -149,7 +142,7 @@ std::size_t compare_queries(const Tree& tree, const brute_force<typename Tree::v
         const Q q = g.point_in(-0.2, 1.2);
         const std::size_t k = std::size_t(1) + g.below(12);
         const auto kt = tree.find_nearest(q, k), ko = oracle.find_nearest(q, k);
-        EXPECT_EQ(sorted_distances<O>(q, kt), sorted_distances<O>(q, ko)) << "knn " << qi;
+        EXPECT_EQ(spatial_test::distances_from(q, kt), spatial_test::distances_from(q, ko)) << "knn " << qi;
         for (std::size_t i = 1; i < kt.size(); ++i)
             EXPECT_LE(object_squared_distance(*kt[i - 1], q), object_squared_distance(*kt[i], q));
         const T eps = T(0.5);
@@ -161,7 +154,7 @@ std::size_t compare_queries(const Tree& tree, const brute_force<typename Tree::v
         }
         // --- ball and box
         const T r = static_cast<T>(s * (0.02 + 0.2 * g.unit()));
-        EXPECT_EQ(sorted_distances<O>(q, tree.find_in_ball(q, r)), sorted_distances<O>(q, oracle.find_in_ball(q, r)))
+        EXPECT_EQ(spatial_test::distances_from(q, tree.find_in_ball(q, r)), spatial_test::distances_from(q, oracle.find_in_ball(q, r)))
             << "ball " << qi;
         Q lo = g.point_in(-0.1, 1.0), hi = lo;
         for (std::size_t i = 0; i < O::dimension; ++i) spatial_test::set_coord(hi, i, lo[i] + s * 0.3 * g.unit());
@@ -239,6 +232,22 @@ void differential(std::uint64_t seed, std::size_t n, int rounds, double offset =
         hits += compare_queries(tree, oracle, g, 25);
     }
     EXPECT_GT(hits, 0u) << "the scenario never produced a ray hit; it tests nothing";
+}
+
+// The differential scenarios of parts 2 and 3 (bvh_volumes_test, bvh_2d_float_test), with their
+// seeds: interleaved updates and motion; offset and small scales; small trees.
+template <class Tree>
+void interleaved_updates_and_motion() {
+    for (std::uint64_t seed : {21u, 22u}) differential<Tree>(spatial_test::test_seed(seed * 104729), 250, 5);
+}
+template <class Tree>
+void offset_and_small_scales() {
+    differential<Tree>(spatial_test::test_seed(31), 150, 2, 1e6, 10);
+    differential<Tree>(spatial_test::test_seed(32), 150, 2, 0, 1e-12);
+}
+template <class Tree>
+void small_trees() {
+    for (std::size_t n : {0u, 1u, 3u}) differential<Tree>(spatial_test::test_seed(200 + n), n, 3);
 }
 
 }  // namespace bvh_test

@@ -8,15 +8,13 @@
 #include "bvh_test_support.hpp"
 
 using namespace spatial;
-using bvh_test::differential;
 
 namespace {
 
 template <class Tree>
 class bvh_volumes : public ::testing::Test {};
 
-using P3 = point<double, 3>;
-using B3 = objects::box<double, 3>;
+using spatial_test::B3, spatial_test::P3;
 // The sanitizer build runs a representative subset (CI time: SPATIAL_TEST_FULL_MATRIX=0): each
 // volume type, each object kind and both builders still appear; the release build runs all.
 #if SPATIAL_TEST_FULL_MATRIX
@@ -36,14 +34,13 @@ using part2_trees = ::testing::Types<bvh<P3, obb<double, 3>, bvh_sah_config<>>, 
 TYPED_TEST_SUITE(bvh_volumes, part2_trees);
 
 TYPED_TEST(bvh_volumes, matches_brute_force_under_interleaved_updates_and_motion) {
-    for (std::uint64_t seed : {21u, 22u}) differential<TypeParam>(spatial_test::test_seed(seed * 104729), 250, 5);
+    bvh_test::interleaved_updates_and_motion<TypeParam>();
 }
 TYPED_TEST(bvh_volumes, matches_brute_force_at_offset_and_small_scales) {
-    differential<TypeParam>(spatial_test::test_seed(31), 150, 2, 1e6, 10);
-    differential<TypeParam>(spatial_test::test_seed(32), 150, 2, 0, 1e-12);
+    bvh_test::offset_and_small_scales<TypeParam>();
 }
 TYPED_TEST(bvh_volumes, small_trees) {
-    for (std::size_t n : {0u, 1u, 3u}) differential<TypeParam>(spatial_test::test_seed(200 + n), n, 3);
+    bvh_test::small_trees<TypeParam>();
 }
 
 }  // namespace

@@ -121,8 +121,7 @@ void check_cell_sort_grid(std::uint64_t seed) {
 }
 
 TEST(collide_cell_sort_grid, equals_the_quadratic_loop_on_hard_inputs) {
-    const std::uint64_t seed = spatial_test::test_seed(201);
-    SCOPED_TRACE(spatial_test::replay_hint(seed));
+    const spatial_test::logged_seed seed(201);
     check_cell_sort_grid<double, 3>(seed);
     check_cell_sort_grid<float, 3>(seed);
     check_cell_sort_grid<double, 2>(seed);
@@ -174,15 +173,19 @@ O random_object(std::mt19937_64& rng) {
     if constexpr (std::is_same_v<O, B3>) return B3(P3{{c[0] - h, c[1] - h, c[2] - h}}, P3{{c[0] + h, c[1] + h, c[2] + h}});
     else return O(c, h);
 }
+// n objects of random_object<O>(rng).
+template <class O>
+std::vector<O> random_objects(std::mt19937_64& rng, int n) {
+    std::vector<O> v;
+    for (int k = 0; k < n; ++k) v.push_back(random_object<O>(rng));
+    return v;
+}
 
 TYPED_TEST(bvh_motion, every_strategy_keeps_pairs_equal_to_brute_force_over_many_steps) {
     using Tree = TypeParam;
     using O = typename Tree::value_type;
-    const std::uint64_t seed = spatial_test::test_seed(202);
-    SCOPED_TRACE(spatial_test::replay_hint(seed));
-    std::mt19937_64 rng(seed);
-    std::vector<O> objects;
-    for (int k = 0; k < 800; ++k) objects.push_back(random_object<O>(rng));
+    spatial_test::seeded_rng rng(202);
+    std::vector<O> objects = random_objects<O>(rng, 800);
     std::normal_distribution<double> step(0, 0.01);
     for (motion_strategy strategy : {motion_strategy::refit, motion_strategy::rebuild, motion_strategy::reinsert,
                                      motion_strategy::automatic}) {
@@ -231,8 +234,7 @@ TYPED_TEST(bvh_motion, every_strategy_keeps_pairs_equal_to_brute_force_over_many
 
 TEST(bvh_motion_rules, a_nan_in_a_batch_leaves_the_tree_unchanged_and_refit_quality_decays) {
     std::mt19937_64 rng(spatial_test::test_seed(203));
-    std::vector<B3> boxes;
-    for (int k = 0; k < 2000; ++k) boxes.push_back(random_object<B3>(rng));
+    std::vector<B3> boxes = random_objects<B3>(rng, 2000);
     bvh<B3> tree(boxes.begin(), boxes.end());
     std::vector<std::pair<bvh<B3>::iterator, B3>> moves;
     for (auto it = tree.begin(); it != tree.end(); ++it) moves.emplace_back(it, moved(*it, P3{{0.5, 0, 0}}));
@@ -254,8 +256,7 @@ TEST(bvh_motion_rules, a_nan_in_a_batch_leaves_the_tree_unchanged_and_refit_qual
 
 TEST(collide_collision_grid_motion, a_bulk_move_is_all_or_nothing_and_pairs_follow_it) {
     std::mt19937_64 rng(spatial_test::test_seed(205));
-    std::vector<B3> boxes;
-    for (int k = 0; k < 1500; ++k) boxes.push_back(random_object<B3>(rng));
+    std::vector<B3> boxes = random_objects<B3>(rng, 1500);
     collision_grid<B3> grid(boxes.begin(), boxes.end());
     std::vector<std::pair<collision_grid<B3>::iterator, B3>> moves;
     for (auto it = grid.begin(); it != grid.end(); ++it) moves.emplace_back(it, random_object<B3>(rng));
@@ -281,9 +282,7 @@ TEST(collide_collision_grid_motion, a_bulk_move_is_all_or_nothing_and_pairs_foll
 }
 
 TEST(collide_pair_set_tracker, added_and_removed_are_the_set_differences) {
-    const std::uint64_t seed = spatial_test::test_seed(204);
-    SCOPED_TRACE(spatial_test::replay_hint(seed));
-    std::mt19937_64 rng(seed);
+    spatial_test::seeded_rng rng(204);
     std::uniform_int_distribution<std::uint32_t> id(0, 30);
     collide::pair_set_tracker<std::uint32_t> tracker;
     std::set<pair32> previous;

@@ -104,11 +104,18 @@ void check_against_oracle(const Tree& tree, const brute_force<typename Tree::val
     EXPECT_TRUE(std::includes(c.begin(), c.end(), want.begin(), want.end())) << "a candidate set misses a pair";
 }
 
+// n objects, the k-th being make_object<O>::random(rng, first + k).
+template <class O>
+std::vector<O> random_objects(std::mt19937_64& rng, int n, int first = 0) {
+    std::vector<O> v;
+    for (int k = 0; k < n; ++k) v.push_back(make_object<O>::random(rng, k + first));
+    return v;
+}
+
 template <class Tree>
 class collide_pairs : public ::testing::Test {};
 
-using P3 = point<double, 3>;
-using B3 = objects::box<double, 3>;
+using spatial_test::B3, spatial_test::P3;
 // The sanitizer build runs a representative subset (CI time: SPATIAL_TEST_FULL_MATRIX=0): every
 // object kind, both scalars and dimensions, and the volume families still appear.
 #if SPATIAL_TEST_FULL_MATRIX
@@ -127,11 +134,8 @@ TYPED_TEST_SUITE(collide_pairs, trees);
 TYPED_TEST(collide_pairs, self_pairs_equal_brute_force_before_and_after_updates) {
     using Tree = TypeParam;
     using O = typename Tree::value_type;
-    const std::uint64_t seed = spatial_test::test_seed(101);
-    SCOPED_TRACE(spatial_test::replay_hint(seed));
-    std::mt19937_64 rng(seed);
-    std::vector<O> objects;
-    for (int k = 0; k < 1200; ++k) objects.push_back(make_object<O>::random(rng, k));
+    spatial_test::seeded_rng rng(101);
+    std::vector<O> objects = random_objects<O>(rng, 1200);
     Tree tree(objects.begin(), objects.end());
     brute_force<O> oracle;
     oracle.insert(objects.begin(), objects.end());
@@ -168,12 +172,9 @@ TYPED_TEST(collide_pairs, self_pairs_equal_brute_force_before_and_after_updates)
 TYPED_TEST(collide_pairs, bipartite_pairs_equal_brute_force) {
     using Tree = TypeParam;
     using O = typename Tree::value_type;
-    const std::uint64_t seed = spatial_test::test_seed(102);
-    SCOPED_TRACE(spatial_test::replay_hint(seed));
-    std::mt19937_64 rng(seed);
-    std::vector<O> a, b;
-    for (int k = 0; k < 700; ++k) a.push_back(make_object<O>::random(rng, k));
-    for (int k = 0; k < 500; ++k) b.push_back(make_object<O>::random(rng, k + 1));
+    spatial_test::seeded_rng rng(102);
+    std::vector<O> a = random_objects<O>(rng, 700);
+    std::vector<O> b = random_objects<O>(rng, 500, 1);
     Tree ta(a.begin(), a.end()), tb(b.begin(), b.end());
     brute_force<O> oa, ob;
     oa.insert(a.begin(), a.end());
@@ -201,11 +202,8 @@ TYPED_TEST_SUITE(collide_pairs_other, others);
 TYPED_TEST(collide_pairs_other, self_and_bipartite_pairs_equal_brute_force) {
     using C = TypeParam;
     using O = typename C::value_type;
-    const std::uint64_t seed = spatial_test::test_seed(103);
-    SCOPED_TRACE(spatial_test::replay_hint(seed));
-    std::mt19937_64 rng(seed);
-    std::vector<O> objects;
-    for (int k = 0; k < 1000; ++k) objects.push_back(make_object<O>::random(rng, k));
+    spatial_test::seeded_rng rng(103);
+    std::vector<O> objects = random_objects<O>(rng, 1000);
     C c;
     c.insert(objects.begin(), objects.end());
     brute_force<O> oracle;
@@ -235,8 +233,7 @@ TYPED_TEST(collide_pairs_other, self_and_bipartite_pairs_equal_brute_force) {
     }
     ASSERT_EQ(c.size(), oracle.size());
     check();
-    std::vector<O> more;
-    for (int k = 0; k < 300; ++k) more.push_back(make_object<O>::random(rng, k + 2));
+    std::vector<O> more = random_objects<O>(rng, 300, 2);
     brute_force<O> other;
     other.insert(more.begin(), more.end());
     EXPECT_EQ(spatial_test::signature_pairs(c.pairs_with(other)), spatial_test::signature_pairs(oracle.pairs_with(other)));
@@ -249,8 +246,7 @@ TYPED_TEST(collide_pairs_other, self_and_bipartite_pairs_equal_brute_force) {
 template <template <class> class S, class O>
 void check_handle_structure(std::uint64_t seed) {
     std::mt19937_64 rng(seed);
-    std::vector<O> objects;
-    for (int k = 0; k < 1500; ++k) objects.push_back(make_object<O>::random(rng, k));
+    std::vector<O> objects = random_objects<O>(rng, 1500);
     S<O> sap(objects.begin(), objects.end());
     brute_force<O> oracle;
     oracle.insert(objects.begin(), objects.end());
@@ -285,8 +281,7 @@ void check_handle_structure(std::uint64_t seed) {
     }
     check();
     // Bipartite against a brute_force and (same structure) against another instance.
-    std::vector<O> more;
-    for (int k = 0; k < 400; ++k) more.push_back(make_object<O>::random(rng, k + 1));
+    std::vector<O> more = random_objects<O>(rng, 400, 1);
     brute_force<O> other_oracle(more.begin(), more.end());
     const S<O> other(more.begin(), more.end());
     const auto want = slots_of(oracle.pairs_with(other_oracle));
@@ -304,8 +299,7 @@ void check_handle_structure(std::uint64_t seed) {
 }
 
 TEST(collide_sweep_and_prune, pairs_equal_brute_force_for_boxes_spheres_and_triangles) {
-    const std::uint64_t seed = spatial_test::test_seed(104);
-    SCOPED_TRACE(spatial_test::replay_hint(seed));
+    const spatial_test::logged_seed seed(104);
     check_handle_structure<sweep_and_prune, B3>(seed);
     check_handle_structure<sweep_and_prune, objects::box<float, 2>>(seed);
     check_handle_structure<sweep_and_prune, objects::sphere<double, 3>>(seed);
@@ -313,8 +307,7 @@ TEST(collide_sweep_and_prune, pairs_equal_brute_force_for_boxes_spheres_and_tria
 }
 
 TEST(collide_collision_grid, pairs_equal_brute_force_for_boxes_spheres_triangles_and_points) {
-    const std::uint64_t seed = spatial_test::test_seed(105);
-    SCOPED_TRACE(spatial_test::replay_hint(seed));
+    const spatial_test::logged_seed seed(105);
     check_handle_structure<collision_grid, B3>(seed);
     check_handle_structure<collision_grid, objects::box<float, 2>>(seed);
     check_handle_structure<collision_grid, objects::sphere<double, 3>>(seed);

@@ -25,17 +25,13 @@
 #include "spatial/bv/gjk.hpp"
 #include "spatial/bv/hull_2d.hpp"
 #include "spatial/bv/predicates.hpp"
+#include "bv_test_support.hpp"
 #include "test_support.hpp"
 
 using namespace spatial;
+using spatial_test::unit;
 
 namespace {
-
-template <class T, std::size_t D>
-struct dims {
-    using scalar = T;
-    static constexpr std::size_t dim = D;
-};
 
 template <class P>
 std::array<double, 3> as3(const P& p) {
@@ -319,10 +315,9 @@ struct sets_for {
     }
     static named build(std::uint64_t seed, std::size_t n_random) {
         std::mt19937_64 rng(seed);
-        auto u = [&] { return static_cast<double>(rng() >> 11) * 0x1.0p-53; };
-        auto gauss = [&] {
+            auto gauss = [&] {
             double s = 0;
-            for (int i = 0; i < 12; ++i) s += u();
+            for (int i = 0; i < 12; ++i) s += unit(rng);
             return s - 6;
         };
         named out;
@@ -338,7 +333,7 @@ struct sets_for {
         };
         auto rnd = [&](double lo, double hi) {
             std::array<double, D> x;
-            for (auto& c : x) c = lo + (hi - lo) * u();
+            for (auto& c : x) c = lo + (hi - lo) * unit(rng);
             return x;
         };
         auto on_sphere = [&](double r) {
@@ -462,29 +457,18 @@ struct sets_for {
 };
 
 template <class C>
-class hull : public ::testing::Test {
+class hull : public spatial_test::dims_fixture<C> {
 protected:
-    using scalar_t = typename C::scalar;
-    static constexpr std::size_t dim = C::dim;
-    using point_t = point<scalar_t, dim>;
-    using hull_t = convex_hull<scalar_t, dim>;
+    using hull_t = convex_hull<typename C::scalar, C::dim>;
 };
 
-// The sanitizer build runs a representative subset (CI time: SPATIAL_TEST_FULL_MATRIX=0): both
-// scalars and both dimensions still appear; the release build runs all four.
-#if SPATIAL_TEST_FULL_MATRIX
-using dim_types = ::testing::Types<dims<float, 2>, dims<float, 3>, dims<double, 2>, dims<double, 3>>;
-#else
-using dim_types = ::testing::Types<dims<float, 2>, dims<double, 3>>;
-#endif
-TYPED_TEST_SUITE(hull, dim_types);
+TYPED_TEST_SUITE(hull, spatial_test::dim_types);
 
 TYPED_TEST(hull, valid_closed_convex_and_containing_on_random_and_hard_sets) {
     using T = typename TestFixture::scalar_t;
     constexpr std::size_t D = TestFixture::dim;
     using H = typename TestFixture::hull_t;
-    const std::uint64_t seed = spatial_test::test_seed(11);
-    SCOPED_TRACE(spatial_test::replay_hint(seed));
+    const spatial_test::logged_seed seed(11);
     for (std::uint64_t round = 0; round < 3; ++round)
         for (const auto& [name, pts] : sets_for<T, D>::build(seed + round, 3000)) {
             SCOPED_TRACE(name);
@@ -558,9 +542,7 @@ TYPED_TEST(hull, vertices_are_exactly_the_extreme_points_small_sets) {
     constexpr std::size_t D = TestFixture::dim;
     using P = typename TestFixture::point_t;
     using H = typename TestFixture::hull_t;
-    const std::uint64_t seed = spatial_test::test_seed(12);
-    SCOPED_TRACE(spatial_test::replay_hint(seed));
-    std::mt19937_64 rng(seed);
+    spatial_test::seeded_rng rng(12);
     for (int trial = 0; trial < 300; ++trial) {
         const std::size_t n = 1 + rng() % (D == 3 ? 14 : 20);
         const int grid = trial % 3 == 0 ? 3 : (trial % 3 == 1 ? 6 : 1000);
@@ -587,16 +569,13 @@ TYPED_TEST(hull, volume_matches_brute_force_facets_and_known_polytopes) {
     constexpr std::size_t D = TestFixture::dim;
     using P = typename TestFixture::point_t;
     using H = typename TestFixture::hull_t;
-    const std::uint64_t seed = spatial_test::test_seed(13);
-    SCOPED_TRACE(spatial_test::replay_hint(seed));
-    std::mt19937_64 rng(seed);
-    auto u = [&] { return static_cast<double>(rng() >> 11) * 0x1.0p-53; };
+    spatial_test::seeded_rng rng(13);
     for (int trial = 0; trial < 40; ++trial) {  // general position: facets are unique triples
         const std::size_t n = 4 + rng() % 22;
         std::vector<P> pts(n);
         std::vector<std::array<double, 3>> raw;
         for (auto& p : pts) {
-            for (std::size_t d = 0; d < D; ++d) p[d] = static_cast<T>(u() * 2 - 1);
+            for (std::size_t d = 0; d < D; ++d) p[d] = static_cast<T>(unit(rng) * 2 - 1);
             raw.push_back(as3(p));
         }
         const H h = H::fit(pts);
@@ -608,9 +587,9 @@ TYPED_TEST(hull, volume_matches_brute_force_facets_and_known_polytopes) {
     // the cross-polytope (octahedron / diamond) of radius 1: 4/3 in 3D, 2 in 2D.
     for (int trial = 0; trial < 10; ++trial) {
         rigid_transform<T, D> xf;
-        if constexpr (D == 2) xf = rigid_transform<T, D>::rotate(T(u() * 6));
-        else xf = rigid_transform<T, D>::rotate(P{{T(u() - 0.5), T(u() - 0.5), T(u() + 0.1)}}, T(u() * 6));
-        for (std::size_t d = 0; d < D; ++d) xf.translation[d] = T(u() * 10);
+        if constexpr (D == 2) xf = rigid_transform<T, D>::rotate(T(unit(rng) * 6));
+        else xf = rigid_transform<T, D>::rotate(P{{T(unit(rng) - 0.5), T(unit(rng) - 0.5), T(unit(rng) + 0.1)}}, T(unit(rng) * 6));
+        for (std::size_t d = 0; d < D; ++d) xf.translation[d] = T(unit(rng) * 10);
         std::vector<P> pts;
         for (unsigned m = 0; m < (1u << D); ++m) {
             P p;
@@ -619,7 +598,7 @@ TYPED_TEST(hull, volume_matches_brute_force_facets_and_known_polytopes) {
         }
         for (int i = 0; i < 100; ++i) {
             P p;
-            for (std::size_t d = 0; d < D; ++d) p[d] = T(0.05 + 0.9 * u());
+            for (std::size_t d = 0; d < D; ++d) p[d] = T(0.05 + 0.9 * unit(rng));
             pts.push_back(xf.apply(p));
         }
         const H h = H::fit(pts);
@@ -660,9 +639,7 @@ TYPED_TEST(hull, overlaps_touching_pairs_and_gaps) {
     constexpr std::size_t D = TestFixture::dim;
     using P = typename TestFixture::point_t;
     using H = typename TestFixture::hull_t;
-    const std::uint64_t seed = spatial_test::test_seed(14);
-    SCOPED_TRACE(spatial_test::replay_hint(seed));
-    std::mt19937_64 rng(seed);
+    spatial_test::seeded_rng rng(14);
     std::vector<P> cube;
     for (unsigned m = 0; m < (1u << D); ++m) {
         P p;
@@ -765,27 +742,24 @@ TYPED_TEST(hull, overlaps_matches_separating_axis_reference_on_random_rotated_pa
     constexpr std::size_t D = TestFixture::dim;
     using P = typename TestFixture::point_t;
     using H = typename TestFixture::hull_t;
-    const std::uint64_t seed = spatial_test::test_seed(15);
-    SCOPED_TRACE(spatial_test::replay_hint(seed));
-    std::mt19937_64 rng(seed);
-    auto u = [&] { return static_cast<double>(rng() >> 11) * 0x1.0p-53; };
+    spatial_test::seeded_rng rng(15);
     int both = 0, neither = 0;
     for (int trial = 0; trial < 400; ++trial) {
         auto make = [&](double cx) {
             std::vector<P> v(4 + rng() % 8);
             rigid_transform<T, D> xf;
-            if constexpr (D == 2) xf = rigid_transform<T, D>::rotate(T(u() * 6.3));
-            else xf = rigid_transform<T, D>::rotate(P{{T(u() - 0.5), T(u() - 0.5), T(u() - 0.5 + 1e-3)}}, T(u() * 6.3));
-            const double sx = 0.2 + u(), sy = 0.2 + u();
+            if constexpr (D == 2) xf = rigid_transform<T, D>::rotate(T(unit(rng) * 6.3));
+            else xf = rigid_transform<T, D>::rotate(P{{T(unit(rng) - 0.5), T(unit(rng) - 0.5), T(unit(rng) - 0.5 + 1e-3)}}, T(unit(rng) * 6.3));
+            const double sx = 0.2 + unit(rng), sy = 0.2 + unit(rng);
             for (auto& p : v) {
                 P q;
-                for (std::size_t d = 0; d < D; ++d) q[d] = T((u() - 0.5) * (d == 0 ? sx : (d == 1 ? sy : 1.0)));
+                for (std::size_t d = 0; d < D; ++d) q[d] = T((unit(rng) - 0.5) * (d == 0 ? sx : (d == 1 ? sy : 1.0)));
                 p = xf.apply(q);
                 p[0] += T(cx);
             }
             return H::fit(v);
         };
-        const H a = make(0), b = make(0.3 + 1.4 * u());
+        const H a = make(0), b = make(0.3 + 1.4 * unit(rng));
         std::vector<std::array<double, 3>> va, vb;
         for (const auto& p : a.vertices()) va.push_back(as3(p));
         for (const auto& p : b.vertices()) vb.push_back(as3(p));
@@ -851,10 +825,8 @@ TYPED_TEST(hull, ray_intervals_agree_with_point_sampling) {
     constexpr std::size_t D = TestFixture::dim;
     using P = typename TestFixture::point_t;
     using H = typename TestFixture::hull_t;
-    const std::uint64_t seed = spatial_test::test_seed(16);
-    SCOPED_TRACE(spatial_test::replay_hint(seed));
-    std::mt19937_64 rng(seed);
-    auto u = [&] { return static_cast<T>(static_cast<double>(rng() >> 11) * 0x1.0p-53); };
+    spatial_test::seeded_rng rng(16);
+    auto u = [&] { return static_cast<T>(unit(rng)); };
     std::vector<P> pts(300);
     for (auto& p : pts)
         for (std::size_t d = 0; d < D; ++d) p[d] = u() * T(2 + d) - T(1);
@@ -862,10 +834,7 @@ TYPED_TEST(hull, ray_intervals_agree_with_point_sampling) {
     int hits = 0;
     for (int trial = 0; trial < 300; ++trial) {
         P o, dir;
-        for (std::size_t d = 0; d < D; ++d) o[d] = u() * 8 - 4, dir[d] = u() - T(0.5);
-        if (trial % 4 == 0)  // axis rays: zero and negative-zero components
-            for (std::size_t d = 0; d < D; ++d)
-                if (d != static_cast<std::size_t>(trial / 4) % D) dir[d] = trial % 8 == 0 ? T(0) : T(-0.0);
+        spatial_test::random_trial_ray(trial, u, o, dir);  // axis rays: zero and negative-zero components
         if (trial % 7 == 0) o = h.vertices()[rng() % h.vertices().size()];  // through a vertex
         T t0 = 0, t1 = 0;
         const bool hit = h.ray_interval(o, dir, t0, t1);
@@ -928,13 +897,10 @@ TYPED_TEST(hull, distance_lower_bound_is_valid_and_tight_along_facet_normals) {
     constexpr std::size_t D = TestFixture::dim;
     using P = typename TestFixture::point_t;
     using H = typename TestFixture::hull_t;
-    const std::uint64_t seed = spatial_test::test_seed(17);
-    SCOPED_TRACE(spatial_test::replay_hint(seed));
-    std::mt19937_64 rng(seed);
-    auto u = [&] { return static_cast<double>(rng() >> 11) * 0x1.0p-53; };
+    spatial_test::seeded_rng rng(17);
     std::vector<P> pts(200);
     for (auto& p : pts)
-        for (std::size_t d = 0; d < D; ++d) p[d] = T(u() * 2 - 1);
+        for (std::size_t d = 0; d < D; ++d) p[d] = T(unit(rng) * 2 - 1);
     const H h = H::fit(pts);
     for (const auto& p : pts) EXPECT_EQ(h.distance_lower_bound(p), T(0));
     const auto verts = h.vertices();
@@ -952,7 +918,7 @@ TYPED_TEST(hull, distance_lower_bound_is_valid_and_tight_along_facet_normals) {
         std::array<double, 3> c{0, 0, 0};
         for (const auto& x : on)
             for (int d = 0; d < 3; ++d) c[d] += x[d] / double(on.size());
-        const double s = 0.01 + 3 * u();
+        const double s = 0.01 + 3 * unit(rng);
         P q;
         for (std::size_t d = 0; d < D; ++d) q[d] = T(c[d] + s * double(pl.normal[d]));
         const double lb = double(h.distance_lower_bound(q));
@@ -968,7 +934,7 @@ TYPED_TEST(hull, distance_lower_bound_is_valid_and_tight_along_facet_normals) {
     // Random far points: valid against the vertex distances.
     for (int trial = 0; trial < 200; ++trial) {
         P q;
-        for (std::size_t d = 0; d < D; ++d) q[d] = T(u() * 10 - 5);
+        for (std::size_t d = 0; d < D; ++d) q[d] = T(unit(rng) * 10 - 5);
         double upper = 1e300;
         for (const auto& v : verts) upper = std::min(upper, std::sqrt(double(squared_distance(v, q))));
         EXPECT_LE(double(h.distance_lower_bound(q)), upper * (1 + 1e-6));
@@ -980,17 +946,14 @@ TYPED_TEST(hull, merged_contains_both_and_transformed_contains_moved_points) {
     constexpr std::size_t D = TestFixture::dim;
     using P = typename TestFixture::point_t;
     using H = typename TestFixture::hull_t;
-    const std::uint64_t seed = spatial_test::test_seed(18);
-    SCOPED_TRACE(spatial_test::replay_hint(seed));
-    std::mt19937_64 rng(seed);
-    auto u = [&] { return static_cast<double>(rng() >> 11) * 0x1.0p-53; };
+    spatial_test::seeded_rng rng(18);
     const double offsets[3] = {0, 1e3, sizeof(T) == 4 ? 1e5 : 1e8};
     for (int trial = 0; trial < 30; ++trial) {
         const double off = offsets[trial % 3];
         auto cloud = [&](double shift) {
             std::vector<P> v(50 + rng() % 100);
             for (auto& p : v)
-                for (std::size_t d = 0; d < D; ++d) p[d] = T(off + shift + u() * 2);
+                for (std::size_t d = 0; d < D; ++d) p[d] = T(off + shift + unit(rng) * 2);
             return v;
         };
         const auto pa = cloud(0), pb = cloud(1.5);
@@ -1009,9 +972,9 @@ TYPED_TEST(hull, merged_contains_both_and_transformed_contains_moved_points) {
         EXPECT_TRUE(H::empty().merged(a).contains(pa[0]));
 
         rigid_transform<T, D> xf;
-        if constexpr (D == 2) xf = rigid_transform<T, D>::rotate(T(u() * 6.3));
-        else xf = rigid_transform<T, D>::rotate(P{{T(u() - 0.5), T(u() - 0.5), T(u() + 0.01)}}, T(u() * 6.3));
-        for (std::size_t d = 0; d < D; ++d) xf.translation[d] = T(u() * 100 - 50);
+        if constexpr (D == 2) xf = rigid_transform<T, D>::rotate(T(unit(rng) * 6.3));
+        else xf = rigid_transform<T, D>::rotate(P{{T(unit(rng) - 0.5), T(unit(rng) - 0.5), T(unit(rng) + 0.01)}}, T(unit(rng) * 6.3));
+        for (std::size_t d = 0; d < D; ++d) xf.translation[d] = T(unit(rng) * 100 - 50);
         const H moved = a.transformed(xf);
         for (const auto& p : pa) ASSERT_TRUE(moved.contains(xf.apply(p))) << "trial " << trial;
         for (const auto& v : a.vertices()) ASSERT_TRUE(moved.contains(xf.apply(v)));
@@ -1032,8 +995,7 @@ TYPED_TEST(hull, larger_sets_are_valid_and_order_independent) {
     using T = typename TestFixture::scalar_t;
     constexpr std::size_t D = TestFixture::dim;
     using H = typename TestFixture::hull_t;
-    const std::uint64_t seed = spatial_test::test_seed(19);
-    SCOPED_TRACE(spatial_test::replay_hint(seed));
+    const spatial_test::logged_seed seed(19);
     std::mt19937_64 rng(seed);
     for (auto [name, pts] : sets_for<T, D>::build(seed, 10000)) {
         if (pts.size() < 1000) continue;
@@ -1058,17 +1020,14 @@ TYPED_TEST(hull, support_index_reaches_the_maximum_from_any_start) {
     constexpr std::size_t D = TestFixture::dim;
     using P = typename TestFixture::point_t;
     using H = typename TestFixture::hull_t;
-    const std::uint64_t seed = spatial_test::test_seed(22);
-    SCOPED_TRACE(spatial_test::replay_hint(seed));
-    std::mt19937_64 rng(seed);
-    auto u = [&] { return static_cast<double>(rng() >> 11) * 0x1.0p-53; };
+    spatial_test::seeded_rng rng(22);
     for (int trial = 0; trial < 6; ++trial) {
         std::vector<P> pts;
         for (int i = 0; i < 150; ++i) {
             P p;
             double n2 = 0;
             std::array<double, D> x;
-            for (auto& c : x) c = u() * 2 - 1, n2 += c * c;
+            for (auto& c : x) c = unit(rng) * 2 - 1, n2 += c * c;
             for (std::size_t d = 0; d < D; ++d) p[d] = T(x[d] / std::sqrt(n2));  // on a sphere: all extreme
             pts.push_back(p);
             for (std::size_t d = 0; d < D; ++d)
@@ -1085,7 +1044,7 @@ TYPED_TEST(hull, support_index_reaches_the_maximum_from_any_start) {
             std::array<double, D> dir{};
             if (k < int(2 * D)) dir[std::size_t(k) / 2] = k % 2 ? -1.0 : 1.0;
             else
-                for (auto& c : dir) c = u() * 2 - 1;
+                for (auto& c : dir) c = unit(rng) * 2 - 1;
             double best = -1e300;
             for (const auto& x : v) {
                 double s = 0;
@@ -1120,9 +1079,7 @@ TYPED_TEST(hull, rejects_non_finite_input) {
 // construction (points on a common plane / line plus +-1 unit), large offsets making the
 // naive floating-point determinant unreliable.
 TEST(hull_predicates, orientation_signs_match_integer_arithmetic) {
-    const std::uint64_t seed = spatial_test::test_seed(20);
-    SCOPED_TRACE(spatial_test::replay_hint(seed));
-    std::mt19937_64 rng(seed);
+    spatial_test::seeded_rng rng(20);
     __extension__ typedef __int128 i128;
     int zero3 = 0, zero2 = 0;
     for (int trial = 0; trial < 20000; ++trial) {
@@ -1182,14 +1139,11 @@ TEST(hull_predicates, hull_2d_is_exact_on_nearly_collinear_points) {
 }
 
 TEST(hull_gjk, generic_support_functions_on_spheres) {
-    const std::uint64_t seed = spatial_test::test_seed(21);
-    SCOPED_TRACE(spatial_test::replay_hint(seed));
-    std::mt19937_64 rng(seed);
-    auto u = [&] { return static_cast<double>(rng() >> 11) * 0x1.0p-53; };
+    spatial_test::seeded_rng rng(21);
     int yes = 0, no = 0;
     for (int trial = 0; trial < 2000; ++trial) {
-        std::array<double, 3> c1{u(), u(), u()}, c2{u() * 3, u() * 3, u() * 3};
-        const double r1 = 0.1 + u(), r2 = 0.1 + u();
+        std::array<double, 3> c1{unit(rng), unit(rng), unit(rng)}, c2{unit(rng) * 3, unit(rng) * 3, unit(rng) * 3};
+        const double r1 = 0.1 + unit(rng), r2 = 0.1 + unit(rng);
         auto ball = [](const std::array<double, 3>& c, double r) {
             return [c, r](const std::array<double, 3>& d) {
                 const double n = std::sqrt(d[0] * d[0] + d[1] * d[1] + d[2] * d[2]);

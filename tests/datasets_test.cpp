@@ -564,6 +564,15 @@ std::string load_error_of(const fs::path& file) {
 #define EXPECT_CONTAINS(haystack, needle) \
     EXPECT_NE(std::string(haystack).find(needle), std::string::npos) << "message: " << (haystack)
 
+// The load error of a temporary file `name` holding `content` names every fragment.
+void expect_load_error(const std::string& name, std::string_view content,
+                       std::initializer_list<std::string_view> fragments) {
+    SCOPED_TRACE(name);
+    const temp_file f(name, content);
+    const std::string message = load_error_of(f.path());
+    for (const auto fragment : fragments) EXPECT_CONTAINS(message, fragment);
+}
+
 TEST(load_point_set, reads_the_committed_xyz_sample_ignoring_normals_and_comments) {
     const auto pts = datasets::load_point_set(samples / "tetrahedron_normals.xyz");
     ASSERT_EQ(pts.size(), 4u);
@@ -614,22 +623,12 @@ TEST(load_point_set, malformed_xyz_line_names_file_line_and_expectation) {
 }
 
 TEST(load_point_set, non_numeric_token_names_the_line_and_the_token) {
-    const temp_file f("word.xyz", "0 0 0\r\n1 abc 3\r\n");
-    const std::string message = load_error_of(f.path());
-    EXPECT_CONTAINS(message, "line 2");
-    EXPECT_CONTAINS(message, "for y");
-    EXPECT_CONTAINS(message, "\"abc\"");
+    expect_load_error("word.xyz", "0 0 0\r\n1 abc 3\r\n", {"line 2", "for y", "\"abc\""});
 }
 
 TEST(load_point_set, nan_and_infinite_coordinates_are_rejected_with_the_line) {
-    const temp_file nan_file("nan.xyz", "0 0 0\n1 1 1\nnan 1 2\n");
-    std::string message = load_error_of(nan_file.path());
-    EXPECT_CONTAINS(message, "line 3");
-    EXPECT_CONTAINS(message, "x = nan is not finite");
-    const temp_file inf_file("inf.pwn", "0 0 0 0 0 1\n1 1 -inf 0 0 1\n");
-    message = load_error_of(inf_file.path());
-    EXPECT_CONTAINS(message, "line 2");
-    EXPECT_CONTAINS(message, "z = -inf is not finite");
+    expect_load_error("nan.xyz", "0 0 0\n1 1 1\nnan 1 2\n", {"line 3", "x = nan is not finite"});
+    expect_load_error("inf.pwn", "0 0 0 0 0 1\n1 1 -inf 0 0 1\n", {"line 2", "z = -inf is not finite"});
 }
 
 TEST(load_point_set, accepts_crlf_commas_plus_signs_and_a_count_header) {
@@ -642,10 +641,8 @@ TEST(load_point_set, accepts_crlf_commas_plus_signs_and_a_count_header) {
 }
 
 TEST(load_point_set, empty_missing_and_unknown_files_are_rejected) {
-    const temp_file empty("empty.xyz", "");
-    EXPECT_CONTAINS(load_error_of(empty.path()), "contains no points");
-    const temp_file comments("only_comments.xyz", "# nothing\n\n   \n# here\n");
-    EXPECT_CONTAINS(load_error_of(comments.path()), "contains no points");
+    expect_load_error("empty.xyz", "", {"contains no points"});
+    expect_load_error("only_comments.xyz", "# nothing\n\n   \n# here\n", {"contains no points"});
     EXPECT_CONTAINS(load_error_of(samples / "does_not_exist.xyz"), "cannot open");
 
     const temp_file txt("points.txt", "0 0 0\n");
@@ -661,24 +658,12 @@ TEST(load_point_set, extension_match_is_case_insensitive) {
 }
 
 TEST(load_point_set, off_errors_name_the_line) {
-    const temp_file bad_vertex("bad_vertex.off", "OFF\n3 1 0\n0 0 0\n1 0 0\n0 x 0\n3 0 1 2\n");
-    std::string message = load_error_of(bad_vertex.path());
-    EXPECT_CONTAINS(message, "line 5");
-    EXPECT_CONTAINS(message, "vertex line");
-
-    const temp_file truncated("truncated.off", "OFF 4 1 0\n0 0 0\n1 0 0\n");
-    message = load_error_of(truncated.path());
-    EXPECT_CONTAINS(message, "declares 4 vertices");
-    EXPECT_CONTAINS(message, "ends after 2");
-
-    const temp_file homogeneous("homogeneous.off", "4OFF\n1 0 0\n0 0 0 1\n");
-    EXPECT_CONTAINS(load_error_of(homogeneous.path()), "unsupported OFF variant \"4OFF\"");
-    const temp_file binary("binary.off", "OFF BINARY\n");
-    EXPECT_CONTAINS(load_error_of(binary.path()), "binary OFF is not supported");
-    const temp_file no_vertices("no_vertices.off", "OFF\n0 0 0\n");
-    EXPECT_CONTAINS(load_error_of(no_vertices.path()), "contains no points");
-    const temp_file not_off("not_off.off", "PLY\n1 0 0\n");
-    EXPECT_CONTAINS(load_error_of(not_off.path()), "line 1");
+    expect_load_error("bad_vertex.off", "OFF\n3 1 0\n0 0 0\n1 0 0\n0 x 0\n3 0 1 2\n", {"line 5", "vertex line"});
+    expect_load_error("truncated.off", "OFF 4 1 0\n0 0 0\n1 0 0\n", {"declares 4 vertices", "ends after 2"});
+    expect_load_error("homogeneous.off", "4OFF\n1 0 0\n0 0 0 1\n", {"unsupported OFF variant \"4OFF\""});
+    expect_load_error("binary.off", "OFF BINARY\n", {"binary OFF is not supported"});
+    expect_load_error("no_vertices.off", "OFF\n0 0 0\n", {"contains no points"});
+    expect_load_error("not_off.off", "PLY\n1 0 0\n", {"line 1"});
 
     // Colour OFF with the counts on the header line, and a headerless file.
     const temp_file coff("colour.off", "COFF 2 0 0\n0 0 0 255 0 0 255\n1 1 1 0 255 0 255\n");
@@ -688,10 +673,7 @@ TEST(load_point_set, off_errors_name_the_line) {
 }
 
 TEST(load_point_set, obj_errors_name_the_line) {
-    const temp_file f("bad.obj", "v 0 0 0\nvn 0 0 1\nv 1 inf 0\n");
-    const std::string message = load_error_of(f.path());
-    EXPECT_CONTAINS(message, "line 3");
-    EXPECT_CONTAINS(message, "y = inf is not finite");
+    expect_load_error("bad.obj", "v 0 0 0\nvn 0 0 1\nv 1 inf 0\n", {"line 3", "y = inf is not finite"});
 }
 
 TEST(load_point_set, corrupt_ply_names_the_file_and_the_problem) {

@@ -24,22 +24,15 @@
 #include <string>
 #include <vector>
 
+#include "bv_test_support.hpp"
 #include "test_support.hpp"
 
 using namespace spatial;
 
 namespace {
 
-template <class T, std::size_t D>
-struct dims {
-    using scalar = T;
-    static constexpr std::size_t dim = D;
-};
-
 using rng_t = std::mt19937_64;
-inline double unit(rng_t& r) {
-    return static_cast<double>(r() >> 11) * 0x1.0p-53;
-}
+using spatial_test::unit;
 inline double gauss(rng_t& r) {  // Box-Muller
     const double u1 = std::max(unit(r), 1e-300), u2 = unit(r);
     return std::sqrt(-2 * std::log(u1)) * std::cos(6.283185307179586 * u2);
@@ -51,21 +44,7 @@ using mat = std::array<std::array<double, D>, D>;
 
 template <std::size_t D>
 mat<D> random_rotation(rng_t& r) {
-    mat<D> m{};
-    if constexpr (D == 2) {
-        const double a = unit(r) * 2 * pi;
-        m = {{{std::cos(a), -std::sin(a)}, {std::sin(a), std::cos(a)}}};
-    } else {
-        double q[4], n = 0;
-        for (auto& x : q) x = gauss(r), n += x * x;
-        n = std::sqrt(n);
-        for (auto& x : q) x /= n;
-        const double w = q[0], x = q[1], y = q[2], z = q[3];
-        m = {{{1 - 2 * (y * y + z * z), 2 * (x * y - w * z), 2 * (x * z + w * y)},
-              {2 * (x * y + w * z), 1 - 2 * (x * x + z * z), 2 * (y * z - w * x)},
-              {2 * (x * z - w * y), 2 * (y * z + w * x), 1 - 2 * (x * x + y * y)}}};
-    }
-    return m;
+    return spatial_test::random_rotation<D>(r, gauss);
 }
 
 // An ellipsoid with a random frame, semi-axes in [lo, hi] and centre c.
@@ -115,17 +94,11 @@ point<T, D> to_point(const std::array<double, D>& x) {
 
 // Named hard-case sets.
 template <class T, std::size_t D>
-std::vector<std::pair<std::string, std::vector<point<T, D>>>> hard_sets(std::uint64_t seed) {
+spatial_test::named_point_sets<T, D> hard_sets(std::uint64_t seed) {
     rng_t rng(seed);
-    std::vector<std::pair<std::string, std::vector<point<T, D>>>> out;
+    spatial_test::named_point_sets<T, D> out;
     auto make = [&](const std::string& name, std::size_t n, auto f) {
-        std::vector<point<T, D>> v;
-        for (std::size_t i = 0; i < n; ++i) {
-            point<T, D> p;
-            for (std::size_t d = 0; d < D; ++d) p[d] = static_cast<T>(f(i, d));
-            v.push_back(p);
-        }
-        out.push_back({name, v});
+        out.push_back({name, spatial_test::points_from<T, D>(n, f)});
     };
     make("random", 500, [&](std::size_t, std::size_t) { return unit(rng) * 10 - 5; });
     make("gaussian", 2000, [&](std::size_t, std::size_t d) { return gauss(rng) * static_cast<double>(d + 1); });
@@ -219,20 +192,9 @@ long double pw_reference(const ellipsoid<T, D>& a, const ellipsoid<T, D>& b) {
 }
 
 template <class C>
-class ellipsoid_typed : public ::testing::Test {
-protected:
-    using scalar_t = typename C::scalar;
-    static constexpr std::size_t dim = C::dim;
-};
+class ellipsoid_typed : public spatial_test::dims_fixture<C> {};
 
-// The sanitizer build runs a representative subset (CI time: SPATIAL_TEST_FULL_MATRIX=0): both
-// scalars and both dimensions still appear; the release build runs all four.
-#if SPATIAL_TEST_FULL_MATRIX
-using dim_types = ::testing::Types<dims<float, 2>, dims<float, 3>, dims<double, 2>, dims<double, 3>>;
-#else
-using dim_types = ::testing::Types<dims<float, 2>, dims<double, 3>>;
-#endif
-TYPED_TEST_SUITE(ellipsoid_typed, dim_types);
+TYPED_TEST_SUITE(ellipsoid_typed, spatial_test::dim_types);
 
 // ------------------------------------------------------------------------------------------
 
@@ -240,8 +202,7 @@ TYPED_TEST(ellipsoid_typed, fits_contain_every_point_on_random_and_hard_sets) {
     using T = typename TestFixture::scalar_t;
     constexpr std::size_t D = TestFixture::dim;
     using E = ellipsoid<T, D>;
-    const std::uint64_t seed = spatial_test::test_seed(11);
-    SCOPED_TRACE(spatial_test::replay_hint(seed));
+    const spatial_test::logged_seed seed(11);
     const double frame_tol = sizeof(T) == 4 ? 1e-6 : 1e-14;
     for (const auto& [name, pts] : hard_sets<T, D>(seed)) {
         SCOPED_TRACE(name);
@@ -308,11 +269,7 @@ TYPED_TEST(ellipsoid_typed, invalid_input_is_rejected_and_empty_conventions_hold
     const E m = e.merged(f);
     EXPECT_EQ(m.center, f.center);
     EXPECT_EQ(m.semi_axes, f.semi_axes);
-    EXPECT_TRUE(e.transformed(rigid_transform<T, D>::identity()).is_empty());
-    T t0, t1;
-    point<T, D> d{};
-    d[0] = 1;
-    EXPECT_FALSE(e.ray_interval(point<T, D>{}, d, t0, t1));
+    spatial_test::expect_empty_stays_empty_and_is_missed(e);
 }
 
 // The MVEE to tolerance: against itself at 1e-9 and against known minimum ellipsoids.
@@ -320,9 +277,7 @@ TYPED_TEST(ellipsoid_typed, khachiyan_is_within_tolerance_of_the_minimum) {
     using T = typename TestFixture::scalar_t;
     constexpr std::size_t D = TestFixture::dim;
     using E = ellipsoid<T, D>;
-    const std::uint64_t seed = spatial_test::test_seed(22);
-    SCOPED_TRACE(spatial_test::replay_hint(seed));
-    rng_t rng(seed);
+    spatial_test::seeded_rng rng(22);
     const double rnd = sizeof(T) == 4 ? 1e-5 : 1e-9;  // rounding of the result to T
     // Random sets: uniform box, gaussian, few points, clusters.
     for (int trial = 0; trial < 12; ++trial) {
@@ -430,9 +385,7 @@ TYPED_TEST(ellipsoid_typed, khachiyan_is_within_tolerance_of_the_minimum) {
 // Exactly tangent pairs (double): opposite normals at a known point; separated or
 // penetrating by 1e-9 of the size; and the contact value against the long double reference.
 TEST(ellipsoid_overlap, tangent_pairs_are_decided_exactly) {
-    const std::uint64_t seed = spatial_test::test_seed(33);
-    SCOPED_TRACE(spatial_test::replay_hint(seed));
-    rng_t rng(seed);
+    spatial_test::seeded_rng rng(33);
     auto run = [&](auto dim_tag) {
         constexpr std::size_t D = decltype(dim_tag)::value;
         using E = ellipsoid<double, D>;
@@ -490,9 +443,7 @@ TYPED_TEST(ellipsoid_typed, overlaps_has_no_false_negatives_against_the_long_dou
     using T = typename TestFixture::scalar_t;
     constexpr std::size_t D = TestFixture::dim;
     using E = ellipsoid<T, D>;
-    const std::uint64_t seed = spatial_test::test_seed(44);
-    SCOPED_TRACE(spatial_test::replay_hint(seed));
-    rng_t rng(seed);
+    spatial_test::seeded_rng rng(44);
     int yes = 0, no = 0, band = 0, sampled = 0;
     for (int trial = 0; trial < 400; ++trial) {
         std::array<double, D> ca;
@@ -547,9 +498,7 @@ TYPED_TEST(ellipsoid_typed, ray_intervals_agree_with_point_sampling) {
     using T = typename TestFixture::scalar_t;
     constexpr std::size_t D = TestFixture::dim;
     using E = ellipsoid<T, D>;
-    const std::uint64_t seed = spatial_test::test_seed(55);
-    SCOPED_TRACE(spatial_test::replay_hint(seed));
-    rng_t rng(seed);
+    spatial_test::seeded_rng rng(55);
     const E e = random_ellipsoid<T, D>(rng, 0.3, 2.0, std::array<double, D>{});
     for (int trial = 0; trial < 400; ++trial) {
         point<T, D> o, d;
@@ -593,9 +542,7 @@ TYPED_TEST(ellipsoid_typed, distance_lower_bound_is_the_exact_distance) {
     using T = typename TestFixture::scalar_t;
     constexpr std::size_t D = TestFixture::dim;
     using E = ellipsoid<T, D>;
-    const std::uint64_t seed = spatial_test::test_seed(66);
-    SCOPED_TRACE(spatial_test::replay_hint(seed));
-    rng_t rng(seed);
+    spatial_test::seeded_rng rng(66);
     for (int shape = 0; shape < 3; ++shape) {
         const E e = random_ellipsoid<T, D>(rng, shape == 2 ? 0.05 : 0.3, 2.0, std::array<double, D>{0.5, -0.25});
         // Surface parametrisation of the stored form: c + U^-1 diag(a) z(th, ph).
@@ -667,9 +614,7 @@ TYPED_TEST(ellipsoid_typed, merged_contains_both_and_transformed_is_exact) {
     using T = typename TestFixture::scalar_t;
     constexpr std::size_t D = TestFixture::dim;
     using E = ellipsoid<T, D>;
-    const std::uint64_t seed = spatial_test::test_seed(77);
-    SCOPED_TRACE(spatial_test::replay_hint(seed));
-    rng_t rng(seed);
+    spatial_test::seeded_rng rng(77);
     const double inner = sizeof(T) == 4 ? 1 - 1e-5 : 1 - 1e-12;  // boundary samples pulled in by rounding
     for (int trial = 0; trial < 60; ++trial) {
         SCOPED_TRACE("trial " + std::to_string(trial));

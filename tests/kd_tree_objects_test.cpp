@@ -116,9 +116,7 @@ TEST(kd_tree_objects, every_object_is_stored_once_and_iteration_sees_each_once) 
 }
 
 TEST(kd_tree_objects, extents_stay_conservative_under_churn_and_hinted_and_bulk_inserts) {
-    const std::uint64_t seed = spatial_test::test_seed(77);
-    SCOPED_TRACE(spatial_test::replay_hint(seed));
-    std::mt19937_64 rng(seed);
+    spatial_test::seeded_rng rng(77);
     std::uniform_real_distribution<double> u(0, 1);
     kd_tree<box<double, 3>, kd_tree_config<4>> t;
     brute_force<box<double, 3>> oracle;
@@ -230,16 +228,14 @@ TEST(kd_tree_objects, objects_exactly_on_split_planes_and_rays_along_them) {
 
 template <class T>
 class kd_tree_objects_scale : public ::testing::Test {};
-using scale_scalars = ::testing::Types<float, double>;
-TYPED_TEST_SUITE(kd_tree_objects_scale, scale_scalars);
+TYPED_TEST_SUITE(kd_tree_objects_scale, spatial_test::scalar_types);
 
 // Huge (offset 1e15 for double, 1e7 for float so that objects stay resolvable) and tiny (1e-15)
 // objects: every query agrees with the oracle, rays bit-exactly.
 TYPED_TEST(kd_tree_objects_scale, huge_and_tiny_coordinates) {
     using T = TypeParam;
     using V = point<T, 3>;
-    const std::uint64_t seed = spatial_test::test_seed(2026);
-    SCOPED_TRACE(spatial_test::replay_hint(seed));
+    const spatial_test::logged_seed seed(2026);
     const double huge = std::is_same_v<T, float> ? 1e7 : 1e15;
     for (const auto& [offset, scale] : {std::pair{huge, huge * 1e-3}, std::pair{0.0, 1e-15}, std::pair{1e8, 1.0}}) {
         SCOPED_TRACE("offset " + std::to_string(offset) + " scale " + std::to_string(scale));
@@ -281,9 +277,7 @@ TYPED_TEST(kd_tree_objects_scale, huge_and_tiny_coordinates) {
 TYPED_TEST(kd_tree_objects_scale, closed_icosphere_is_never_missed_from_inside) {
     using T = TypeParam;
     using V = point<T, 3>;
-    const std::uint64_t seed = spatial_test::test_seed(41);
-    SCOPED_TRACE(spatial_test::replay_hint(seed));
-    std::mt19937_64 rng(seed);
+    spatial_test::seeded_rng rng(41);
     std::uniform_real_distribution<double> unit(0, 1);
     for (const double offset : {0.0, 1e3}) {
         const auto mesh = spatial_test::icosphere<T>(3, 2.0, {offset, offset, offset});  // 1280 triangles
@@ -327,9 +321,7 @@ TYPED_TEST(kd_tree_objects_scale, closed_icosphere_is_never_missed_from_inside) 
 TEST(kd_tree_objects, thick_rays_and_eps_knn_on_spheres_in_2d_float) {
     using S = sphere<float, 2>;
     using V = point<float, 2>;
-    const std::uint64_t seed = spatial_test::test_seed(9);
-    SCOPED_TRACE(spatial_test::replay_hint(seed));
-    std::mt19937_64 rng(seed);
+    spatial_test::seeded_rng rng(9);
     std::uniform_real_distribution<float> u(0, 1);
     kd_tree<S> t;
     brute_force<S> oracle;

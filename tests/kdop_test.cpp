@@ -24,37 +24,38 @@
 #include <vector>
 
 #include "spatial/bv/aabb.hpp"
+#include "bv_test_support.hpp"
 #include "test_support.hpp"
 
 using namespace spatial;
 
 namespace {
 
-template <class T, std::size_t D>
-struct dims {
-    using scalar = T;
-    static constexpr std::size_t dim = D;
-};
+template <std::size_t K>
+using k_tag = std::integral_constant<std::size_t, K>;
 
-// Calls f(std::integral_constant<std::size_t, K>{}) for every supported K of dimension D.
+// Calls f(k_tag<K>{}) for every supported K of dimension D, with
+// "K=<K>" in the trace of any failure inside f.
 template <std::size_t D, class F>
 void for_each_k(F&& f) {
+    auto traced = [&](auto kc) {
+        SCOPED_TRACE("K=" + std::to_string(decltype(kc)::value));
+        f(kc);
+    };
     if constexpr (D == 2) {
-        f(std::integral_constant<std::size_t, 4>{});
-        f(std::integral_constant<std::size_t, 8>{});
-        f(std::integral_constant<std::size_t, 16>{});
+        traced(std::integral_constant<std::size_t, 4>{});
+        traced(std::integral_constant<std::size_t, 8>{});
+        traced(std::integral_constant<std::size_t, 16>{});
     } else {
-        f(std::integral_constant<std::size_t, 6>{});
-        f(std::integral_constant<std::size_t, 14>{});
-        f(std::integral_constant<std::size_t, 18>{});
-        f(std::integral_constant<std::size_t, 26>{});
+        traced(std::integral_constant<std::size_t, 6>{});
+        traced(std::integral_constant<std::size_t, 14>{});
+        traced(std::integral_constant<std::size_t, 18>{});
+        traced(std::integral_constant<std::size_t, 26>{});
     }
 }
 
 using rng_t = std::mt19937_64;
-inline double unit(rng_t& r) {
-    return static_cast<double>(r() >> 11) * 0x1.0p-53;
-}
+using spatial_test::unit;
 inline double gauss(rng_t& r) {
     double s = 0;
     for (int i = 0; i < 12; ++i) s += unit(r);
@@ -64,46 +65,17 @@ inline double gauss(rng_t& r) {
 // A random rotation matrix (row-major).
 template <std::size_t D>
 std::array<std::array<double, D>, D> random_rotation(rng_t& r) {
-    std::array<std::array<double, D>, D> m{};
-    if constexpr (D == 2) {
-        const double a = unit(r) * 6.283185307179586;
-        m = {{{std::cos(a), -std::sin(a)}, {std::sin(a), std::cos(a)}}};
-    } else {
-        double q[4], n = 0;
-        for (auto& x : q) x = gauss(r), n += x * x;
-        n = std::sqrt(n);
-        for (auto& x : q) x /= n;
-        const double w = q[0], x = q[1], y = q[2], z = q[3];
-        m = {{{1 - 2 * (y * y + z * z), 2 * (x * y - w * z), 2 * (x * z + w * y)},
-              {2 * (x * y + w * z), 1 - 2 * (x * x + z * z), 2 * (y * z - w * x)},
-              {2 * (x * z - w * y), 2 * (y * z + w * x), 1 - 2 * (x * x + y * y)}}};
-    }
-    return m;
+    return spatial_test::random_rotation<D>(r, gauss);
 }
 
 // Named hard-case sets (as in bv_test) plus near-duplicates and a rotated blob.
 template <class T, std::size_t D>
-std::vector<std::pair<std::string, std::vector<point<T, D>>>> hard_sets(std::uint64_t seed) {
+spatial_test::named_point_sets<T, D> hard_sets(std::uint64_t seed) {
     rng_t rng(seed);
-    std::vector<std::pair<std::string, std::vector<point<T, D>>>> out;
+    auto out = spatial_test::basic_hard_sets<T, D>(500, [&] { return unit(rng); });
     auto make = [&](const std::string& name, std::size_t n, auto f) {
-        std::vector<point<T, D>> v;
-        for (std::size_t i = 0; i < n; ++i) {
-            point<T, D> p;
-            for (std::size_t d = 0; d < D; ++d) p[d] = static_cast<T>(f(i, d));
-            v.push_back(p);
-        }
-        out.push_back({name, v});
+        out.push_back({name, spatial_test::points_from<T, D>(n, f)});
     };
-    make("random", 500, [&](std::size_t, std::size_t) { return unit(rng) * 10 - 5; });
-    make("one point", 1, [&](std::size_t, std::size_t d) { return 1.5 + static_cast<double>(d); });
-    make("two points", 2, [&](std::size_t i, std::size_t d) { return static_cast<double>(i * 3 + d); });
-    make("all equal", 100, [&](std::size_t, std::size_t) { return 0.25; });
-    make("collinear", 200,
-         [&](std::size_t i, std::size_t d) { return static_cast<double>(i) * 0.01 * static_cast<double>(d + 1); });
-    make("coplanar", 200, [&](std::size_t, std::size_t d) { return d + 1 == D ? 0.5 : unit(rng); });
-    make("offset 1e8", 200, [&](std::size_t, std::size_t) { return 1e8 + unit(rng) * (sizeof(T) == 4 ? 1e3 : 1.0); });
-    make("spread 1e-12", 200, [&](std::size_t, std::size_t) { return 0.5 + unit(rng) * 1e-12; });
     make("near duplicates", 200, [&](std::size_t i, std::size_t d) {
         return static_cast<double>(i % 3) + static_cast<double>(d) + 1e-13 * unit(rng);
     });
@@ -125,6 +97,17 @@ std::vector<std::pair<std::string, std::vector<point<T, D>>>> hard_sets(std::uin
         out.push_back({"rotated blob", v});
     }
     return out;
+}
+
+// Calls f(name, s, box) for every set of hard_sets(seed) (its name traced): s its points, box
+// their aabb.
+template <class T, std::size_t D, class F>
+void for_each_hard_set(std::uint64_t seed, F&& f) {
+    for (const auto& [name, pts] : hard_sets<T, D>(seed)) {
+        SCOPED_TRACE(name);
+        const std::span<const point<T, D>> s(pts);
+        f(name, s, aabb<T, D>::fit(s));
+    }
 }
 
 // ------------------------------------------------------------------------------------------
@@ -320,36 +303,33 @@ void random_grid_kdop(rng_t& rng, double size, std::array<long long, K / 2>& lo,
     }
 }
 
-template <class C>
-class kdop_typed : public ::testing::Test {
-protected:
-    using scalar_t = typename C::scalar;
-    static constexpr std::size_t dim = C::dim;
+// A random_grid_kdop: its exact slabs and the k-DOP of T they give.
+template <class T, std::size_t D, std::size_t K>
+struct grid_kdop {
+    std::array<long long, K / 2> lo, hi;
+    kdop<T, D, K> b;
 };
+template <class T, std::size_t D, std::size_t K>
+grid_kdop<T, D, K> random_grid_kdop(rng_t& rng, double size, bool via_fit) {
+    grid_kdop<T, D, K> g;
+    random_grid_kdop<T, D, K>(rng, size, g.lo, g.hi, via_fit);
+    g.b = from_integers<T, D, K>(g.lo, g.hi);
+    return g;
+}
 
-// The sanitizer build runs a representative subset (CI time: SPATIAL_TEST_FULL_MATRIX=0): both
-// scalars and both dimensions still appear; the release build runs all four.
-#if SPATIAL_TEST_FULL_MATRIX
-using dim_types = ::testing::Types<dims<float, 2>, dims<float, 3>, dims<double, 2>, dims<double, 3>>;
-#else
-using dim_types = ::testing::Types<dims<float, 2>, dims<double, 3>>;
-#endif
-TYPED_TEST_SUITE(kdop_typed, dim_types);
+template <class C>
+class kdop_typed : public spatial_test::dims_fixture<C> {};
+
+TYPED_TEST_SUITE(kdop_typed, spatial_test::dim_types);
 
 // ------------------------------------------------------------------------------------------
 
 TYPED_TEST(kdop_typed, fit_contains_every_point_on_random_and_hard_sets) {
     using T = typename TestFixture::scalar_t;
     constexpr std::size_t D = TestFixture::dim;
-    const std::uint64_t seed = spatial_test::test_seed(101);
-    SCOPED_TRACE(spatial_test::replay_hint(seed));
-    for (const auto& [name, pts] : hard_sets<T, D>(seed)) {
-        SCOPED_TRACE(name);
-        const std::span<const point<T, D>> s(pts);
-        const auto box = aabb<T, D>::fit(s);
-        for_each_k<D>([&](auto kc) {
-            constexpr std::size_t K = decltype(kc)::value;
-            SCOPED_TRACE("K=" + std::to_string(K));
+    const spatial_test::logged_seed seed(101);
+    for_each_hard_set<T, D>(seed, [&](const std::string& name, std::span<const point<T, D>> s, const aabb<T, D>& box) {
+        for_each_k<D>([&]<std::size_t K>(k_tag<K>) {
             const auto b = kdop<T, D, K>::fit(s);
             ASSERT_FALSE(b.is_empty());
             for (std::size_t j = 0; j < K / 2; ++j) {
@@ -361,7 +341,7 @@ TYPED_TEST(kdop_typed, fit_contains_every_point_on_random_and_hard_sets) {
                 EXPECT_EQ(b.lo[d], box.lo[d]);
                 EXPECT_EQ(b.hi[d], box.hi[d]);
             }
-            for (const auto& p : pts) {
+            for (const auto& p : s) {
                 ASSERT_TRUE(b.contains(p)) << p;
                 // The exact polytope contains the exact point (long double has 64 bits: the
                 // sum of <= 3 exact small-integer multiples of T values is exact or nearly).
@@ -384,14 +364,13 @@ TYPED_TEST(kdop_typed, fit_contains_every_point_on_random_and_hard_sets) {
                 EXPECT_LE(vol, 1e-9 * std::pow(static_cast<double>(box.surface_area()) + 1e-300, D == 3 ? 1.5 : 2.0));
             }
         });
-    }
+    });
 }
 
 TYPED_TEST(kdop_typed, nan_input_is_rejected_and_empty_conventions_hold) {
     using T = typename TestFixture::scalar_t;
     constexpr std::size_t D = TestFixture::dim;
-    for_each_k<D>([&](auto kc) {
-        constexpr std::size_t K = decltype(kc)::value;
+    for_each_k<D>([&]<std::size_t K>(k_tag<K>) {
         using B = kdop<T, D, K>;
         std::vector<point<T, D>> pts(3);
         pts[1][0] = std::numeric_limits<T>::quiet_NaN();
@@ -415,23 +394,15 @@ TYPED_TEST(kdop_typed, nan_input_is_rejected_and_empty_conventions_hold) {
         EXPECT_EQ(m.lo, p.lo);
         EXPECT_EQ(m.hi, p.hi);
         EXPECT_TRUE(p.overlaps(p) && p.overlaps_exact(p));  // a point touches itself
-        EXPECT_TRUE(e.transformed(rigid_transform<T, D>::identity()).is_empty());
-        T t0, t1;
-        point<T, D> d{};
-        d[0] = 1;
-        EXPECT_FALSE(e.ray_interval(point<T, D>{}, d, t0, t1));
+        spatial_test::expect_empty_stays_empty_and_is_missed(e);
     });
 }
 
 TYPED_TEST(kdop_typed, six_dop_equals_the_box_and_volumes_shrink_with_more_directions) {
     using T = typename TestFixture::scalar_t;
     constexpr std::size_t D = TestFixture::dim;
-    const std::uint64_t seed = spatial_test::test_seed(202);
-    SCOPED_TRACE(spatial_test::replay_hint(seed));
-    for (const auto& [name, pts] : hard_sets<T, D>(seed)) {
-        SCOPED_TRACE(name);
-        const std::span<const point<T, D>> s(pts);
-        const auto box = aabb<T, D>::fit(s);
+    const spatial_test::logged_seed seed(202);
+    for_each_hard_set<T, D>(seed, [&](const std::string&, std::span<const point<T, D>> s, const aabb<T, D>& box) {
         constexpr std::size_t K0 = D == 2 ? 4 : 6;
         const auto b0 = kdop<T, D, K0>::fit(s);
         const double bv = static_cast<double>(box.volume()), ba = static_cast<double>(box.surface_area());
@@ -471,7 +442,7 @@ TYPED_TEST(kdop_typed, six_dop_equals_the_box_and_volumes_shrink_with_more_direc
                 EXPECT_GE(v.second * slack + abs_area, v26.second);
             }
         }
-    }
+    });
 }
 
 TYPED_TEST(kdop_typed, known_shapes_have_exact_measures) {
@@ -491,9 +462,7 @@ TYPED_TEST(kdop_typed, known_shapes_have_exact_measures) {
         for (std::size_t i = 0; i < D; ++i) p[i] = (m >> i & 1u) ? T(1) : T(-1);
         cube.push_back(p);
     }
-    for_each_k<D>([&](auto kc) {
-        constexpr std::size_t K = decltype(kc)::value;
-        SCOPED_TRACE("K=" + std::to_string(K));
+    for_each_k<D>([&]<std::size_t K>(k_tag<K>) {
         const auto c = kdop<T, D, K>::fit(cube);  // every direction touches a cube corner
         EXPECT_NEAR(static_cast<double>(c.volume()), std::pow(2.0, double(D)), 1e-5);
         EXPECT_NEAR(static_cast<double>(c.surface_area()), D == 2 ? 8.0 : 24.0, 1e-5);
@@ -518,16 +487,10 @@ TYPED_TEST(kdop_typed, known_shapes_have_exact_measures) {
 TYPED_TEST(kdop_typed, volume_and_area_match_monte_carlo_and_cauchy) {
     using T = typename TestFixture::scalar_t;
     constexpr std::size_t D = TestFixture::dim;
-    const std::uint64_t seed = spatial_test::test_seed(303);
-    SCOPED_TRACE(spatial_test::replay_hint(seed));
-    rng_t rng(seed);
-    for_each_k<D>([&](auto kc) {
-        constexpr std::size_t K = decltype(kc)::value;
-        SCOPED_TRACE("K=" + std::to_string(K));
+    spatial_test::seeded_rng rng(303);
+    for_each_k<D>([&]<std::size_t K>(k_tag<K>) {
         for (int trial = 0; trial < 3; ++trial) {
-            std::array<long long, K / 2> lo, hi;
-            random_grid_kdop<T, D, K>(rng, 2.0, lo, hi, trial % 2 == 0);
-            const auto b = from_integers<T, D, K>(lo, hi);
+            const auto [lo, hi, b] = random_grid_kdop<T, D, K>(rng, 2.0, trial % 2 == 0);
             const auto ref = exact_vertices<D, K>(lo, hi);
             ASSERT_FALSE(ref.empty());
             // Vertices agree with the exact ones.
@@ -627,14 +590,10 @@ TYPED_TEST(kdop_typed, volume_and_area_match_monte_carlo_and_cauchy) {
 TYPED_TEST(kdop_typed, overlaps_is_conservative_and_overlaps_exact_matches_exact_references) {
     using T = typename TestFixture::scalar_t;
     constexpr std::size_t D = TestFixture::dim;
-    const std::uint64_t seed = spatial_test::test_seed(404);
-    SCOPED_TRACE(spatial_test::replay_hint(seed));
-    rng_t rng(seed);
+    spatial_test::seeded_rng rng(404);
     int slab_false_positives_3d = 0;
-    for_each_k<D>([&](auto kc) {
-        constexpr std::size_t K = decltype(kc)::value;
+    for_each_k<D>([&]<std::size_t K>(k_tag<K>) {
         constexpr std::size_t A = K / 2;
-        SCOPED_TRACE("K=" + std::to_string(K));
         int touching = 0, conservative_fp = 0, disjoint = 0, overlapping = 0;
         const int trials = D == 3 ? 250 : 400;
         for (int trial = 0; trial < trials; ++trial) {
@@ -778,15 +737,9 @@ TYPED_TEST(kdop_typed, overlaps_is_conservative_and_overlaps_exact_matches_exact
 TYPED_TEST(kdop_typed, ray_intervals_agree_with_point_sampling_including_parallel_rays) {
     using T = typename TestFixture::scalar_t;
     constexpr std::size_t D = TestFixture::dim;
-    const std::uint64_t seed = spatial_test::test_seed(505);
-    SCOPED_TRACE(spatial_test::replay_hint(seed));
-    rng_t rng(seed);
-    for_each_k<D>([&](auto kc) {
-        constexpr std::size_t K = decltype(kc)::value;
-        SCOPED_TRACE("K=" + std::to_string(K));
-        std::array<long long, K / 2> lo, hi;
-        random_grid_kdop<T, D, K>(rng, 2.0, lo, hi, false);
-        const auto b = from_integers<T, D, K>(lo, hi);
+    spatial_test::seeded_rng rng(505);
+    for_each_k<D>([&]<std::size_t K>(k_tag<K>) {
+        const auto [lo, hi, b] = random_grid_kdop<T, D, K>(rng, 2.0, false);
         for (int trial = 0; trial < 300; ++trial) {
             point<T, D> o, d;
             for (std::size_t c = 0; c < D; ++c)
@@ -841,16 +794,10 @@ TYPED_TEST(kdop_typed, ray_intervals_agree_with_point_sampling_including_paralle
 TYPED_TEST(kdop_typed, distance_lower_bound_is_valid) {
     using T = typename TestFixture::scalar_t;
     constexpr std::size_t D = TestFixture::dim;
-    const std::uint64_t seed = spatial_test::test_seed(606);
-    SCOPED_TRACE(spatial_test::replay_hint(seed));
-    rng_t rng(seed);
-    for_each_k<D>([&](auto kc) {
-        constexpr std::size_t K = decltype(kc)::value;
-        SCOPED_TRACE("K=" + std::to_string(K));
+    spatial_test::seeded_rng rng(606);
+    for_each_k<D>([&]<std::size_t K>(k_tag<K>) {
         for (int trial = 0; trial < 5; ++trial) {
-            std::array<long long, K / 2> lo, hi;
-            random_grid_kdop<T, D, K>(rng, 1.0, lo, hi, false);
-            const auto b = from_integers<T, D, K>(lo, hi);
+            const auto [lo, hi, b] = random_grid_kdop<T, D, K>(rng, 1.0, false);
             const auto verts = b.vertices_double();
             // Interior sample: random convex combinations of vertices.
             std::vector<std::array<double, D>> inside(verts.begin(), verts.end());
@@ -898,14 +845,11 @@ TYPED_TEST(kdop_typed, distance_lower_bound_is_valid) {
 TYPED_TEST(kdop_typed, merged_is_the_kdop_of_the_union_and_transformed_contains_the_moved_set) {
     using T = typename TestFixture::scalar_t;
     constexpr std::size_t D = TestFixture::dim;
-    const std::uint64_t seed = spatial_test::test_seed(707);
-    SCOPED_TRACE(spatial_test::replay_hint(seed));
-    rng_t rng(seed);
+    const spatial_test::logged_seed seed(707);
+    std::mt19937_64 rng(seed);
     const auto sets = hard_sets<T, D>(seed);
-    for_each_k<D>([&](auto kc) {
-        constexpr std::size_t K = decltype(kc)::value;
+    for_each_k<D>([&]<std::size_t K>(k_tag<K>) {
         using B = kdop<T, D, K>;
-        SCOPED_TRACE("K=" + std::to_string(K));
         for (std::size_t s = 0; s + 1 < sets.size(); ++s) {
             const auto& pa = sets[s].second;
             const auto& pb = sets[s + 1].second;

@@ -26,6 +26,7 @@
 #include <string>
 #include <vector>
 
+#include "bv_test_support.hpp"
 #include "test_support.hpp"
 
 using namespace spatial;
@@ -34,18 +35,10 @@ namespace {
 
 using LD = long double;
 
-template <class T, std::size_t D>
-struct dims {
-    using scalar = T;
-    static constexpr std::size_t dim = D;
-};
-
 template <std::size_t D>
 using mat = std::array<std::array<double, D>, D>;
 
-double unit(std::mt19937_64& rng) {
-    return static_cast<double>(rng() >> 11) * 0x1.0p-53;
-}
+using spatial_test::unit;
 
 // A uniformly random rotation; rows orthonormal, det +1.
 template <std::size_t D>
@@ -221,19 +214,10 @@ protected:
     using point_t = point<scalar_t, dim>;
     using box_t = obb<scalar_t, dim>;
 
-    static std::vector<std::pair<std::string, std::vector<point_t>>> sets(std::uint64_t seed) {
+    static spatial_test::named_point_sets<scalar_t, dim> sets(std::uint64_t seed) {
         std::mt19937_64 rng(seed);
         auto u = [&] { return unit(rng); };
-        std::vector<std::pair<std::string, std::vector<point_t>>> out;
-        auto make = [&](const std::string& name, std::size_t n, auto f) {
-            std::vector<point_t> v;
-            for (std::size_t i = 0; i < n; ++i) {
-                point_t p;
-                for (std::size_t d = 0; d < dim; ++d) p[d] = static_cast<scalar_t>(f(i, d));
-                v.push_back(p);
-            }
-            out.push_back({name, v});
-        };
+        auto out = spatial_test::basic_hard_sets<scalar_t, dim>(400, u);
         auto make_local = [&](const std::string& name, std::size_t n, std::array<double, 3> c3, auto f) {
             std::array<double, dim> c;
             std::copy_n(c3.begin(), dim, c.begin());
@@ -242,16 +226,6 @@ protected:
             for (std::size_t i = 0; i < n; ++i) v.push_back(world<scalar_t, dim>(c, r, f(i)));
             out.push_back({name, v});
         };
-        make("random", 400, [&](std::size_t, std::size_t) { return u() * 10 - 5; });
-        make("one point", 1, [&](std::size_t, std::size_t d) { return 1.5 + static_cast<double>(d); });
-        make("two points", 2, [&](std::size_t i, std::size_t d) { return static_cast<double>(i * 3 + d); });
-        make("all equal", 100, [&](std::size_t, std::size_t) { return 0.25; });
-        make("collinear", 200,
-             [&](std::size_t i, std::size_t d) { return static_cast<double>(i) * 0.01 * static_cast<double>(d + 1); });
-        make("coplanar", 200, [&](std::size_t, std::size_t d) { return d + 1 == dim ? 0.5 : u(); });
-        make("offset 1e8", 200,
-             [&](std::size_t, std::size_t) { return 1e8 + u() * (sizeof(scalar_t) == 4 ? 1e3 : 1.0); });
-        make("spread 1e-12", 200, [&](std::size_t, std::size_t) { return 0.5 + u() * 1e-12; });
         {  // near-duplicates: a few points, each repeated with 0..3 ulp perturbations
             std::vector<point_t> v;
             for (int i = 0; i < 150; ++i) {
@@ -305,20 +279,12 @@ protected:
     }
 };
 
-// The sanitizer build runs a representative subset (CI time: SPATIAL_TEST_FULL_MATRIX=0): both
-// scalars and both dimensions still appear; the release build runs all four.
-#if SPATIAL_TEST_FULL_MATRIX
-using dim_types = ::testing::Types<dims<float, 2>, dims<float, 3>, dims<double, 2>, dims<double, 3>>;
-#else
-using dim_types = ::testing::Types<dims<float, 2>, dims<double, 3>>;
-#endif
-TYPED_TEST_SUITE(obb_typed, dim_types);
+TYPED_TEST_SUITE(obb_typed, spatial_test::dim_types);
 
 TYPED_TEST(obb_typed, every_fit_contains_every_point_without_nan) {
     using T = typename TestFixture::scalar_t;
     constexpr std::size_t D = TestFixture::dim;
-    const std::uint64_t seed = spatial_test::test_seed(71);
-    SCOPED_TRACE(spatial_test::replay_hint(seed));
+    const spatial_test::logged_seed seed(71);
     constexpr double eps = std::numeric_limits<T>::epsilon();
     const double ortho_tol = sizeof(T) == 4 ? 1e-6 : 1e-14;
     for (const auto& [name, pts] : TestFixture::sets(seed)) {
@@ -437,9 +403,7 @@ double brute_min_area(const std::vector<point<T, 2>>& p) {
 
 template <class T>
 void min_area_matches_brute_force() {
-    const std::uint64_t seed = spatial_test::test_seed(1975);
-    SCOPED_TRACE(spatial_test::replay_hint(seed));
-    std::mt19937_64 rng(seed);
+    spatial_test::seeded_rng rng(1975);
     const double rel = sizeof(T) == 4 ? 2e-5 : 1e-11;
     for (int trial = 0; trial < 300; ++trial) {
         SCOPED_TRACE("trial " + std::to_string(trial));
@@ -501,8 +465,7 @@ TEST(obb_min_area, large_circle_uses_every_hull_edge) {
 TYPED_TEST(obb_typed, principal_axes_search_is_never_larger_than_pca) {
     using T = typename TestFixture::scalar_t;
     constexpr std::size_t D = TestFixture::dim;
-    const std::uint64_t seed = spatial_test::test_seed(1996);
-    SCOPED_TRACE(spatial_test::replay_hint(seed));
+    const spatial_test::logged_seed seed(1996);
     auto sets = TestFixture::sets(seed);
     std::mt19937_64 rng(seed);
     for (int i = 0; i < 20; ++i) {  // rotated elongated boxes and ellipsoids
@@ -626,9 +589,7 @@ struct brute_box_3d {
 };
 
 TEST(obb_fits_3d, volumes_against_a_brute_force_best_box) {
-    const std::uint64_t seed = spatial_test::test_seed(2011);
-    SCOPED_TRACE(spatial_test::replay_hint(seed));
-    std::mt19937_64 rng(seed);
+    spatial_test::seeded_rng rng(2011);
     const char* shapes[] = {"cube cloud", "elongated box", "ellipsoid", "box surface"};
     double worst[4] = {0, 0, 0, 0}, sum[4] = {0, 0, 0, 0};
     const char* names[4] = {"pca", "principal_axes_search", "dito26", "dito14"};
@@ -696,9 +657,7 @@ TYPED_TEST(obb_typed, sat_has_no_false_negatives_against_exact_reference) {
     using T = typename TestFixture::scalar_t;
     using B = typename TestFixture::box_t;
     constexpr std::size_t D = TestFixture::dim;
-    const std::uint64_t seed = spatial_test::test_seed(1996);
-    SCOPED_TRACE(spatial_test::replay_hint(seed));
-    std::mt19937_64 rng(seed);
+    spatial_test::seeded_rng rng(1996);
     auto rand_h = [&] {
         std::array<double, D> h;
         for (auto& x : h) x = 0.1 + unit(rng) * 1.4;
@@ -832,9 +791,7 @@ TYPED_TEST(obb_typed, ray_intervals_match_exact_slabs_and_sampling) {
     using P = typename TestFixture::point_t;
     using B = typename TestFixture::box_t;
     constexpr std::size_t D = TestFixture::dim;
-    const std::uint64_t seed = spatial_test::test_seed(1986);
-    SCOPED_TRACE(spatial_test::replay_hint(seed));
-    std::mt19937_64 rng(seed);
+    spatial_test::seeded_rng rng(1986);
     const double tol = sizeof(T) == 4 ? 1e-4 : 1e-10;
     for (int trial = 0; trial < 600; ++trial) {
         SCOPED_TRACE("trial " + std::to_string(trial));
@@ -941,9 +898,7 @@ TYPED_TEST(obb_typed, distance_lower_bound_is_a_tight_lower_bound) {
     using T = typename TestFixture::scalar_t;
     using P = typename TestFixture::point_t;
     constexpr std::size_t D = TestFixture::dim;
-    const std::uint64_t seed = spatial_test::test_seed(44);
-    SCOPED_TRACE(spatial_test::replay_hint(seed));
-    std::mt19937_64 rng(seed);
+    spatial_test::seeded_rng rng(44);
     const double tol = sizeof(T) == 4 ? 1e-5 : 1e-12;
     for (int trial = 0; trial < 2000; ++trial) {
         std::array<double, D> c{}, h{};
@@ -975,9 +930,7 @@ TYPED_TEST(obb_typed, merged_contains_both_and_transformed_contains_the_moved_bo
     using P = typename TestFixture::point_t;
     using B = typename TestFixture::box_t;
     constexpr std::size_t D = TestFixture::dim;
-    const std::uint64_t seed = spatial_test::test_seed(77);
-    SCOPED_TRACE(spatial_test::replay_hint(seed));
-    std::mt19937_64 rng(seed);
+    spatial_test::seeded_rng rng(77);
     auto random_box = [&](double offset, double size) {
         std::array<double, D> c{}, h{};
         for (std::size_t d = 0; d < D; ++d)

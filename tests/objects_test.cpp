@@ -53,16 +53,13 @@ bool any_hit(const std::vector<triangle<T, 3>>& mesh, const point<T, 3>& o, cons
 
 template <class T>
 class watertight : public ::testing::Test {};
-using scalar_types = ::testing::Types<float, double>;
-TYPED_TEST_SUITE(watertight, scalar_types);
+TYPED_TEST_SUITE(watertight, spatial_test::scalar_types);
 
 TYPED_TEST(watertight, rays_from_inside_through_every_vertex_and_along_every_edge_hit_the_closed_mesh) {
     using T = TypeParam;
     using V = point<T, 3>;
     const auto mesh = spatial_test::icosphere<T>(2);
-    const std::uint64_t seed = spatial_test::test_seed(41);
-    SCOPED_TRACE(spatial_test::replay_hint(seed));
-    std::mt19937_64 rng(seed);
+    spatial_test::seeded_rng rng(41);
     std::uniform_real_distribution<double> unit(0, 1);
     // Origins: the centre (rays exactly through vertices and edge points) and random inner points.
     std::vector<V> origins = {V{{0, 0, 0}}};
@@ -113,9 +110,7 @@ TYPED_TEST(watertight, axis_rays_with_zero_and_negative_zero_components_hit_the_
 // ---- triangle: ray against an independent plane computation ------------------------------
 
 TEST(triangle_ray, hit_time_matches_the_plane_and_barycentric_test_on_random_rays) {
-    const std::uint64_t seed = spatial_test::test_seed(7);
-    SCOPED_TRACE(spatial_test::replay_hint(seed));
-    std::mt19937_64 rng(seed);
+    spatial_test::seeded_rng rng(7);
     std::uniform_real_distribution<double> u(-1, 1);
     int hits = 0, misses = 0;
     for (int i = 0; i < 20000; ++i) {
@@ -195,9 +190,7 @@ TEST(triangle_ray, thick_ray_first_contact_is_at_distance_thickness) {
 // ---- triangle: distance, overlap, split ----------------------------------------------------
 
 TEST(triangle_geometry, squared_distance_is_the_minimum_over_a_dense_sample_and_a_lower_bound_of_it) {
-    const std::uint64_t seed = spatial_test::test_seed(11);
-    SCOPED_TRACE(spatial_test::replay_hint(seed));
-    std::mt19937_64 rng(seed);
+    spatial_test::seeded_rng rng(11);
     std::uniform_real_distribution<double> u(-1, 1);
     for (int i = 0; i < 300; ++i) {
         const triangle<double, 3> tri(p3(u(rng), u(rng), u(rng)), p3(u(rng), u(rng), u(rng)), p3(u(rng), u(rng), u(rng)));
@@ -262,9 +255,7 @@ bool clip_overlaps(const triangle<double, D>& tri, const point<double, D>& lo, c
 }  // namespace
 
 TEST(triangle_geometry, box_overlap_agrees_with_polygon_clipping_in_2d_and_3d) {
-    const std::uint64_t seed = spatial_test::test_seed(13);
-    SCOPED_TRACE(spatial_test::replay_hint(seed));
-    std::mt19937_64 rng(seed);
+    spatial_test::seeded_rng rng(13);
     std::uniform_real_distribution<double> u(-1, 1);
     int yes = 0, no = 0;
     for (int i = 0; i < 20000; ++i) {
@@ -284,9 +275,7 @@ TEST(triangle_geometry, box_overlap_agrees_with_polygon_clipping_in_2d_and_3d) {
 }
 
 TEST(triangle_geometry, split_boxes_contain_every_sampled_point_of_their_side) {
-    const std::uint64_t seed = spatial_test::test_seed(17);
-    SCOPED_TRACE(spatial_test::replay_hint(seed));
-    std::mt19937_64 rng(seed);
+    spatial_test::seeded_rng rng(17);
     std::uniform_real_distribution<double> u(-1, 1);
     for (int i = 0; i < 500; ++i) {
         const triangle<double, 3> tri(p3(u(rng), u(rng), u(rng)), p3(u(rng), u(rng), u(rng)), p3(u(rng), u(rng), u(rng)));
@@ -371,9 +360,7 @@ TEST(sphere_object, a_tiny_sphere_far_from_the_origin_is_still_hit_stable_form) 
 }
 
 TEST(sphere_object, bounds_contain_the_ball_and_split_caps_contain_sampled_points) {
-    const std::uint64_t seed = spatial_test::test_seed(19);
-    SCOPED_TRACE(spatial_test::replay_hint(seed));
-    std::mt19937_64 rng(seed);
+    spatial_test::seeded_rng rng(19);
     std::uniform_real_distribution<double> u(-1, 1);
     for (int i = 0; i < 300; ++i) {
         const sphere<double, 3> s(p3(u(rng) * 1e3, u(rng), u(rng)), 0.1 + (u(rng) + 1) / 2);
@@ -522,13 +509,11 @@ static void check_prepared_ray_matches_plain(std::uint64_t seed) {
 }
 
 TEST(TrianglePreparedRay, BitIdenticalToPlainIntersectDouble) {
-    const std::uint64_t seed = spatial_test::test_seed(2013);
-    SCOPED_TRACE(spatial_test::replay_hint(seed));
+    const spatial_test::logged_seed seed(2013);
     check_prepared_ray_matches_plain<double>(seed);
 }
 
 TEST(TrianglePreparedRay, BitIdenticalToPlainIntersectFloat) {
-    const std::uint64_t seed = spatial_test::test_seed(2014);
-    SCOPED_TRACE(spatial_test::replay_hint(seed));
+    const spatial_test::logged_seed seed(2014);
     check_prepared_ray_matches_plain<float>(seed);
 }

@@ -32,8 +32,9 @@ struct checker {
     using T = typename C::scalar_type;
     static constexpr std::size_t D = C::dimension;
 
-    std::mt19937_64 rng;
-    explicit checker(std::uint64_t seed) : rng(seed) {}
+    // Seeded by test_seed(fallback) and logged for the checker's lifetime.
+    spatial_test::seeded_rng rng;
+    explicit checker(std::uint64_t fallback) : rng(fallback) {}
 
     double unit() { return static_cast<double>(rng() >> 11) * 0x1.0p-53; }
     static Q q_at(const std::array<double, 3>& c) {
@@ -124,9 +125,7 @@ TYPED_TEST_P(octree_grid_hard_cases, interleaved_updates_match_brute_force_for_e
 
 TYPED_TEST_P(octree_grid_hard_cases, many_identical_objects_neither_subdivide_forever_nor_lose_any) {
     using K = checker<TypeParam>;
-    const std::uint64_t seed = spatial_test::test_seed(7);
-    SCOPED_TRACE(spatial_test::replay_hint(seed));
-    K k(seed);
+    K k(7);
     TypeParam c;
     brute_force<typename K::V> b;
     const auto v = K::obj_at(K::q_at({0.25, 0.5, 0.75}), 0.01);
@@ -152,13 +151,11 @@ TYPED_TEST_P(octree_grid_hard_cases, many_identical_objects_neither_subdivide_fo
 
 TYPED_TEST_P(octree_grid_hard_cases, huge_and_tiny_coordinates_match_brute_force) {
     using K = checker<TypeParam>;
-    const std::uint64_t seed = spatial_test::test_seed(11);
-    SCOPED_TRACE(spatial_test::replay_hint(seed));
     // (offset, scale): coordinates near 1e15 with spread 1e3 (float: spread 1e9), and spread 1e-15.
     const double big_spread = std::is_same_v<typename K::T, float> ? 1e9 : 1e3;
     for (const auto& [offset, scale] : {std::pair{1e15, big_spread}, std::pair{0.0, 1e-15}, std::pair{-1e8, 1e-3}}) {
         SCOPED_TRACE("offset " + std::to_string(offset) + " scale " + std::to_string(scale));
-        K k(seed);
+        K k(11);
         TypeParam c;
         brute_force<typename K::V> b;
         std::vector<typename K::V> batch;
@@ -182,9 +179,7 @@ TYPED_TEST_P(octree_grid_hard_cases, huge_and_tiny_coordinates_match_brute_force
 TYPED_TEST_P(octree_grid_hard_cases, lattice_objects_on_cell_planes_and_axis_rays_with_signed_zeros) {
     using K = checker<TypeParam>;
     using Q = typename K::Q;
-    const std::uint64_t seed = spatial_test::test_seed(13);
-    SCOPED_TRACE(spatial_test::replay_hint(seed));
-    K k(seed);
+    K k(13);
     TypeParam c;
     brute_force<typename K::V> b;
     // Integer lattice: objects exactly on every power-of-two split plane and grid plane.
@@ -218,9 +213,7 @@ TYPED_TEST_P(octree_grid_hard_cases, lattice_objects_on_cell_planes_and_axis_ray
 
 TYPED_TEST_P(octree_grid_hard_cases, objects_far_outside_the_initial_bounds) {
     using K = checker<TypeParam>;
-    const std::uint64_t seed = spatial_test::test_seed(17);
-    SCOPED_TRACE(spatial_test::replay_hint(seed));
-    K k(seed);
+    K k(17);
     TypeParam c;
     brute_force<typename K::V> b;
     std::vector<typename K::V> first;

@@ -409,20 +409,7 @@ TEST(scene_files, load_scene_reads_files_and_resolves_mesh_paths_against_their_d
 // ---- errors ----------------------------------------------------------------------------------
 
 TEST(scene_errors, unknown_keys_are_errors_with_file_line_and_column) {
-    const std::string text = lines_of({
-        "[scene]",                             // 1
-        "dimension = 3",                       // 2
-        "",                                    // 3
-        "[[objects]]",                         // 4
-        "name = \"boxes\"",                    // 5
-        "kind = \"box\"",                      // 6
-        "count = 10",                          // 7
-        "size = 0.1",                          // 8
-        "",                                    // 9
-        "[effects.collide]",                   // 10
-        "between = [[\"boxes\", \"boxes\"]]",  // 11
-        "filtr = \"exact\"",                   // 12
-    });
+    const std::string text = minimal_scene + "filtr = \"exact\"\n";  // line 12
     EXPECT_EQ(error_of(text, "falling.toml"),
               "falling.toml:12:1: [effects.collide] unknown key 'filtr' (expected one of: between, filter, strategy)");
 
@@ -634,20 +621,23 @@ TEST(scene_errors, meshes_and_motions_are_checked_against_the_dimension_and_kind
     const auto ok = datasets::parse_scene(text, "r.toml");
     EXPECT_EQ(ok.objects[0].motion.centre, (datasets::scene_vector{0.5, 0.5, 0}));
 
-    text = minimal_scene;
-    text.replace(text.find("size = 0.1"), 10, "size = 0.1\nmotion = { kind = \"static\", speed = 1 }");
-    EXPECT_ERROR_AT(text, 9, column_of("motion = { kind = \"static\", speed = 1 }", "speed"),
-                    "'speed' does not apply to motion kind 'static' (only to linear and random_walk)");
-    text = minimal_scene;
-    text.replace(text.find("size = 0.1"), 10, "size = 0.1\nmotion = { kind = \"linear\" }");
-    EXPECT_ERROR_AT(text, 9, column_of("motion = { kind = \"linear\" }", "{"), "motion needs the key 'speed'");
-    text = minimal_scene;
-    text.replace(text.find("size = 0.1"), 10, "size = 0.1\nmotion = { kind = \"linear\", speed = 1, direction = [0, 0, 0] }");
-    EXPECT_ERROR_AT(text, 9, column_of("motion = { kind = \"linear\", speed = 1, direction", "direction"),
-                    "'direction' must be a non-zero vector");
-    text = minimal_scene;
-    text.replace(text.find("size = 0.1"), 10, "size = 0.1\nmotion = { kind = \"random_walk\", speed = -1 }");
-    EXPECT_ERROR_AT(text, 9, column_of("motion = { kind = \"random_walk\", speed", "speed"), "'speed' must be >= 0");
+    // A bad motion table added to the minimal scene's set (line 9): the error points at `key`.
+    const struct {
+        std::string_view motion, key, message;
+    } bad_motions[] = {
+        {"motion = { kind = \"static\", speed = 1 }", "speed",
+         "'speed' does not apply to motion kind 'static' (only to linear and random_walk)"},
+        {"motion = { kind = \"linear\" }", "{", "motion needs the key 'speed'"},
+        {"motion = { kind = \"linear\", speed = 1, direction = [0, 0, 0] }", "direction",
+         "'direction' must be a non-zero vector"},
+        {"motion = { kind = \"random_walk\", speed = -1 }", "speed", "'speed' must be >= 0"},
+    };
+    for (const auto& bad : bad_motions) {
+        SCOPED_TRACE(bad.motion);
+        text = minimal_scene;
+        text.replace(text.find("size = 0.1"), 10, "size = 0.1\n" + std::string(bad.motion));
+        EXPECT_ERROR_AT(text, 9, column_of(bad.motion, bad.key), bad.message);
+    }
 }
 
 TEST(scene_errors, effect_specific_checks) {
@@ -873,14 +863,23 @@ void expect_stays_inside(const scene_description& scene, std::size_t steps, doub
     EXPECT_FALSE(bit_identical(initial, objects));
 }
 
+// moving_scene(dimension_line, set_lines), parsed as `file`, whose objects stay inside.
+template <class Object>
+scene_description expect_moving_scene_stays_inside(std::string_view dimension_line, std::string_view set_lines,
+                                                   std::string_view file, std::size_t steps, double tolerance) {
+    SCOPED_TRACE(file);
+    const auto scene = datasets::parse_scene(moving_scene(dimension_line, set_lines), file);
+    expect_stays_inside<Object>(scene, steps, tolerance);
+    return scene;
+}
+
 TEST(scene_motion, linear_motion_bounces_and_stays_in_the_domain) {
     // Fast boxes (each crosses the domain in 50 steps): 500 steps means ~10 bounces each.
-    const auto boxes = datasets::parse_scene(
-        moving_scene("dimension = 3",
-                     "kind = \"box\"\ncount = 400\nsize = 0.05\nsize_distribution = \"heavy_tailed\"\n"
-                     "motion = { kind = \"linear\", speed = 2 }"),
-        "b.toml");
-    expect_stays_inside<spatial::objects::box<double, 3>>(boxes, 500, 1e-12);
+    const auto boxes = expect_moving_scene_stays_inside<spatial::objects::box<double, 3>>(
+        "dimension = 3",
+        "kind = \"box\"\ncount = 400\nsize = 0.05\nsize_distribution = \"heavy_tailed\"\n"
+        "motion = { kind = \"linear\", speed = 2 }",
+        "b.toml", 500, 1e-12);
 
     // Speeds are preserved by bounces (only signs flip).
     auto objects = datasets::generate_objects<spatial::objects::box<double, 3>>(boxes, 0);
@@ -892,20 +891,18 @@ TEST(scene_motion, linear_motion_bounces_and_stays_in_the_domain) {
     EXPECT_NEAR(std::hypot(v0[0], v0[1], v0[2]), 2.0, 1e-12);
 
     // 2D float discs in a non-unit domain.
-    const auto discs = datasets::parse_scene(
-        moving_scene("dimension = 2\ndomain = { lo = [-1, 2], hi = [0, 2.5] }",
-                     "kind = \"sphere\"\ncount = 300\nsize = 0.01\nmotion = { kind = \"linear\", speed = 3 }"),
-        "d.toml");
-    expect_stays_inside<spatial::objects::sphere<float, 2>>(discs, 500, 1e-5);
+    expect_moving_scene_stays_inside<spatial::objects::sphere<float, 2>>(
+        "dimension = 2\ndomain = { lo = [-1, 2], hi = [0, 2.5] }",
+        "kind = \"sphere\"\ncount = 300\nsize = 0.01\nmotion = { kind = \"linear\", speed = 3 }", "d.toml", 500,
+        1e-5);
 
     // A mesh moves as one body: every triangle gets the same displacement, and the mesh's box
     // bounces (it stays inside though it starts touching the walls).
-    const auto mesh_scene = datasets::parse_scene(
-        moving_scene("dimension = 3",
-                     "kind = \"triangle\"\nmesh = \"generated:sphere\"\ntriangles = 200\nscale = 0.5\n"
-                     "offset = [0.25, 0.25, 0.25]\nmotion = { kind = \"linear\", speed = 3 }"),
-        "m.toml");
-    expect_stays_inside<spatial::objects::triangle<double, 3>>(mesh_scene, 300, 1e-12);
+    expect_moving_scene_stays_inside<spatial::objects::triangle<double, 3>>(
+        "dimension = 3",
+        "kind = \"triangle\"\nmesh = \"generated:sphere\"\ntriangles = 200\nscale = 0.5\n"
+        "offset = [0.25, 0.25, 0.25]\nmotion = { kind = \"linear\", speed = 3 }",
+        "m.toml", 300, 1e-12);
 }
 
 TEST(scene_motion, static_motion_is_a_detectable_no_op) {

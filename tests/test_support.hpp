@@ -11,6 +11,7 @@
 #include <cstdlib>
 #include <map>
 #include <random>
+#include <source_location>
 #include <string>
 #include <type_traits>
 #include <utility>
@@ -25,6 +26,13 @@
 #include "spatial/objects/triangle.hpp"
 
 namespace spatial_test {
+
+// The 3D double point and box most tests are written for.
+using P3 = spatial::point<double, 3>;
+using B3 = spatial::objects::box<double, 3>;
+
+// The type list of suites typed on the scalar alone.
+using scalar_types = ::testing::Types<float, double>;
 
 // A user-defined point type that models spatial::point_object WITHOUT being spatial::point:
 // it carries a payload (excluded from geometry, included in equality).
@@ -200,6 +208,29 @@ inline std::string replay_hint(std::uint64_t seed) {
            " ctest -R <test>)";
 }
 
+// test_seed(fallback), logged by replay_hint for as long as it lives (what SCOPED_TRACE does,
+// at the caller's line), so a test's seed and its log stay one declaration.
+class logged_seed {
+public:
+    explicit logged_seed(std::uint64_t fallback, std::source_location where = std::source_location::current())
+        : value_(test_seed(fallback)), trace_(where.file_name(), static_cast<int>(where.line()), replay_hint(value_)) {}
+    operator std::uint64_t() const { return value_; }
+
+private:
+    std::uint64_t value_;
+    ::testing::ScopedTrace trace_;
+};
+
+// A std::mt19937_64 seeded by a logged_seed: `seeded_rng rng(22);` stands for the test_seed,
+// SCOPED_TRACE(replay_hint) and generator lines of a randomized test. (The seed is a base, not a
+// member, so that it is drawn and logged before the generator is seeded with it.)
+class seeded_rng : private logged_seed, public std::mt19937_64 {
+public:
+    explicit seeded_rng(std::uint64_t fallback, std::source_location where = std::source_location::current())
+        : logged_seed(fallback, where), std::mt19937_64(static_cast<std::uint64_t>(static_cast<const logged_seed&>(*this))) {}
+    std::uint64_t logged() const { return static_cast<const logged_seed&>(*this); }
+};
+
 template <class P>
 P make_point(std::initializer_list<double> c, int tag = 0) {
     P p{};
@@ -264,6 +295,12 @@ public:
         }
         return P{};
     }
+    // The next n points.
+    std::vector<P> take(std::size_t n) {
+        std::vector<P> v;
+        for (std::size_t i = 0; i < n; ++i) v.push_back(next());
+        return v;
+    }
     double unit() { return static_cast<double>(rng_() >> 11) * 0x1.0p-53; }
     std::uint64_t bits() { return rng_(); }
 
@@ -284,8 +321,8 @@ private:
 };
 
 // Sorted squared distances from q of a list of iterators.
-template <class P, class It>
-std::vector<double> distances_from(const P& q, const std::vector<It>& its) {
+template <class P, class Its>
+std::vector<double> distances_from(const P& q, const Its& its) {
     std::vector<double> d;
     for (const auto& it : its) d.push_back(static_cast<double>(spatial::object_squared_distance(*it, q)));
     std::sort(d.begin(), d.end());

@@ -202,9 +202,7 @@ TYPED_TEST(tree_pairs, objects_on_split_planes_equal_brute_force) {
     using Tree = TypeParam;
     using O = typename Tree::value_type;
     using T = scalar_of<O>;
-    const std::uint64_t seed = spatial_test::test_seed(2024);
-    SCOPED_TRACE(spatial_test::replay_hint(seed));
-    std::mt19937_64 rng(seed);
+    spatial_test::seeded_rng rng(2024);
     std::vector<O> objects;
     for (int k = 0; k < 400; ++k) objects.push_back(grid_object<O>(rng, 16, T(1)));
     point<T, O::dimension> zero{};
@@ -232,9 +230,7 @@ TYPED_TEST(tree_pairs, after_erases_and_inserts_and_bipartite_equal_brute_force)
     using Tree = TypeParam;
     using O = typename Tree::value_type;
     using T = scalar_of<O>;
-    const std::uint64_t seed = spatial_test::test_seed(77);
-    SCOPED_TRACE(spatial_test::replay_hint(seed));
-    std::mt19937_64 rng(seed);
+    spatial_test::seeded_rng rng(77);
     auto random_object = [&](int k) {  // every fourth on a coarse grid: touching and duplicates
         if (k % 4 == 0) return grid_object<O>(rng, 10, T(0.5));
         std::uniform_real_distribution<T> u(0, 5), e(0, T(0.3));
