@@ -197,14 +197,8 @@ std::unique_ptr<point_index<T, D>> make_boost_rtree_quadratic_index() {
     return std::make_unique<boost_rtree_index<T, D, bgi::quadratic<node_capacity>, false>>("boost_rtree_quadratic");
 }
 
-template std::unique_ptr<point_index<float, 2>> make_boost_rtree_index<float, 2>();
-template std::unique_ptr<point_index<float, 3>> make_boost_rtree_index<float, 3>();
-template std::unique_ptr<point_index<double, 2>> make_boost_rtree_index<double, 2>();
-template std::unique_ptr<point_index<double, 3>> make_boost_rtree_index<double, 3>();
+SPATIAL_INSTANTIATE_POINT_PEER_FACTORY(make_boost_rtree_index);
 
-template std::unique_ptr<point_index<float, 2>> make_boost_rtree_quadratic_index<float, 2>();
-template std::unique_ptr<point_index<float, 3>> make_boost_rtree_quadratic_index<float, 3>();
-template std::unique_ptr<point_index<double, 2>> make_boost_rtree_quadratic_index<double, 2>();
-template std::unique_ptr<point_index<double, 3>> make_boost_rtree_quadratic_index<double, 3>();
+SPATIAL_INSTANTIATE_POINT_PEER_FACTORY(make_boost_rtree_quadratic_index);
 
 }  // namespace harness

@@ -268,9 +268,6 @@ std::unique_ptr<point_index<T, D>> make_cgal_kd_tree_index() {
     return std::make_unique<cgal_kd_tree_index<T, D>>();
 }
 
-template std::unique_ptr<point_index<float, 2>> make_cgal_kd_tree_index<float, 2>();
-template std::unique_ptr<point_index<float, 3>> make_cgal_kd_tree_index<float, 3>();
-template std::unique_ptr<point_index<double, 2>> make_cgal_kd_tree_index<double, 2>();
-template std::unique_ptr<point_index<double, 3>> make_cgal_kd_tree_index<double, 3>();
+SPATIAL_INSTANTIATE_POINT_PEER_FACTORY(make_cgal_kd_tree_index);
 
 }  // namespace harness

@@ -333,14 +333,8 @@ std::unique_ptr<point_index<T, D>> make_nanoflann_dynamic_index() {
     return std::make_unique<nanoflann_dynamic_index<T, D>>();
 }
 
-template std::unique_ptr<point_index<float, 2>> make_nanoflann_index<float, 2>();
-template std::unique_ptr<point_index<float, 3>> make_nanoflann_index<float, 3>();
-template std::unique_ptr<point_index<double, 2>> make_nanoflann_index<double, 2>();
-template std::unique_ptr<point_index<double, 3>> make_nanoflann_index<double, 3>();
+SPATIAL_INSTANTIATE_POINT_PEER_FACTORY(make_nanoflann_index);
 
-template std::unique_ptr<point_index<float, 2>> make_nanoflann_dynamic_index<float, 2>();
-template std::unique_ptr<point_index<float, 3>> make_nanoflann_dynamic_index<float, 3>();
-template std::unique_ptr<point_index<double, 2>> make_nanoflann_dynamic_index<double, 2>();
-template std::unique_ptr<point_index<double, 3>> make_nanoflann_dynamic_index<double, 3>();
+SPATIAL_INSTANTIATE_POINT_PEER_FACTORY(make_nanoflann_dynamic_index);
 
 }  // namespace harness

@@ -71,6 +71,14 @@ std::unique_ptr<point_index<T, D>> make_boost_rtree_index();
 template <class T, std::size_t D>
 std::unique_ptr<point_index<T, D>> make_boost_rtree_quadratic_index();
 
+// The explicit instantiations of a point-peer factory for T in {float, double} x D in {2, 3},
+// written once in the adapter's .cpp (inside namespace harness).
+#define SPATIAL_INSTANTIATE_POINT_PEER_FACTORY(factory)                        \
+    template std::unique_ptr<point_index<float, 2>> factory<float, 2>();      \
+    template std::unique_ptr<point_index<float, 3>> factory<float, 3>();      \
+    template std::unique_ptr<point_index<double, 2>> factory<double, 2>();    \
+    template std::unique_ptr<point_index<double, 3>> factory<double, 3>()
+
 // Every peer index compiled into this build, in a fixed order (static before dynamic).
 template <class T, std::size_t D>
 std::vector<std::unique_ptr<point_index<T, D>>> make_peer_indices() {
