@@ -189,13 +189,11 @@ std::function<int(const BV&, const BV&)> polytope_reference() {
 
 using context = suite_context<preset_config>;
 
-// A figure of the bv suite (3D double): timed when `t` is given (value = its median x scale).
+// An untimed figure of the bv suite (3D double).
 result_row make_row(const context& ctx, const std::string& structure, const std::string& bv, const std::string& workload,
                     std::size_t n, const std::string& operation, const std::string& params, const std::string& metric,
-                    double value, const std::string& unit, const timing_result* t = nullptr, double scale = 1) {
-    const row_scope scope = ctx.scope(workload, n);
-    return t ? scope.timed(structure, bv, operation, params, metric, *t, unit, scale)
-             : scope.figure(structure, bv, operation, params, metric, value, unit);
+                    double value, const std::string& unit) {
+    return ctx.scope(workload, n).figure(structure, bv, operation, params, metric, value, unit);
 }
 
 std::string fmt(double v) {
@@ -260,8 +258,7 @@ void fit_study(context& ctx, const volume_type<BV>& type, const std::string& wor
             }
         }
         const std::string params = "method=" + m.name;
-        ctx.rows.push_back(make_row(ctx, "spatialbench", type.name, workload, pts.size(), "fit", params, "fit_time",
-                                    t.median_seconds, "s", &t));
+        ctx.rows.push_back(ctx.scope(workload, pts.size()).timed("spatialbench", type.name, "fit", params, "fit_time", t, "s"));
         ctx.rows.push_back(make_row(ctx, "spatialbench", type.name, workload, pts.size(), "fit", params, "volume", vol, "u^3"));
         if (hull_volume > 0)
             ctx.rows.push_back(make_row(ctx, "spatialbench", type.name, workload, pts.size(), "fit", params, "tightness",

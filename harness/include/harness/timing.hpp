@@ -22,6 +22,7 @@ struct timing_result {
     double min_seconds = 0;
     double max_seconds = 0;
     std::size_t repetitions = 0;
+    std::vector<double> samples;  // the timed runs, in the order they ran
 };
 
 inline double seconds_since(std::chrono::steady_clock::time_point t0) {
@@ -31,6 +32,7 @@ inline double seconds_since(std::chrono::steady_clock::time_point t0) {
 inline timing_result summarize(std::vector<double> samples) {
     timing_result r;
     if (samples.empty()) return r;
+    r.samples = samples;
     std::sort(samples.begin(), samples.end());
     const std::size_t n = samples.size();
     r.median_seconds = n % 2 ? samples[n / 2] : (samples[n / 2 - 1] + samples[n / 2]) / 2;
