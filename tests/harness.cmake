@@ -64,3 +64,11 @@ add_test(NAME spatialbench_case_selection
          COMMAND bash ${CMAKE_CURRENT_SOURCE_DIR}/check_case_selection.sh $<TARGET_FILE:spatialbench>
                  ${CMAKE_CURRENT_BINARY_DIR}/case_selection_results)
 set_tests_properties(spatialbench_case_selection PROPERTIES TIMEOUT 300)
+
+# Fail-closed, end to end: a corrupted answer (ours and a peer's, in every suite and a scene)
+# stops the run with exit status 2 and leaves the previous table and the folder untouched.
+add_test(NAME spatialbench_fails_closed_on_a_wrong_answer
+         COMMAND bash ${CMAKE_CURRENT_SOURCE_DIR}/check_fail_closed.sh $<TARGET_FILE:spatialbench>
+                 ${PROJECT_SOURCE_DIR}/datasets/scenes/falling_boxes.toml
+                 ${CMAKE_CURRENT_BINARY_DIR}/fail_closed_results)
+set_tests_properties(spatialbench_fails_closed_on_a_wrong_answer PROPERTIES TIMEOUT 600)

@@ -8,6 +8,7 @@
 #include <fstream>
 #include <sstream>
 
+#include "harness/check.hpp"
 #include "harness/csv_writer.hpp"
 #include "harness/our_indexes.hpp"
 #include "harness/timing.hpp"
@@ -43,6 +44,37 @@ TEST(validation, recall_counts_ties_at_the_kth_distance_as_correct) {
     EXPECT_DOUBLE_EQ(recall<double>({2, 2, 2}, {1, 2, 2}), 1.0);  // other points at the k-th distance
 }
 
+// Identity: an answer that names a point twice, names no live point, or misreports a distance
+// is wrong even when its sorted distances equal the oracle's (a duplicate standing in for an
+// equidistant point is the typical case on lattices and duplicated points).
+TEST(validation, answers_are_checked_by_identity_before_distance) {
+    using P = spatial::point<double, 3>;
+    const std::vector<P> pts = {P{{0, 0, 0}}, P{{1, 0, 0}}, P{{0, 1, 0}}, P{{0, 0, 1}}};
+    brute_force_index<double, 3> s;
+    s.build(pts);
+    const P q{{0, 0, 0}};
+    std::vector<neighbor<double>> right;
+    s.knn(q, 3, 0, right);
+    const auto d = checked_distances<double, 3>(s, q, right, "right");
+    EXPECT_EQ(d, (std::vector<double>{0, 1, 1}));
+
+    std::vector<neighbor<double>> twice = right;
+    twice[2] = twice[1];  // the same point instead of its equidistant neighbour
+    EXPECT_THROW((checked_distances<double, 3>(s, q, twice, "twice")), validation_error);
+    EXPECT_NO_THROW(require_same_answer(sorted_distances(twice), d, "distances alone cannot tell"));
+
+    std::vector<neighbor<double>> unknown = right;
+    unknown[1].id = 1000;
+    EXPECT_THROW((checked_distances<double, 3>(s, q, unknown, "unknown id")), validation_error);
+
+    std::vector<neighbor<double>> misreported = right;
+    misreported[0].distance_squared = 0.5;
+    EXPECT_THROW((checked_distances<double, 3>(s, q, misreported, "misreported distance")), validation_error);
+
+    s.erase(0);  // erased: its id no longer names a live point
+    EXPECT_THROW((checked_distances<double, 3>(s, q, right, "erased")), validation_error);
+}
+
 TEST(timing, median_of_repetitions_and_checks_run_on_every_repetition) {
     int before = 0, checks = 0;
     const auto t = time_repeated(
@@ -73,7 +105,7 @@ TEST(csv, rows_have_the_documented_columns_and_files_are_replaced_atomically) {
     r.metric = "time_per_op";
     r.value = 123.5;
     r.unit = "ns";
-    r.validated = true;
+    r.check = "oracle:sample=200+cross:all";
     r.run_id = "knn-smoke-x";
     EXPECT_EQ(csv_header().rfind(
                   "suite,structure,bv,workload,n,dim,scalar,operation,params,metric,value,unit,validated,run_id,", 0),
@@ -82,6 +114,12 @@ TEST(csv, rows_have_the_documented_columns_and_files_are_replaced_atomically) {
                   "knn,kd_tree,,\"real:a,b.xyz\",1000,3,double,knn,k=10;eps=0.5,time_per_op,123.5,ns,true,knn-smoke-x,", 0),
               0u)
         << csv_line(r);
+    // `validated` is derived from `check`, the last column: "none" (the default) is not validated.
+    EXPECT_EQ(csv_line(r).substr(csv_line(r).rfind(',') + 1), "oracle:sample=200+cross:all");
+    result_row unchecked = r;
+    unchecked.check = "none";
+    EXPECT_NE(csv_line(unchecked).find(",ns,false,"), std::string::npos) << csv_line(unchecked);
+    EXPECT_FALSE(result_row{}.validated());
     const auto dir = std::filesystem::temp_directory_path() / "spatialbench_csv_test";
     std::filesystem::remove_all(dir);
     write_csv_atomically(dir / "t.csv", {r});
@@ -117,4 +155,14 @@ TEST(our_indexes, dynamic_ids_survive_bulk_build_duplicates_and_reinsertion) {
     ASSERT_EQ(out.size(), 1u);
     EXPECT_EQ(out[0].distance_squared, 0.0);
     EXPECT_THROW(idx.erase(2001), std::logic_error);  // already erased
+}
+
+// The check column's words come out in one order, each once, whatever order the code that ran
+// the checks joined them in; nothing checked is "none".
+TEST(check_column, words_are_joined_in_one_order_each_once) {
+    EXPECT_EQ(check::all_of({check::identity_all, check::cross_all, check::oracle_sample(200)}),
+              "oracle:sample=200+cross:all+identity:all");
+    EXPECT_EQ(check::all_of({"oracle:all+identity:all", check::cross_all, check::size, check::identity_all}),
+              "size+oracle:all+cross:all+identity:all");
+    EXPECT_EQ(check::all_of({check::none, ""}), check::none);
 }

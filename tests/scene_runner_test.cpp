@@ -30,7 +30,7 @@ scene_counters run(const std::string& toml, harness::scene_run_options o = quiet
     scene_counters k;
     const auto rows = harness::run_scene(datasets::parse_scene(toml, "test.toml"), o, k);
     EXPECT_FALSE(rows.empty());
-    for (const auto& r : rows) EXPECT_TRUE(r.validated);
+    for (const auto& r : rows) EXPECT_TRUE(r.validated()) << r.suite << " " << r.structure << " " << r.operation << " " << r.metric << " check=" << r.check;
     return k;
 }
 

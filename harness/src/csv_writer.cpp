@@ -26,7 +26,7 @@ std::string number(double v) {
 
 std::string csv_header() {
     return "suite,structure,bv,workload,n,dim,scalar,operation,params,metric,value,unit,validated,run_id,"
-           "repetitions,min,max";
+           "repetitions,min,max,check";
 }
 
 std::string csv_line(const result_row& r) {
@@ -34,8 +34,8 @@ std::string csv_line(const result_row& r) {
     os << field(r.suite) << ',' << field(r.structure) << ',' << field(r.bv) << ',' << field(r.workload) << ','
        << r.n << ',' << r.dim << ',' << field(r.scalar) << ',' << field(r.operation) << ',' << field(r.params)
        << ',' << field(r.metric) << ',' << number(r.value) << ',' << field(r.unit) << ','
-       << (r.validated ? "true" : "false") << ',' << field(r.run_id) << ',' << r.repetitions << ','
-       << number(r.min_value) << ',' << number(r.max_value);
+       << (r.validated() ? "true" : "false") << ',' << field(r.run_id) << ',' << r.repetitions << ','
+       << number(r.min_value) << ',' << number(r.max_value) << ',' << field(r.check);
     return os.str();
 }
 

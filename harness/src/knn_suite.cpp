@@ -23,6 +23,7 @@
 #include "datasets/point_set_io.hpp"
 #include "harness/adapters.hpp"
 #include "harness/csv_writer.hpp"
+#include "harness/fault_injection.hpp"
 #include "harness/format.hpp"
 #include "harness/our_indexes.hpp"
 #include "harness/progress.hpp"
@@ -145,18 +146,20 @@ protected:
     using point_type = spatial::point<T, D>;
     workload_measurement(context& ctx, workload_case<T, D>& wc) : ctx_(ctx), wc_(wc) {}
 
-    result_row row(const std::string& structure, const std::string& operation, const std::string& params,
-                   const std::string& metric, double value, const std::string& unit) const {
-        return scope_of(ctx_, wc_).figure(structure, "", operation, params, metric, value, unit);
+    // `verified`: what checked the answers behind the figure (check.hpp).
+    result_row row(const std::string& verified, const std::string& structure, const std::string& operation,
+                   const std::string& params, const std::string& metric, double value, const std::string& unit) const {
+        return scope_of(ctx_, wc_).with_check(verified).figure(structure, "", operation, params, metric, value, unit);
     }
-    result_row timed_row(const std::string& structure, const std::string& operation, const std::string& params,
-                         const std::string& metric, const timing_result& t, const std::string& unit, double scale = 1) const {
-        return scope_of(ctx_, wc_).timed(structure, "", operation, params, metric, t, unit, scale);
+    result_row timed_row(const std::string& verified, const std::string& structure, const std::string& operation,
+                         const std::string& params, const std::string& metric, const timing_result& t,
+                         const std::string& unit, double scale = 1) const {
+        return scope_of(ctx_, wc_).with_check(verified).timed(structure, "", operation, params, metric, t, unit, scale);
     }
     // A time per operation: the median of `t` over `ops` operations, in ns.
-    result_row per_op_row(const std::string& structure, const std::string& operation, const std::string& params,
-                          const timing_result& t, std::size_t ops) const {
-        return timed_row(structure, operation, params, "time_per_op", t, "ns", 1e9 / static_cast<double>(ops));
+    result_row per_op_row(const std::string& verified, const std::string& structure, const std::string& operation,
+                          const std::string& params, const timing_result& t, std::size_t ops) const {
+        return timed_row(verified, structure, operation, params, "time_per_op", t, "ns", 1e9 / static_cast<double>(ops));
     }
 
     context& ctx_;
@@ -222,15 +225,17 @@ private:
                std::to_string(D) + "d " + scalar_name<T>();
     }
 
-    // Keeps the row, and its value for the kd_tree / peer ratios.
+    // Keeps the row, and its value and check for the kd_tree / peer ratios.
     void record(result_row r) {
-        figures_[{r.workload, r.n, r.dim, r.scalar, r.operation, r.params, r.metric}][r.structure] = r.value;
+        figures_[{r.workload, r.n, r.dim, r.scalar, r.operation, r.params, r.metric}][r.structure] = {r.value, r.check};
         ctx_.rows.push_back(std::move(r));
     }
 
     // Runs every query once; returns the sorted distances of each answer (for validation)
     // and the checksum of the raw outputs in the structure's own order, which the timed
     // repetitions recompute the same way (no allocation or sorting inside the timed loop).
+    // Each answer's identities are checked on the way (checked_distances: live ids, none twice,
+    // distances recomputed from the points), and the recomputed distances are what it keeps.
     std::vector<std::vector<double>> answer_all(point_index<T, D>& s, const operation_spec& op, std::size_t count,
                                                 double& checksum) {
         std::vector<std::vector<double>> answers(count);
@@ -239,7 +244,9 @@ private:
         for (std::size_t i = 0; i < count; ++i) {
             run_one(s, op, wc_.queries[i], out);
             checksum += raw_checksum(out);
-            for (T d : sorted_distances(out)) answers[i].push_back(static_cast<double>(d));
+            if (i == 0 && out.size() > 1 && injected_fault(s.name())) out.back() = out.front();
+            const std::string what = tag(s.name(), op.operation + "(" + op.params + ")") + ", query " + std::to_string(i);
+            for (T d : checked_distances(s, wc_.queries[i], out, what)) answers[i].push_back(static_cast<double>(d));
         }
         return answers;
     }
@@ -259,9 +266,16 @@ private:
         return t;
     }
 
-    void validate(const std::string& structure, const operation_spec& op,
-                  const std::vector<std::vector<double>>& answers) {
-        for (std::size_t i = 0; i < answers.size() && i < oracle_k10_.size(); ++i) {
+    // Validates one structure's answers to one operation and returns what checked them: the
+    // oracle on its sample; exact answers against the first structure's (the reference) on
+    // every query; approximate ones against the (1+eps) bound of the exact reference on every
+    // query. The identities were checked by answer_all.
+    std::string validate(const std::string& structure, const operation_spec& op,
+                         const std::vector<std::vector<double>>& answers) {
+        const std::size_t by_oracle = std::min(answers.size(), oracle_k10_.size());
+        const std::string oracle_check =
+            by_oracle == wc_.queries.size() ? check::oracle_all : check::oracle_sample(by_oracle);
+        for (std::size_t i = 0; i < by_oracle; ++i) {
             const std::string what = tag(structure, op.operation + "(" + op.params + ")") + ", query " + std::to_string(i) +
                                      " vs brute-force oracle";
             const auto got = as_t(answers[i]);
@@ -274,18 +288,27 @@ private:
                 else require_approximation(got, exact, op.eps, what);
             }
         }
+        const std::string what = tag(structure, op.operation + "(" + op.params + ")");
+        if (op.operation == "approx_knn") {
+            const auto exact = reference_.find("knn|k=" + std::to_string(op.k));
+            if (exact == reference_.end() || exact->second.size() < answers.size())
+                return check::all_of({oracle_check, check::identity_all});
+            for (std::size_t i = 0; i < answers.size(); ++i)
+                require_approximation(as_t(answers[i]), as_t(exact->second[i]), op.eps,
+                                      what + ", query " + std::to_string(i) + " vs validated exact " + reference_owner_);
+            return check::all_of({oracle_check, check::bound_all, check::identity_all});
+        }
         const std::string key = op.operation + "|" + op.params;
-        if (op.operation == "approx_knn") return;
         auto ref = reference_.find(key);
         if (ref == reference_.end()) {
             reference_[key] = answers;  // the first structure's answers, validated above
             reference_owner_ = structure;
-            return;
+            return check::all_of({oracle_check, check::identity_all});
         }
         for (std::size_t i = 0; i < answers.size(); ++i)
             require_same_answer(as_t(answers[i]), as_t(ref->second[i]),
-                                tag(structure, op.operation + "(" + op.params + ")") + ", query " + std::to_string(i) +
-                                    " vs validated " + reference_owner_);
+                                what + ", query " + std::to_string(i) + " vs validated " + reference_owner_);
+        return check::all_of({oracle_check, check::cross_all, check::identity_all});
     }
 
     // All structures are measured together, repetition by repetition (rep 1: A, B, C; rep 2:
@@ -310,9 +333,12 @@ private:
         for (std::size_t i = 0; i < structures.size(); ++i) {
             const std::string name = structures[i]->name();
             const double bytes = static_cast<double>(structures[i]->memory_bytes());
-            record(timed_row(name, "build", "", "build_time", builds[i], "s"));
-            record(row(name, "build", "", "memory_bytes", bytes, "B"));
-            record(row(name, "build", "", "bytes_per_point", bytes / static_cast<double>(n), "B"));
+            // A build is checked by its size and by the answers of the tree it built.
+            const auto built = built_check_.find(name);
+            const std::string verified = built == built_check_.end() ? check::size : built->second;
+            record(timed_row(verified, name, "build", "", "build_time", builds[i], "s"));
+            record(row(verified, name, "build", "", "memory_bytes", bytes, "B"));
+            record(row(verified, name, "build", "", "bytes_per_point", bytes / static_cast<double>(n), "B"));
             std::ostringstream msg;
             msg.precision(3);
             msg << tag(name, "") << ": build " << builds[i].median_seconds << " s, " << bytes / static_cast<double>(n)
@@ -329,6 +355,7 @@ private:
                            std::vector<std::map<std::string, double>>& knn_us) {
         std::vector<std::size_t> who, count;
         std::vector<std::vector<std::vector<double>>> answers;
+        std::vector<std::string> verified;
         std::vector<timed_work> work;
         for (std::size_t i = 0; i < structures.size(); ++i) {
             auto& s = *structures[i];
@@ -338,7 +365,7 @@ private:
             const std::size_t queries = is_brute ? std::min<std::size_t>(wc_.queries.size(), 200) : wc_.queries.size();
             double checksum = 0;
             answers.push_back(answer_all(s, op, queries, checksum));
-            validate(s.name(), op, answers.back());
+            verified.push_back(validate(s.name(), op, answers.back()));
             work.push_back({tag(s.name(), op.operation + "(" + op.params + ")"),
                             [this, &s, &op, queries, out = std::vector<neighbor<T>>()]() mutable {
                                 double sum = 0;
@@ -352,23 +379,30 @@ private:
             who.push_back(i);
             count.push_back(queries);
         }
+        // The reference (the first to answer an exact operation) is cross-checked too once a
+        // second structure has matched it on every query.
+        if (op.operation != "approx_knn" && verified.size() > 1 && count[1] == wc_.queries.size())
+            verified[0] = check::all_of({verified[0], check::cross_all});
         const std::vector<timing_result> times = time_interleaved(work, 1, ctx_.cfg.repetitions);
         for (std::size_t w = 0; w < who.size(); ++w) {
             const std::string name = structures[who[w]]->name();
             const double per_op_ns = 1e9 / static_cast<double>(count[w]);
-            record(timed_row(name, op.operation, op.params, "time_per_op", times[w], "ns", per_op_ns));
+            record(timed_row(verified[w], name, op.operation, op.params, "time_per_op", times[w], "ns", per_op_ns));
             if (op.operation == "approx_knn") {
                 const auto& exact = reference_.at("knn|k=10");
                 double rec = 0;
                 for (std::size_t q = 0; q < count[w]; ++q) rec += recall(as_t(answers[w][q]), as_t(exact[q]));
-                record(row(name, op.operation, op.params, "recall", rec / static_cast<double>(count[w]), "ratio"));
+                record(row(verified[w], name, op.operation, op.params, "recall", rec / static_cast<double>(count[w]),
+                           "ratio"));
             }
             if (op.operation == "knn") knn_us[who[w]][op.params] = times[w].median_seconds * 1e6 / static_cast<double>(count[w]);
+            if (op.operation == "knn" && op.k == 10) built_check_[name] = check::all_of({check::size, verified[w]});
         }
     }
 
     // Nodes visited per query, from a kd_tree built with statistics compiled in (a separate,
-    // untimed instance: counting costs time).
+    // untimed instance: counting costs time). Its answers are validated like the timed
+    // tree's, against the same oracle sample and reference, so the count is of a right search.
     void nodes_visited() {
         if (!ctx_.wants("kd_tree")) return;
         kd_tree_stats_index<T, D> s("kd_tree");
@@ -376,12 +410,17 @@ private:
         std::vector<neighbor<T>> out;
         for (const auto& op : ops_) {
             std::size_t nodes = 0;
-            for (const auto& q : wc_.queries) {
-                run_one(s, op, q, out);
+            std::vector<std::vector<double>> answers(wc_.queries.size());
+            for (std::size_t i = 0; i < wc_.queries.size(); ++i) {
+                run_one(s, op, wc_.queries[i], out);
                 nodes += s.container().last_query_stats().nodes_visited;
+                const std::string what = tag("kd_tree (statistics)", op.operation + "(" + op.params + ")") + ", query " +
+                                         std::to_string(i);
+                for (T d : checked_distances(s, wc_.queries[i], out, what)) answers[i].push_back(static_cast<double>(d));
             }
+            const std::string verified = validate("kd_tree (statistics)", op, answers);
             const double per = static_cast<double>(nodes) / static_cast<double>(wc_.queries.size());
-            record(row("kd_tree", op.operation, op.params, "nodes_visited", per, "count"));
+            record(row(verified, "kd_tree", op.operation, op.params, "nodes_visited", per, "count"));
         }
     }
 
@@ -391,10 +430,13 @@ private:
             if (key.metric != "time_per_op" && key.metric != "build_time" && key.metric != "bytes_per_point") continue;
             auto ours = by_structure.find("kd_tree");
             if (ours == by_structure.end()) continue;
-            for (const auto& [peer, value] : by_structure) {
-                if (peer == "kd_tree" || value <= 0) continue;
+            for (const auto& [peer, figure] : by_structure) {
+                if (peer == "kd_tree" || figure.value <= 0) continue;
                 const std::string metric = key.metric == "bytes_per_point" ? "memory_ratio" : "time_ratio";
-                result_row r = row(peer, key.operation, key.params, metric, ours->second / value, "ratio");
+                // A ratio is as validated as the two figures it divides.
+                const bool both = ours->second.check != check::none && figure.check != check::none;
+                result_row r = row(both ? check::derived : check::none, peer, key.operation, key.params, metric,
+                                   ours->second.value / figure.value, "ratio");
                 ctx_.rows.push_back(std::move(r));
             }
         }
@@ -405,7 +447,12 @@ private:
     std::vector<std::vector<T>> oracle_k10_, oracle_radius_;
     std::map<std::string, std::vector<std::vector<double>>> reference_;
     std::string reference_owner_;
-    std::map<figure_key, std::map<std::string, double>> figures_;
+    struct checked_figure {
+        double value;
+        std::string check;
+    };
+    std::map<figure_key, std::map<std::string, checked_figure>> figures_;
+    std::map<std::string, std::string> built_check_;  // structure -> check of its build rows
 };
 
 // ---------------------------------------------------------------------------------------
@@ -439,18 +486,40 @@ private:
     }
 
 
-    // After a dynamic workload: the structure holds exactly `expected` (size, and kNN
-    // answers equal to brute force over `expected` on a sample of queries).
+    // After a dynamic workload: the structure holds exactly `expected`, compared in full —
+    // its size, and every distinct expected point stored as many times as expected (a
+    // zero-radius query at it; with equal sizes nothing else can be stored) — and its kNN
+    // answers equal brute force over `expected` on a sample of queries; identities checked
+    // throughout. O(n log n + n * query).
     void validate_contents(point_index<T, D>& s, const std::vector<point_type>& expected, const std::string& what) {
         if (s.size() != expected.size())
             throw validation_error(what + ": size " + std::to_string(s.size()) + ", expected " + std::to_string(expected.size()));
+        std::vector<point_type> sorted = expected;
+        auto by_coords = [](const point_type& a, const point_type& b) { return a.coords < b.coords; };
+        std::sort(sorted.begin(), sorted.end(), by_coords);
         std::vector<neighbor<T>> out;
+        for (auto first = sorted.begin(); first != sorted.end();) {
+            const auto last = std::upper_bound(first, sorted.end(), *first, by_coords);
+            s.radius(*first, T(0), out);
+            const auto stored = checked_distances(s, *first, out, what + ", contents").size();
+            if (stored != static_cast<std::size_t>(last - first))
+                throw validation_error(what + ": point " + std::to_string(first - sorted.begin()) + " of the expected " +
+                                       "contents (sorted) is stored " + std::to_string(stored) + " times, expected " +
+                                       std::to_string(last - first));
+            first = last;
+        }
         const std::size_t sample = std::min<std::size_t>(wc_.queries.size(), 100);
         for (std::size_t i = 0; i < sample; ++i) {
             s.knn(wc_.queries[i], 10, 0, out);
-            require_same_answer(sorted_distances(out), oracle_knn(expected, wc_.queries[i], 10),
-                                what + ", query " + std::to_string(i) + " vs brute-force oracle");
+            const std::string query = what + ", query " + std::to_string(i);
+            require_same_answer(checked_distances(s, wc_.queries[i], out, query),
+                                oracle_knn(expected, wc_.queries[i], 10), query + " vs brute-force oracle");
         }
+    }
+    // What validate_contents checks, for the rows of the work it validated.
+    std::string contents_check() const {
+        return check::all_of({check::size, check::contents_all,
+                              check::oracle_sample(std::min<std::size_t>(wc_.queries.size(), 100)), check::identity_all});
     }
 
     std::string where(const std::string& s, const std::string& op) const {
@@ -492,7 +561,7 @@ private:
                     return 0;
                 },
                 [&](int) { validate_contents(*s, expected, where(name, "churn")); });
-            const result_row r = per_op_row(name, "churn", "rounds=min_n_" + std::to_string(ctx_.cfg.churn_rounds), t, 2 * rounds);
+            const result_row r = per_op_row(contents_check(), name, "churn", "rounds=min_n_" + std::to_string(ctx_.cfg.churn_rounds), t, 2 * rounds);
             ctx_.prog.say(where(name, "churn") + ": " + std::to_string(r.value) + " ns/op");
             ctx_.rows.push_back(r);
         }
@@ -560,13 +629,13 @@ private:
                             return 0;
                         },
                         [&](int) { validate_contents(*s, expected, where(name, op + " " + params)); });
-                    ctx_.rows.push_back(per_op_row(name, op, params, t, m));
+                    ctx_.rows.push_back(per_op_row(contents_check(), name, op, params, t, m));
                     per_op[name + "|" + op] = ctx_.rows.back().value;
                 }
                 const auto plain = per_op.find(s->name() + "|insert"), hint = per_op.find(s->name() + "|insert_hinted");
                 if (plain != per_op.end() && hint != per_op.end()) {
                     ctx_.rows.push_back(
-                        row(s->name(), "insert_hinted", params, "speedup_ratio", plain->second / hint->second, "ratio"));
+                        row(check::derived, s->name(), "insert_hinted", params, "speedup_ratio", plain->second / hint->second, "ratio"));
                     ctx_.prog.say(where(s->name(), "hinted insert " + params) + ": " + std::to_string(hint->second) +
                                   " ns vs plain " + std::to_string(plain->second) + " ns");
                 }
@@ -579,7 +648,7 @@ private:
                     std::size_t nodes = 0;
                     insert_all(s, hinted, [&] { nodes += s.container().last_query_stats().nodes_visited; });
                     validate_contents(s, expected, where("kd_tree", "nodes per insert " + params));
-                    ctx_.rows.push_back(row("kd_tree", hinted ? "insert_hinted" : "insert", params, "nodes_visited",
+                    ctx_.rows.push_back(row(contents_check(), "kd_tree", hinted ? "insert_hinted" : "insert", params, "nodes_visited",
                                             static_cast<double>(nodes) / static_cast<double>(m), "count"));
                 }
             }
@@ -619,10 +688,10 @@ private:
                             return 0;
                         },
                         [&](int) { validate_contents(*s, expected, where(name, op)); });
-                    ctx_.rows.push_back(per_op_row(name, op, params, t, add.size()));
+                    ctx_.rows.push_back(per_op_row(contents_check(), name, op, params, t, add.size()));
                     t_of[bulk] = t.median_seconds;
                 }
-                ctx_.rows.push_back(row(name, "insert_bulk", params, "speedup_ratio", t_of[false] / t_of[true], "ratio"));
+                ctx_.rows.push_back(row(check::derived, name, "insert_bulk", params, "speedup_ratio", t_of[false] / t_of[true], "ratio"));
                 ctx_.prog.say(where(name, "bulk insert (" + params + ")") + ": " +
                               std::to_string(t_of[false] / t_of[true]) + "x faster than a loop");
             }
@@ -663,6 +732,12 @@ private:
                     },
                     [&](int) {
                         if (t.size() != expected.size()) throw validation_error(where("kd_tree", op) + ": wrong size");
+                        // In full: the survivors, as a multiset, are exactly the elements outside the range.
+                        std::vector<point_type> stored(t.begin(), t.end()), want = expected;
+                        auto by_coords = [](const point_type& a, const point_type& b) { return a.coords < b.coords; };
+                        std::sort(stored.begin(), stored.end(), by_coords);
+                        std::sort(want.begin(), want.end(), by_coords);
+                        if (stored != want) throw validation_error(where("kd_tree", op) + ": the survivors differ from the elements outside the erased range");
                         for (std::size_t i = 0; i < std::min<std::size_t>(wc_.queries.size(), 100); ++i) {
                             std::vector<T> got;
                             for (auto it : t.find_nearest(wc_.queries[i], 10))
@@ -672,10 +747,13 @@ private:
                                                     " vs brute-force oracle");
                         }
                     });
-                ctx_.rows.push_back(per_op_row("kd_tree", op, params, tr, m));
+                ctx_.rows.push_back(per_op_row(
+                    check::all_of({check::size, check::contents_all,
+                                   check::oracle_sample(std::min<std::size_t>(wc_.queries.size(), 100))}),
+                    "kd_tree", op, params, tr, m));
                 t_of[bulk] = tr.median_seconds;
             }
-            ctx_.rows.push_back(row("kd_tree", "erase_bulk", params, "speedup_ratio", t_of[false] / t_of[true], "ratio"));
+            ctx_.rows.push_back(row(check::derived, "kd_tree", "erase_bulk", params, "speedup_ratio", t_of[false] / t_of[true], "ratio"));
             ctx_.prog.say(where("kd_tree", "bulk erase (" + params + ")") + ": " + std::to_string(t_of[false] / t_of[true]) +
                           "x faster than a loop");
         }

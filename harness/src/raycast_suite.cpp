@@ -31,6 +31,7 @@
 #include "datasets/mesh_generators.hpp"
 #include "datasets/random.hpp"
 #include "harness/csv_writer.hpp"
+#include "harness/fault_injection.hpp"
 #include "harness/format.hpp"
 #include "harness/mesh_loading.hpp"
 #include "harness/our_ray_indexes.hpp"
@@ -258,6 +259,8 @@ private:
             else nodes += static_cast<double>(v);
         }
         if (reports_nodes && !which.empty()) a.nodes_visited = nodes / static_cast<double>(which.size());
+        if (injected_fault(s.name()))
+            for (auto& r : a.per_ray) r.t = r.hit ? 2 * r.t + 1 : r.t;
         return a;
     }
 
@@ -333,10 +336,13 @@ private:
         const bool have_reference = put_reference_first(structures);
         const std::vector<timing_result> builds = build_all(structures);
         std::vector<std::string> summary(structures.size());
-        for (std::size_t k = 0; k < sets_.size(); ++k) measure_set(structures, k, have_reference, summary);
-        const row_scope scope = rows();
+        // A build is checked by its size and by the answers of the tree it built (each set's
+        // checks; those of the first set stand for them all).
+        std::vector<std::string> built(structures.size());
+        for (std::size_t k = 0; k < sets_.size(); ++k) measure_set(structures, k, have_reference, summary, built);
         for (std::size_t i = 0; i < structures.size(); ++i) {
             const auto& s = *structures[i];
+            const row_scope scope = rows().with_check(check::all_of({check::size, built[i]}));
             const timing_result& b = builds[i];
             const double bytes = static_cast<double>(s.memory_bytes());
             add(scope.timed(s.name(), s.bv(), "build", "", "build_time", b, "s"));
@@ -355,13 +361,17 @@ private:
     // the oracle; the others also against the reference on every ray), then the timed
     // repetitions, interleaved.
     void measure_set(std::vector<std::unique_ptr<ray_index<T>>>& structures, std::size_t k, bool have_reference,
-                     std::vector<std::string>& summary) {
+                     std::vector<std::string>& summary, std::vector<std::string>& built) {
         const ray_set& set = sets_[k];
         const std::size_t S = structures.size();
         std::vector<answers> validated(S);
         std::vector<std::vector<std::size_t>> which(S);
         std::vector<std::size_t> excused(S, 0);
+        std::vector<std::string> verified(S);
         std::vector<timed_work> work;
+        const std::string oracle_check = set.oracle_sample.size() == set.rays.size()
+                                             ? check::oracle_all
+                                             : check::oracle_sample(set.oracle_sample.size());
         for (std::size_t i = 0; i < S; ++i) {
             auto& s = *structures[i];
             which[i] = rays_for(s, set);
@@ -370,6 +380,11 @@ private:
             excused[i] = validate(s, k, which[i], validated[i], against_reference ? &validated[0] : nullptr,
                                   have_reference ? tolerance_of(*structures[0]) : double_peer_tolerance,
                                   have_reference ? structures[0]->name() : std::string());
+            // validate() compares with the reference on every ray only when both answered all.
+            const bool every_ray = against_reference && which[i].size() == set.rays.size() &&
+                                   validated[0].per_ray.size() == set.rays.size();
+            verified[i] = check::all_of({oracle_check, every_ray ? check::cross_all : check::none});
+            if (every_ray) verified[0] = check::all_of({oracle_check, check::cross_all});
             work.push_back({where(s.name(), set),
                             [&s, &set, &rays = which[i]] {
                                 double sum = 0;
@@ -379,9 +394,10 @@ private:
                             validated[i].checksum});
         }
         const std::vector<timing_result> times = time_interleaved(work, 1, ctx_.cfg.repetitions);
-        const row_scope scope = rows();
         for (std::size_t i = 0; i < S; ++i) {
             const auto& s = *structures[i];
+            const row_scope scope = rows().with_check(verified[i]);
+            if (k == 0) built[i] = verified[i];
             const double per_ray_ns = 1e9 / static_cast<double>(which[i].size());
             auto figure = [&](const std::string& metric, double value) {
                 add(scope.figure(s.name(), s.bv(), "ray", set.params, metric, value, "count"));
@@ -475,13 +491,18 @@ private:
              {where("bvh", set) + " batched, " + tn, [&] { return batch_checksum(*many, rays, hits, infos, true); }, checksum}},
             1, ctx_.cfg.repetitions);
         const double per_ray_ns = 1e9 / static_cast<double>(rays.size());
-        const row_scope scope = rows();
-        add(scope.timed("bvh", "aabb", "parallel_build", t1, "build_time", builds[0], "s"));
-        add(scope.timed("bvh", "aabb", "parallel_build", tn, "build_time", builds[1], "s"));
-        add(scope.figure("bvh", "aabb", "parallel_build", tn, "speedup", builds[0].median_seconds / builds[1].median_seconds, "x"));
+        // validate_parallel: the parallel answers against one thread's on every ray and brute
+        // force on the sample (the one-thread batch is the same tree code, checked the same way).
+        const std::string verified = check::all_of({check::oracle_sample(set.oracle_sample.size()), check::cross_all});
+        const row_scope scope = rows().with_check(verified);
+        const row_scope built = rows().with_check(check::all_of({check::size, verified}));
+        const row_scope ratio = rows().with_check(check::derived);
+        add(built.timed("bvh", "aabb", "parallel_build", t1, "build_time", builds[0], "s"));
+        add(built.timed("bvh", "aabb", "parallel_build", tn, "build_time", builds[1], "s"));
+        add(ratio.figure("bvh", "aabb", "parallel_build", tn, "speedup", builds[0].median_seconds / builds[1].median_seconds, "x"));
         add(scope.timed("bvh", "aabb", "parallel_ray", set.params + ";" + t1, "time_per_op", casts[0], "ns", per_ray_ns));
         add(scope.timed("bvh", "aabb", "parallel_ray", set.params + ";" + tn, "time_per_op", casts[1], "ns", per_ray_ns));
-        add(scope.figure("bvh", "aabb", "parallel_ray", set.params + ";" + tn, "speedup",
+        add(ratio.figure("bvh", "aabb", "parallel_ray", set.params + ";" + tn, "speedup",
                          casts[0].median_seconds / casts[1].median_seconds, "x"));
         std::ostringstream msg;
         msg.precision(3);
@@ -556,7 +577,13 @@ public:
                              checksum});
         }
         const auto ray_times = time_interleaved(casts, 1, ctx_.cfg.repetitions);
-        for (std::size_t i = 0; i < structures.size(); ++i) record(*structures[i], build_times[i], ray_times[i], hits[i]);
+        // validate(): brute force on the sample, and every ray against the first structure
+        // (which the others then cross-check). The builds are checked by these answers alone.
+        const std::string oracle_check =
+            sample_.size() == rays_.size() ? check::oracle_all : check::oracle_sample(sample_.size());
+        const std::string verified = check::all_of({oracle_check, structures.size() > 1 ? check::cross_all : check::none});
+        for (std::size_t i = 0; i < structures.size(); ++i)
+            record(*structures[i], build_times[i], ray_times[i], hits[i], verified);
     }
 
 private:
@@ -612,8 +639,9 @@ private:
         return checksum;
     }
 
-    void record(const object_ray_index<O>& st, const timing_result& b, const timing_result& t, std::size_t hits) {
-        const row_scope scope = ctx_.scope(workload_, n_);
+    void record(const object_ray_index<O>& st, const timing_result& b, const timing_result& t, std::size_t hits,
+                const std::string& verified) {
+        const row_scope scope = ctx_.scope(workload_, n_).with_check(verified);
         const double per_ray_ns = 1e9 / static_cast<double>(rays_.size());
         const double bytes = static_cast<double>(st.memory_bytes());
         auto add = [&](result_row r) { ctx_.rows.push_back(std::move(r)); };

@@ -21,6 +21,7 @@
 #include "datasets/scene_queries.hpp"
 #include "harness/mesh_loading.hpp"
 #include "harness/progress.hpp"
+#include "harness/fault_injection.hpp"
 #include "harness/row_scope.hpp"
 #include "harness/structure_registry.hpp"
 #include "harness/timing.hpp"
@@ -354,6 +355,25 @@ public:
     stage_times times;
     std::vector<std::vector<pair32>> pair_log;
 
+    // What checked the answers behind a stage's or a count's rows (check.hpp): the pair stages
+    // by the pair check, each query stage by its own, and the stages every query depends on
+    // (build, motion, churn, update, the whole step) by all the checks the scene ran.
+    std::string check_of(const std::string& what) const {
+        auto word = [&](const std::string& kind) {
+            const auto it = checked_.find(kind);
+            if (it == checked_.end() || it->second.checked == 0) return check::none;
+            const std::string name = kind == "candidate_pairs" ? "superset" : "oracle";
+            return it->second.checked == it->second.total ? name + ":all"
+                                                          : name + ":sample=" + std::to_string(it->second.checked);
+        };
+        const std::string pairs = check::all_of({word("pairs"), word("candidate_pairs")});
+        if (what.rfind("collide_", 0) == 0 || what == "pairs" || what == "pairs_changed") return pairs;
+        if (what == "raycast" || what == "ray_hits") return word("rays");
+        if (what == "nearest") return word("nearest");
+        if (what == "range" || what == "range_results") return word("range");
+        return check::all_of({pairs, word("rays"), word("nearest"), word("range")});
+    }
+
     void run() {
         load_sets();
         const bool any_queries = scene_.raycast || scene_.nearest || scene_.range;
@@ -497,6 +517,7 @@ private:
             }
             std::sort(pairs.begin(), pairs.end());
             narrow += seconds_since(t0);
+            if (!pairs.empty() && injected_fault(structure_)) pairs.pop_back();
             validate_pairs(a, b, pairs, step, exact);
             std::vector<std::pair<std::uint64_t, std::uint64_t>> ids;
             for (const auto& [i, j] : pairs) ids.emplace_back(i, j);
@@ -515,9 +536,10 @@ private:
     // exact pairs must be equal; candidate pairs (each structure's own broad phase, so they
     // differ between structures) must contain them.
     void validate_pairs(std::size_t a, std::size_t b, const std::vector<pair32>& pairs, std::size_t step,
-                        bool exact) const {
+                        bool exact) {
         const std::size_t na = sets_[a]->size(), nb = sets_[b]->size();
         const std::size_t sample = na * nb <= 4000000 ? na : 64;
+        note_checked(exact ? "pairs" : "candidate_pairs", std::min(sample, na), na);
         std::vector<std::vector<std::uint32_t>> got(na);
         for (const auto& [i, j] : pairs) {
             got[i].push_back(j);
@@ -552,7 +574,9 @@ private:
         }
         record("raycast", seconds_since(t0));
         times.counts["ray_hits"].push_back(static_cast<double>(hits));
+        note_checked("rays", 0, rays.size());
         for (std::size_t r = step % 7; r < rays.size(); r += std::max<std::size_t>(1, rays.size() / 16)) {  // sampled check
+            note_checked("rays", 1, 0);
             std::optional<T> want;
             for (std::size_t t : scene_.raycast->targets) {
                 const auto h = sets_[t]->brute_first_hit(rays[r]);
@@ -574,7 +598,9 @@ private:
             ++k_.nearest_queries;
         }
         record("nearest", seconds_since(t0));
+        note_checked("nearest", 0, queries.size());
         for (std::size_t q = step % 5; q < queries.size(); q += std::max<std::size_t>(1, queries.size() / 16)) {
+            note_checked("nearest", 1, 0);
             const auto want = set.brute_nearest_distances(queries[q], k);
             bool ok = want.size() == got[q].size();
             for (std::size_t i = 0; ok && i < want.size(); ++i) ok = same_distance(want[i], got[q][i]);
@@ -598,7 +624,9 @@ private:
         }
         record("range", seconds_since(t0));
         times.counts["range_results"].push_back(static_cast<double>(found));
+        note_checked("range", 0, boxes.size());
         for (std::size_t q = step % 5; q < boxes.size(); q += std::max<std::size_t>(1, boxes.size() / 16)) {
+            note_checked("range", 1, 0);
             P lo, hi;
             for (std::size_t d = 0; d < D; ++d) lo[d] = boxes[q].lo[d], hi[d] = boxes[q].hi[d];
             auto g = got[q];
@@ -609,6 +637,16 @@ private:
         }
     }
 
+    // How many answers of a kind were checked against brute force, of how many given.
+    struct checked_count {
+        std::size_t checked = 0, total = 0;
+    };
+    void note_checked(const std::string& kind, std::size_t checked, std::size_t total) {
+        checked_[kind].checked += checked;
+        checked_[kind].total += total;
+    }
+
+    std::map<std::string, checked_count> checked_;
     const datasets::scene_description& scene_;
     std::string structure_;
     std::size_t steps_;
@@ -670,15 +708,23 @@ std::vector<result_row> run_typed(const datasets::scene_description& scene, cons
                                                   : "");
         const row_scope scope{"scenes", opt.run_id, scene.name, run.object_count(), D,
                               std::is_same_v<T, float> ? "float" : "double"};
+        // Exact pairs equal to the first structure's at every step: cross-checked as well.
+        const std::string cross = exact && name != reference_name ? check::cross_all : check::none;
+        auto checked = [&](const std::string& what) {
+            const bool queries_only = what == "raycast" || what == "ray_hits" || what == "nearest" || what == "range" ||
+                                      what == "range_results";
+            return scope.with_check(check::all_of({run.check_of(what), queries_only ? check::none : cross}));
+        };
         for (const auto& [stage, secs] : run.times.seconds)
-            rows.push_back(scope.timed(name, bv, stage, params, "time", summarize(secs), "s"));
+            rows.push_back(checked(stage).timed(name, bv, stage, params, "time", summarize(secs), "s"));
         for (const auto& [what, counts] : run.times.counts)
-            rows.push_back(scope.figure(name, bv, "step", params, what, summarize(counts).median_seconds, "count"));
+            rows.push_back(checked(what).figure(name, bv, "step", params, what, summarize(counts).median_seconds, "count"));
         const auto& step_s = run.times.seconds["step"];
         double total = 0;
         for (double s : step_s) total += s;
         if (total > 0)
-            rows.push_back(scope.figure(name, bv, "step", params, "steps_per_second", static_cast<double>(step_s.size()) / total, "1/s"));
+            rows.push_back(checked("step").figure(name, bv, "step", params, "steps_per_second",
+                                                  static_cast<double>(step_s.size()) / total, "1/s"));
     }
     return rows;
 }

@@ -25,6 +25,7 @@
 #include <cmath>
 #include <cstdint>
 #include <memory>
+#include <optional>
 #include <span>
 #include <stdexcept>
 #include <string>
@@ -146,6 +147,9 @@ public:
     }
 
     std::size_t size() const override { return tree_->size(); }
+    std::optional<point_type> point_of(std::uint32_t id) override {
+        return id < live_.size() && live_[id] ? std::optional<point_type>(points_[id]) : std::nullopt;
+    }
 
 private:
     static bg_point to_bg(const point_type& p) {

@@ -30,6 +30,7 @@
 #include <cstdint>
 #include <limits>
 #include <memory>
+#include <optional>
 #include <span>
 #include <stdexcept>
 #include <string>
@@ -117,6 +118,7 @@ public:
         alive_.shrink_to_fit();
         table_ready_ = false;
         build_count_ = pts.size();
+        built_from_ = pts;
         live_ = pts.size();
         tree_->reserve(pts.size());  // safe: the tree is not built yet
         for (std::size_t i = 0; i < pts.size(); ++i)
@@ -211,6 +213,12 @@ public:
 
     std::size_t size() const override { return live_; }
     long long last_nodes_visited() const override { return last_nodes_; }
+    // Before any dynamic operation the ids are the build array's positions (the caller keeps
+    // it alive, see point_index); afterwards the id -> point table says.
+    std::optional<point_type> point_of(std::uint32_t id) override {
+        if (!table_ready_) return id < built_from_.size() ? std::optional<point_type>(built_from_[id]) : std::nullopt;
+        return id < alive_.size() && alive_[id] ? std::optional<point_type>(by_id_[id]) : std::nullopt;
+    }
 
     // Untimed hook before dynamic workloads: build the id -> point table now, so the first
     // timed erase/insert does not pay the O(n) scan.
@@ -257,6 +265,7 @@ private:
     std::vector<unsigned char> alive_;  // id -> live flag
     bool table_ready_ = true;           // an empty adapter has an (empty) table
     std::size_t build_count_ = 0;
+    std::span<const point_type> built_from_;  // the last build's points (point_of)
     std::size_t live_ = 0;
     long long last_nodes_ = -1;
 };

@@ -24,6 +24,7 @@
 #include <cstdint>
 #include <limits>
 #include <numeric>
+#include <optional>
 #include <span>
 #include <stdexcept>
 #include <string>
@@ -141,6 +142,9 @@ public:
     }
 
     std::size_t size() const override { return points_.size(); }
+    std::optional<point_type> point_of(std::uint32_t id) override {
+        return id < points_.size() ? std::optional<point_type>(points_[id]) : std::nullopt;
+    }
 
 private:
     std::vector<point_type> points_;
@@ -281,6 +285,10 @@ public:
     }
 
     std::size_t size() const override { return live_; }
+    std::optional<point_type> point_of(std::uint32_t id) override {
+        if (id >= id_slots_.size() || id_slots_[id] == no_slot) return std::nullopt;
+        return slot_points_[id_slots_[id]];
+    }
 
 private:
     void reset_forest() {

@@ -16,11 +16,17 @@ struct result_row {
     std::string scalar, operation, params, metric;
     double value = 0;
     std::string unit;
-    bool validated = false;
+    // What verified the answers behind this figure, written by the code that ran the check
+    // (docs/harness.md, "The check column"): e.g. "oracle:all+identity:all",
+    // "oracle:sample=200+cross:all", "containment:all"; "none" when no check covers it.
+    std::string check = "none";
     std::string run_id;
     // Extra columns (after the required ones).
     std::size_t repetitions = 0;
     double min_value = 0, max_value = 0;  // spread over repetitions, same unit as value
+
+    // The `validated` column: derived from `check`, never set on its own.
+    bool validated() const { return !check.empty() && check != "none"; }
 };
 
 std::string csv_header();

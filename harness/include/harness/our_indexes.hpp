@@ -5,6 +5,7 @@
 
 #include <algorithm>
 #include <numeric>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -38,6 +39,7 @@ public:
         known_.clear();
         unresolved_.clear();
         ids_pending_ = true;
+        slot_points_.clear();
     }
     std::size_t memory_bytes() const override { return c_.memory_bytes(); }
     void knn(const point_type& q, std::size_t k, T eps, std::vector<neighbor<T>>& out) override {
@@ -55,15 +57,18 @@ public:
     }
     void insert(std::uint32_t id, const point_type& p) override {
         if (ids_pending_) resolve_ids();
+        slot_points_.clear();
         remember(id, c_.insert(p));
     }
     void insert_near(std::uint32_t prev_id, std::uint32_t id, const point_type& p) override {
         resolve_ids();
+        slot_points_.clear();
         const bool have_hint = prev_id < known_.size() && known_[prev_id];
         remember(id, c_.insert(have_hint ? by_id_[prev_id] : c_.end(), p));
     }
     void insert_bulk(std::uint32_t first_id, std::span<const point_type> pts) override {
         if (ids_pending_) resolve_ids();
+        slot_points_.clear();
         c_.insert(pts.begin(), pts.end());
         for (std::uint32_t i = 0; i < pts.size(); ++i) {
             grow(first_id + i);
@@ -74,6 +79,7 @@ public:
     void erase(std::uint32_t id) override {
         resolve_ids();
         if (id >= known_.size() || !known_[id]) throw std::logic_error(name_ + ": erase of unknown id");
+        slot_points_.clear();
         c_.erase(by_id_[id]);
         known_[id] = 0;
     }
@@ -109,6 +115,15 @@ public:
         unresolved_.clear();
     }
     std::size_t size() const override { return c_.size(); }
+    // Reported ids are slot handles: the element in that slot, from a slot -> point table built
+    // by one pass over the container after each change (a harness table, not counted).
+    std::optional<point_type> point_of(std::uint32_t slot) override {
+        if (slot_points_.empty() && !c_.empty()) {
+            slot_points_.assign(c_.end().slot(), std::nullopt);
+            for (auto it = c_.begin(); it != c_.end(); ++it) slot_points_[it.slot()] = *it;
+        }
+        return slot < slot_points_.size() ? slot_points_[slot] : std::nullopt;
+    }
     long long last_nodes_visited() const override {
         if constexpr (spatial::reports_query_stats<Container>) return static_cast<long long>(c_.last_query_stats().nodes_visited);
         return -1;
@@ -141,6 +156,7 @@ private:
     std::span<const point_type> built_from_;
     bool ids_pending_ = false;
     std::vector<spatial::neighbor_candidate<T>> cand_;
+    std::vector<std::optional<point_type>> slot_points_;  // point_of's table; empty: stale
 };
 
 template <class T, std::size_t D>

@@ -7,10 +7,12 @@
 //
 // Identity: points are identified by their position `id` in the array passed to build()
 // (and, for dynamic workloads, by the id passed to insert()). Answers are compared by
-// DISTANCE, never by id, because distance ties make ids ambiguous.
+// DISTANCE, never by id, because distance ties make ids ambiguous; but each reported id must
+// name a live point, at most once per answer, at the distance reported for it (point_of).
 
 #include <cstddef>
 #include <cstdint>
+#include <optional>
 #include <span>
 #include <stdexcept>
 #include <string>
@@ -96,6 +98,11 @@ public:
     // Called UNTIMED after build() and before timed dynamic operations, for bookkeeping a
     // structure needs before erase(id) works (our adapters resolve ids of bulk-built points).
     virtual void prepare_dynamic() {}
+
+    // The point a reported neighbour id stands for, or nullopt if no live point has that id.
+    // Untimed (validation recomputes every reported distance from it); it may build a lookup
+    // table the first time after a change, which memory_bytes() does not count.
+    virtual std::optional<point_type> point_of(std::uint32_t id) = 0;
 
     // Nodes visited by the last query, or -1 when the structure cannot report it.
     virtual long long last_nodes_visited() const { return -1; }

@@ -1,11 +1,14 @@
 #pragma once
 // Answer validation. A structure's answers are compared with the oracle's BY DISTANCE
-// (ties make identities ambiguous). Any mismatch throws validation_error, which aborts the
-// run before the timing of the wrong answer is recorded.
+// (ties make identities ambiguous: any set of equidistant points is a right answer), after
+// each answer's identities are checked on their own (checked_distances: every reported id
+// names a live point, once, at the distance reported for it). Any mismatch throws
+// validation_error, which aborts the run before the timing of the wrong answer is recorded.
 
 #include <algorithm>
 #include <cmath>
 #include <cstddef>
+#include <cstdint>
 #include <limits>
 #include <sstream>
 #include <stdexcept>
@@ -37,6 +40,39 @@ std::vector<T> sorted_distances(const std::vector<neighbor<T>>& v) {
     std::vector<T> d;
     d.reserve(v.size());
     for (const auto& x : v) d.push_back(x.distance_squared);
+    std::sort(d.begin(), d.end());
+    return d;
+}
+
+// The identity check of one answer to query q: every reported id names a live point of `s`
+// (point_of), no id is reported twice, and each reported squared distance equals the one
+// recomputed from the point. Returns the recomputed squared distances, sorted: what the
+// answer is then compared by. O(k log k) for k reported neighbours.
+template <class T, std::size_t D>
+std::vector<T> checked_distances(point_index<T, D>& s, const spatial::point<T, D>& q,
+                                 const std::vector<neighbor<T>>& answer, const std::string& what) {
+    std::vector<T> d;
+    std::vector<std::uint32_t> ids;
+    d.reserve(answer.size());
+    ids.reserve(answer.size());
+    for (const auto& x : answer) {
+        const auto p = s.point_of(x.id);
+        if (!p) throw validation_error(what + ": reported id " + std::to_string(x.id) + ", which holds no live point");
+        T recomputed = 0;
+        for (std::size_t i = 0; i < D; ++i) recomputed += ((*p)[i] - q[i]) * ((*p)[i] - q[i]);
+        if (!same_distance(recomputed, x.distance_squared)) {
+            std::ostringstream os;
+            os.precision(17);
+            os << what << ": id " << x.id << " reported at squared distance " << x.distance_squared
+               << ", but its point lies at " << recomputed;
+            throw validation_error(os.str());
+        }
+        d.push_back(recomputed);
+        ids.push_back(x.id);
+    }
+    std::sort(ids.begin(), ids.end());
+    if (const auto twice = std::adjacent_find(ids.begin(), ids.end()); twice != ids.end())
+        throw validation_error(what + ": id " + std::to_string(*twice) + " reported twice in one answer");
     std::sort(d.begin(), d.end());
     return d;
 }
