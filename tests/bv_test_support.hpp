@@ -44,6 +44,12 @@ protected:
     using point_t = spatial::point<scalar_t, dim>;
 };
 
+// The fixture's names as a typed test's body uses them: T (scalar), D (dimension), P (point).
+#define SPATIAL_DIMS_NAMES                                                  \
+    using T [[maybe_unused]] = typename TestFixture::scalar_t;             \
+    [[maybe_unused]] constexpr std::size_t D = TestFixture::dim;           \
+    using P [[maybe_unused]] = typename TestFixture::point_t
+
 template <class T, std::size_t D>
 using named_point_sets = std::vector<std::pair<std::string, std::vector<spatial::point<T, D>>>>;
 
