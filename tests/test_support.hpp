@@ -34,6 +34,11 @@ using B3 = spatial::objects::box<double, 3>;
 // The type list of suites typed on the scalar alone.
 using scalar_types = ::testing::Types<float, double>;
 
+// The fixture of a typed suite that needs nothing of its own; the suite names it with
+// `template <class T> using my_suite = spatial_test::plain_typed_suite<T>;`.
+template <class T>
+class plain_typed_suite : public ::testing::Test {};
+
 // A user-defined point type that models spatial::point_object WITHOUT being spatial::point:
 // it carries a payload (excluded from geometry, included in equality).
 struct tagged_point {
