@@ -45,9 +45,9 @@ protected:
 };
 
 // The fixture's names as a typed test's body uses them: T (scalar), D (dimension), P (point).
-#define SPATIAL_DIMS_NAMES                                                  \
-    using T [[maybe_unused]] = typename TestFixture::scalar_t;             \
-    [[maybe_unused]] constexpr std::size_t D = TestFixture::dim;           \
+#define SPATIAL_DIMS_NAMES                                       \
+    using T [[maybe_unused]] = typename TestFixture::scalar_t;   \
+    [[maybe_unused]] constexpr std::size_t D = TestFixture::dim; \
     using P [[maybe_unused]] = typename TestFixture::point_t
 
 template <class T, std::size_t D>

@@ -327,8 +327,11 @@ struct sets_for {
     // (u - 0.5, u - 0.5, u - z_minus + z_plus), u = unit(rng) drawn in that order.
     template <class Rng>
     static rigid_transform<T, D> random_rotation(Rng& rng, double z_minus, double z_plus, double turn) {
-        if constexpr (D == 2) return rigid_transform<T, D>::rotate(T(unit(rng) * turn));
-        else return rigid_transform<T, D>::rotate(P{{T(unit(rng) - 0.5), T(unit(rng) - 0.5), T(unit(rng) - z_minus + z_plus)}}, T(unit(rng) * turn));
+        if constexpr (D == 2)
+            return rigid_transform<T, D>::rotate(T(unit(rng) * turn));
+        else
+            return rigid_transform<T, D>::rotate(
+                P{{T(unit(rng) - 0.5), T(unit(rng) - 0.5), T(unit(rng) - z_minus + z_plus)}}, T(unit(rng) * turn));
     }
     static named build(std::uint64_t seed, std::size_t n_random) {
         std::mt19937_64 rng(seed);

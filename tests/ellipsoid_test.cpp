@@ -508,7 +508,8 @@ TYPED_TEST(ellipsoid_typed, ray_intervals_agree_with_point_sampling) {
             }
         }
         bool any_inside = false;
-        ASSERT_NO_FATAL_FAILURE(spatial_test::expect_inside_samples_in_interval(e, o, d, hit, t0, t1, trial, any_inside));
+        ASSERT_NO_FATAL_FAILURE(
+            spatial_test::expect_inside_samples_in_interval(e, o, d, hit, t0, t1, trial, any_inside));
     }
 }
 

@@ -729,7 +729,8 @@ TYPED_TEST(kdop_typed, ray_intervals_agree_with_point_sampling_including_paralle
         const auto [lo, hi, b] = random_grid_kdop<T, D, K>(rng, 2.0, false);
         for (int trial = 0; trial < 300; ++trial) {
             point<T, D> o, d;
-            spatial_test::random_trial_ray_from_doubles(trial, rng, o, d);  // axis rays: zero and negative-zero components
+            // Axis rays: zero and negative-zero components.
+            spatial_test::random_trial_ray_from_doubles(trial, rng, o, d);
             if (trial % 4 == 1) {  // parallel to a diagonal plane: n_j . d == 0 exactly
                 const auto& n = kdop<T, D, K>::directions[K / 2 - 1];
                 d = point<T, D>{};
