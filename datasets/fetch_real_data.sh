@@ -12,6 +12,8 @@
 set -euo pipefail
 
 script_dir="$(cd "$(dirname "${BASH_SOURCE[0]}")" && pwd)"
+# place, place_from_archive, report_placed
+source "${script_dir}/../scripts/fetch_common.sh"
 dest="${script_dir}/real"
 force=0
 if [[ "${1:-}" == "--force" ]]; then force=1; fi
@@ -87,15 +89,7 @@ fetch_cgal() {
     exit 1
   fi
   mkdir -p "${work}/cgal-data"
-  local f
-  for f in "${cgal_files[@]}"; do
-    if tar -xzf "${archive}" -C "${work}/cgal-data" "${f}" 2>/dev/null; then
-      cp "${work}/cgal-data/${f}" "${dest}/"
-      placed+=("$(basename "${f}")")
-    else
-      echo "warning: ${f} is not in this libcgal-demo version; skipped" >&2
-    fi
-  done
+  place_from_archive "${archive}" "${work}/cgal-data" "warning: " "${cgal_files[@]}"
 }
 
 fetch_glmark() {
@@ -111,8 +105,7 @@ fetch_glmark() {
   local f
   for f in "${glmark_files[@]}"; do
     if [[ -f "${work}/glmark/${f}" ]]; then
-      cp "${work}/glmark/${f}" "${dest}/"
-      placed+=("$(basename "${f}")")
+      place "${work}/glmark/${f}"
     else
       echo "note: ${f} is not in this glmark2-data version; skipped"
     fi
@@ -124,9 +117,7 @@ fetch_glmark
 
 if [[ ${#placed[@]} -gt 0 ]]; then
   echo "placed in ${dest}:"
-  for f in "${placed[@]}"; do
-    printf '  %-28s %10s bytes\n' "${f}" "$(stat -c %s "${dest}/${f}")"
-  done
+  report_placed "  " 28
 else
   echo "nothing to do; ${dest} is complete"
 fi

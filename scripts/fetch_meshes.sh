@@ -11,6 +11,7 @@
 set -euo pipefail
 
 cd "$(dirname "${BASH_SOURCE[0]}")/.."
+source scripts/fetch_common.sh  # place, place_from_archive, report_placed
 dest=datasets/real/meshes
 force=0
 [[ "${1:-}" == "--force" ]] && force=1
@@ -43,22 +44,13 @@ ensure_package() {
 }
 
 placed=()
-need_cgal=0
-for f in "${cgal_meshes[@]}"; do present "${f}" || need_cgal=1; done
-if [[ ${need_cgal} -eq 1 ]]; then
+missing=()
+for f in "${cgal_meshes[@]}"; do present "${f}" || missing+=("${f}"); done
+if [[ ${#missing[@]} -gt 0 ]]; then
   if ensure_package libcgal-demo; then
-    archive=/usr/share/doc/libcgal-dev/data.tar.gz
     work="$(mktemp -d)"
     trap 'rm -rf "${work}"' EXIT
-    for f in "${cgal_meshes[@]}"; do
-      present "${f}" && continue
-      if tar -xzf "${archive}" -C "${work}" "${f}" 2>/dev/null; then
-        cp "${work}/${f}" "${dest}/"
-        placed+=("$(basename "${f}")")
-      else
-        echo "fetch_meshes: warning: ${f} is not in this libcgal-demo; skipped" >&2
-      fi
-    done
+    place_from_archive /usr/share/doc/libcgal-dev/data.tar.gz "${work}" "fetch_meshes: warning: " "${missing[@]}"
   else
     echo "fetch_meshes: warning: could not install libcgal-demo; CGAL meshes skipped" >&2
   fi
@@ -67,14 +59,13 @@ fi
 for f in "${glmark_meshes[@]}"; do
   present "${f}" && continue
   if ensure_package glmark2-data && [[ -f "/${f}" ]]; then
-    cp "/${f}" "${dest}/"
-    placed+=("$(basename "${f}")")
+    place "/${f}"
   else
     echo "fetch_meshes: note: glmark2-data's bunny unavailable; skipped" >&2
   fi
 done
 
 count=$(find "${dest}" -maxdepth 1 -type f | wc -l)
-for f in "${placed[@]}"; do printf 'fetch_meshes: placed %-24s %10s bytes\n' "${f}" "$(stat -c %s "${dest}/${f}")"; done
+report_placed "fetch_meshes: placed " 24
 echo "fetch_meshes: ${count} meshes in ${dest}"
 [[ ${count} -gt 0 ]]

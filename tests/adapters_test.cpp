@@ -226,6 +226,41 @@ std::string trace_name(const point_index<T, D>& index, std::uint64_t seed) {
 // ---------------------------------------------------------------------------------------
 // Tests
 
+// n uniform points drawn from rng (uniform_points), and `index` built over them.
+template <class T, std::size_t D>
+std::vector<pt<T, D>> build_on_uniform_points(point_index<T, D>& index, std::mt19937_64& rng, std::size_t n) {
+    auto pts = uniform_points<T, D>(rng, n);
+    index.build(pts);
+    return pts;
+}
+
+// `index` holds nothing: size 0, no k nearest neighbours of q, none within 10 of it (both
+// answers in `out`, which the caller may hand over non-empty).
+template <class T, std::size_t D>
+void expect_holds_nothing(point_index<T, D>& index, const pt<T, D>& q, std::size_t k, std::vector<neighbor<T>>& out) {
+    EXPECT_EQ(index.size(), 0u);
+    index.knn(q, k, T(0), out);
+    EXPECT_TRUE(out.empty());
+    index.radius(q, T(10), out);
+    EXPECT_TRUE(out.empty());
+}
+
+// Runs body(index, rng) for each peer index of dimension D over T (only the dynamic ones when
+// `which` says so), traced with its seed base_seed + offset + D, rng seeded with it. Stops at
+// the first fatal failure, as an ASSERT in a loop over the peers would.
+enum class peers { all, dynamic };
+template <class T, std::size_t D, class Body>
+void for_each_seeded_peer(std::uint64_t offset, peers which, Body&& body) {
+    for (const auto& index : harness::make_peer_indices<T, D>()) {
+        if (which == peers::dynamic && !index->can(capability::dynamic)) continue;
+        const std::uint64_t seed = base_seed + offset + D;
+        SCOPED_TRACE(trace_name(*index, seed));
+        std::mt19937_64 rng(seed);
+        body(index, rng);
+        if (::testing::Test::HasFatalFailure()) return;
+    }
+}
+
 TYPED_TEST(adapters_test, every_configured_peer_is_listed) {
     using T = typename TypeParam::scalar;
     constexpr std::size_t D = TypeParam::dim;
@@ -277,25 +312,18 @@ TYPED_TEST(adapters_test, capabilities_are_as_documented) {
 TYPED_TEST(adapters_test, static_queries_match_brute_force) {
     using T = typename TypeParam::scalar;
     constexpr std::size_t D = TypeParam::dim;
-    for (const auto& index : harness::make_peer_indices<T, D>()) {
-        const std::uint64_t seed = base_seed + D;
-        SCOPED_TRACE(trace_name(*index, seed));
-        std::mt19937_64 rng(seed);
-        const auto pts = uniform_points<T, D>(rng, n_points);
-        index->build(pts);
+    for_each_seeded_peer<T, D>(0, peers::all, [&](const auto& index, std::mt19937_64& rng) {
+        const auto pts = build_on_uniform_points(*index, rng, n_points);
         const auto live = as_live(pts);
         ASSERT_NO_FATAL_FAILURE(check_all(*index, live, rng, n_queries));
         EXPECT_GE(index->memory_bytes(), pts.size() * sizeof(pt<T, D>));
-    }
+    });
 }
 
 TYPED_TEST(adapters_test, clustered_points_with_duplicates_match_brute_force) {
     using T = typename TypeParam::scalar;
     constexpr std::size_t D = TypeParam::dim;
-    for (const auto& index : harness::make_peer_indices<T, D>()) {
-        const std::uint64_t seed = base_seed + 100 + D;
-        SCOPED_TRACE(trace_name(*index, seed));
-        std::mt19937_64 rng(seed);
+    for_each_seeded_peer<T, D>(100, peers::all, [&](const auto& index, std::mt19937_64& rng) {
         // Tight Gaussian clusters, then every 7th point duplicated onto an earlier one.
         auto centres = uniform_points<T, D>(rng, 8);
         std::normal_distribution<T> g(T(0), T(0.01));
@@ -305,7 +333,7 @@ TYPED_TEST(adapters_test, clustered_points_with_duplicates_match_brute_force) {
         for (std::size_t i = 7; i < pts.size(); i += 7) pts[i] = pts[i / 7];
         index->build(pts);
         ASSERT_NO_FATAL_FAILURE(check_all(*index, as_live(pts), rng, n_queries));
-    }
+    });
 }
 
 // Integer lattice: exact coordinates, many ties, points exactly on the sphere boundary.
@@ -354,24 +382,16 @@ TYPED_TEST(adapters_test, lattice_ties_and_closed_balls) {
 TYPED_TEST(adapters_test, empty_single_and_rebuild) {
     using T = typename TypeParam::scalar;
     constexpr std::size_t D = TypeParam::dim;
-    for (const auto& index : harness::make_peer_indices<T, D>()) {
-        const std::uint64_t seed = base_seed + 200 + D;
-        SCOPED_TRACE(trace_name(*index, seed));
-        std::mt19937_64 rng(seed);
+    for_each_seeded_peer<T, D>(200, peers::all, [&](const auto& index, std::mt19937_64& rng) {
         std::vector<neighbor<T>> out;
         const pt<T, D> q{};
         // Queries before any build, then on an empty build.
         index->knn(q, 5, T(0), out);
         EXPECT_TRUE(out.empty());
         index->build(std::span<const pt<T, D>>{});
-        EXPECT_EQ(index->size(), 0u);
-        index->knn(q, 5, T(0), out);
-        EXPECT_TRUE(out.empty());
-        index->radius(q, T(10), out);
-        EXPECT_TRUE(out.empty());
+        expect_holds_nothing(*index, q, 5, out);
         // One point.
-        const auto one = uniform_points<T, D>(rng, 1);
-        index->build(one);
+        const auto one = build_on_uniform_points(*index, rng, 1);
         ASSERT_NO_FATAL_FAILURE(check_all(*index, as_live(one), rng, 5));
         // Rebuild replaces the contents (smaller, then larger).
         const auto a = uniform_points<T, D>(rng, 500);
@@ -386,7 +406,7 @@ TYPED_TEST(adapters_test, empty_single_and_rebuild) {
         EXPECT_THROW(index->radius(q, std::numeric_limits<T>::quiet_NaN(), out), std::invalid_argument);
         index->radius(q, T(-1), out);
         EXPECT_TRUE(out.empty());
-    }
+    });
 }
 
 // Insert/erase sequences with sparse and reused ids, bulk inserts, coincident points and
@@ -394,11 +414,7 @@ TYPED_TEST(adapters_test, empty_single_and_rebuild) {
 TYPED_TEST(adapters_test, dynamic_sequences_match_brute_force) {
     using T = typename TypeParam::scalar;
     constexpr std::size_t D = TypeParam::dim;
-    for (const auto& index : harness::make_peer_indices<T, D>()) {
-        if (!index->can(capability::dynamic)) continue;
-        const std::uint64_t seed = base_seed + 300 + D;
-        SCOPED_TRACE(trace_name(*index, seed));
-        std::mt19937_64 rng(seed);
+    for_each_seeded_peer<T, D>(300, peers::dynamic, [&](const auto& index, std::mt19937_64& rng) {
         constexpr std::size_t q_per_phase = 12;
 
         auto pick_live = [&](const live_set<T, D>& live, std::size_t count) {
@@ -410,8 +426,7 @@ TYPED_TEST(adapters_test, dynamic_sequences_match_brute_force) {
             return ids;
         };
 
-        const auto initial = uniform_points<T, D>(rng, 1000);
-        index->build(initial);
+        const auto initial = build_on_uniform_points(*index, rng, 1000);
         index->prepare_dynamic();  // what the harness calls, untimed, before dynamic work
         auto live = as_live(initial);
         ASSERT_NO_FATAL_FAILURE(check_all(*index, live, rng, q_per_phase));
@@ -497,11 +512,7 @@ TYPED_TEST(adapters_test, dynamic_sequences_match_brute_force) {
             index->erase(all_ids[i]);
             live.erase(all_ids[i]);
         }
-        EXPECT_EQ(index->size(), 0u);
-        index->knn(spot, 3, T(0), out);
-        EXPECT_TRUE(out.empty());
-        index->radius(spot, T(10), out);
-        EXPECT_TRUE(out.empty());
+        expect_holds_nothing(*index, spot, 3, out);
         const auto refill = uniform_points<T, D>(rng, 50);
         for (std::size_t i = 0; i < refill.size(); ++i) {
             index->insert(static_cast<std::uint32_t>(i), refill[i]);
@@ -520,18 +531,14 @@ TYPED_TEST(adapters_test, dynamic_sequences_match_brute_force) {
         index->erase(7);
         live.erase(7);
         ASSERT_NO_FATAL_FAILURE(check_all(*index, live, rng, q_per_phase));
-    }
+    });
 }
 
 // Dynamic adapters built by insertions only (no build() call at all).
 TYPED_TEST(adapters_test, dynamic_from_scratch) {
     using T = typename TypeParam::scalar;
     constexpr std::size_t D = TypeParam::dim;
-    for (const auto& index : harness::make_peer_indices<T, D>()) {
-        if (!index->can(capability::dynamic)) continue;
-        const std::uint64_t seed = base_seed + 400 + D;
-        SCOPED_TRACE(trace_name(*index, seed));
-        std::mt19937_64 rng(seed);
+    for_each_seeded_peer<T, D>(400, peers::dynamic, [&](const auto& index, std::mt19937_64& rng) {
         const auto pts = uniform_points<T, D>(rng, 700);
         live_set<T, D> live;
         for (std::size_t i = 0; i < pts.size(); ++i) {
@@ -540,18 +547,14 @@ TYPED_TEST(adapters_test, dynamic_from_scratch) {
             live.emplace(id, pts[i]);
         }
         ASSERT_NO_FATAL_FAILURE(check_all(*index, live, rng, 20));
-    }
+    });
 }
 
 TYPED_TEST(adapters_test, memory_and_node_counters) {
     using T = typename TypeParam::scalar;
     constexpr std::size_t D = TypeParam::dim;
-    for (const auto& index : harness::make_peer_indices<T, D>()) {
-        const std::uint64_t seed = base_seed + 500 + D;
-        SCOPED_TRACE(trace_name(*index, seed));
-        std::mt19937_64 rng(seed);
-        const auto pts = uniform_points<T, D>(rng, n_points);
-        index->build(pts);
+    for_each_seeded_peer<T, D>(500, peers::all, [&](const auto& index, std::mt19937_64& rng) {
+        const auto pts = build_on_uniform_points(*index, rng, n_points);
         const std::size_t bytes = index->memory_bytes();
         // At least the points, and not absurdly more (nodes + permutations are O(n)). The
         // largest overhead is the R-tree built by insertion: fixed-capacity nodes (17 values
@@ -566,7 +569,7 @@ TYPED_TEST(adapters_test, memory_and_node_counters) {
         } else {
             EXPECT_EQ(visited, -1);
         }
-    }
+    });
 }
 
 }  // namespace

@@ -93,8 +93,16 @@ double extent_of(const std::vector<point<double, D>>& pts) {
     return e;
 }
 
+// The oracles' tests skip where the harness was configured without CGAL.
+class cgal_oracle_test : public ::testing::Test {
+protected:
+    void SetUp() override {
+        if (!harness::cgal_bv_oracles_available()) GTEST_SKIP() << "configured without CGAL";
+    }
+};
+using bv_oracle_3d = cgal_oracle_test;
 template <class Dim>
-class bv_oracle : public ::testing::Test {};
+class bv_oracle : public cgal_oracle_test {};
 template <std::size_t D>
 struct dim_tag {
     static constexpr std::size_t value = D;
@@ -104,10 +112,8 @@ TYPED_TEST_SUITE(bv_oracle, dims);
 
 TYPED_TEST(bv_oracle, minimum_ball_radius_equals_cgal) {
     constexpr std::size_t D = TypeParam::value;
-    if (!harness::cgal_bv_oracles_available()) GTEST_SKIP() << "configured without CGAL";
 #if SPATIAL_HAVE_CGAL
-    const std::uint64_t seed = spatial_test::test_seed(71);
-    SCOPED_TRACE(spatial_test::replay_hint(seed));
+    const spatial_test::logged_seed seed(71);
     for (const auto& [name, pts] : oracle_sets<D>(seed)) {
         SCOPED_TRACE(name);
         const auto mine = sphere<double, D>::fit_minimum(pts);
@@ -124,10 +130,8 @@ TYPED_TEST(bv_oracle, minimum_ball_radius_equals_cgal) {
 
 TYPED_TEST(bv_oracle, convex_hull_has_cgals_vertices_and_volume) {
     constexpr std::size_t D = TypeParam::value;
-    if (!harness::cgal_bv_oracles_available()) GTEST_SKIP() << "configured without CGAL";
 #if SPATIAL_HAVE_CGAL
-    const std::uint64_t seed = spatial_test::test_seed(72);
-    SCOPED_TRACE(spatial_test::replay_hint(seed));
+    const spatial_test::logged_seed seed(72);
     for (const auto& [name, pts] : oracle_sets<D>(seed)) {
         SCOPED_TRACE(name);
         const auto mine = convex_hull<double, D>::fit(pts);
@@ -150,10 +154,8 @@ TYPED_TEST(bv_oracle, convex_hull_has_cgals_vertices_and_volume) {
 
 TYPED_TEST(bv_oracle, minimum_ellipsoid_volume_agrees_with_cgal) {
     constexpr std::size_t D = TypeParam::value;
-    if (!harness::cgal_bv_oracles_available()) GTEST_SKIP() << "configured without CGAL";
 #if SPATIAL_HAVE_CGAL
-    const std::uint64_t seed = spatial_test::test_seed(73);
-    SCOPED_TRACE(spatial_test::replay_hint(seed));
+    const spatial_test::logged_seed seed(73);
     const double tol = 1e-3;
     for (const auto& [name, pts] : oracle_sets<D>(seed)) {
         // Not the 1e8-offset set: CGAL's Approximate_min_ellipsoid_d (absolute double
@@ -173,11 +175,9 @@ TYPED_TEST(bv_oracle, minimum_ellipsoid_volume_agrees_with_cgal) {
 #endif
 }
 
-TEST(bv_oracle_3d, obb_volume_against_cgal_oriented_bounding_box) {
-    if (!harness::cgal_bv_oracles_available()) GTEST_SKIP() << "configured without CGAL";
+TEST_F(bv_oracle_3d, obb_volume_against_cgal_oriented_bounding_box) {
 #if SPATIAL_HAVE_CGAL
-    const std::uint64_t seed = spatial_test::test_seed(74);
-    SCOPED_TRACE(spatial_test::replay_hint(seed));
+    const spatial_test::logged_seed seed(74);
     for (const auto& shape : datasets::shape_names()) {
         SCOPED_TRACE(shape);
         const auto pts = datasets::generate_shape(shape, 20000, seed);
@@ -208,11 +208,9 @@ std::vector<arr<3>> vertex_arrays(const BV& b) {
     return v;
 }
 
-TEST(bv_oracle_3d, polytope_overlap_tests_against_the_exact_lp) {
-    if (!harness::cgal_bv_oracles_available()) GTEST_SKIP() << "configured without CGAL";
+TEST_F(bv_oracle_3d, polytope_overlap_tests_against_the_exact_lp) {
 #if SPATIAL_HAVE_CGAL
-    const std::uint64_t seed = spatial_test::test_seed(75);
-    SCOPED_TRACE(spatial_test::replay_hint(seed));
+    const spatial_test::logged_seed seed(75);
     datasets::random_stream rng(seed);
     const auto names = datasets::shape_names();
     std::size_t checked = 0, overlapping = 0;

@@ -33,9 +33,7 @@ protected:
 TYPED_TEST_SUITE(bv, spatial_test::all_dim_types);
 
 TYPED_TEST(bv, every_fit_contains_every_point_without_nan) {
-    using P = typename TestFixture::point_t;
-    using T = typename TestFixture::scalar_t;
-    constexpr std::size_t D = TestFixture::dim;
+    SPATIAL_DIMS_NAMES;
     const spatial_test::logged_seed seed(31);
     for (const auto& [name, pts] : TestFixture::sets(seed)) {
         SCOPED_TRACE(name);
@@ -71,9 +69,7 @@ TYPED_TEST(bv, every_fit_contains_every_point_without_nan) {
 }
 
 TYPED_TEST(bv, ray_intervals_agree_with_point_sampling_including_axis_rays) {
-    using P = typename TestFixture::point_t;
-    using T = typename TestFixture::scalar_t;
-    constexpr std::size_t D = TestFixture::dim;
+    SPATIAL_DIMS_NAMES;
     std::mt19937_64 rng(spatial_test::test_seed(5));
     auto u = [&] { return static_cast<T>(static_cast<double>(rng() >> 11) * 0x1.0p-53); };
     aabb<T, D> box;
@@ -110,9 +106,7 @@ TYPED_TEST(bv, ray_intervals_agree_with_point_sampling_including_axis_rays) {
 }
 
 TYPED_TEST(bv, overlaps_distance_bounds_merge_and_measures) {
-    using P = typename TestFixture::point_t;
-    using T = typename TestFixture::scalar_t;
-    constexpr std::size_t D = TestFixture::dim;
+    SPATIAL_DIMS_NAMES;
     aabb<T, D> a, b;
     for (std::size_t d = 0; d < D; ++d) a.lo[d] = 0, a.hi[d] = 1, b.lo[d] = 1, b.hi[d] = 3;
     EXPECT_TRUE(a.overlaps(b));  // touching
@@ -153,52 +147,46 @@ TYPED_TEST(bv, overlaps_distance_bounds_merge_and_measures) {
 
 namespace {
 
+// The determinant of the leading k x k block of m (k <= 3), by cofactor expansion.
+double leading_det(const std::array<std::array<double, 3>, 3>& m, std::size_t k) {
+    if (k == 0) return 1;
+    if (k == 1) return m[0][0];
+    if (k == 2) return m[0][0] * m[1][1] - m[0][1] * m[1][0];
+    return m[0][0] * (m[1][1] * m[2][2] - m[1][2] * m[2][1]) - m[0][1] * (m[1][0] * m[2][2] - m[1][2] * m[2][0]) +
+           m[0][2] * (m[1][0] * m[2][1] - m[1][1] * m[2][0]);
+}
+
 // Brute-force minimum enclosing ball for tiny sets: the optimum is the circumball (in the
-// affine hull) of some subset of at most D + 1 points that contains all points.
+// affine hull) of some subset of at most D + 1 points that contains all points. The
+// circumcentre of s_0..s_k is s_0 + sum l_i e_i (e_i = s_i - s_0) where |c - s_0| = |c - s_i|,
+// i.e. sum_j 2 (e_i . e_j) l_j = |e_i|^2: solved by Cramer's rule; a (nearly) singular system
+// means the subset is affinely dependent, and a smaller subset stands for it.
 template <std::size_t D>
 double brute_min_radius(const std::vector<std::array<double, D>>& p) {
     const std::size_t n = p.size();
     double best = 1e300;
     for (std::uint32_t mask = 1; mask < (1u << n); ++mask) {
-        if (static_cast<std::size_t>(__builtin_popcount(mask)) > D + 1) continue;
         std::vector<std::array<double, D>> s;
         for (std::size_t i = 0; i < n; ++i)
             if (mask >> i & 1) s.push_back(p[i]);
+        if (s.size() > D + 1) continue;
         const std::size_t k = s.size() - 1;
+        auto e = [&](std::size_t i, std::size_t d) { return s[i + 1][d] - s[0][d]; };
+        std::array<std::array<double, 3>, 3> gram{};
+        std::array<double, 3> rhs{};
+        for (std::size_t i = 0; i < k; ++i)
+            for (std::size_t d = 0; d < D; ++d) {
+                rhs[i] += e(i, d) * e(i, d);
+                for (std::size_t j = 0; j < k; ++j) gram[i][j] += 2 * e(i, d) * e(j, d);
+            }
+        const double g = leading_det(gram, k);
+        if (std::abs(g) < 1e-12) continue;
         std::array<double, D> c = s[0];
-        if (k > 0) {  // solve 2 (v_i . v_j) l_j = |v_i|^2 by Gaussian elimination
-            std::vector<std::vector<double>> a(k, std::vector<double>(k + 1));
-            std::vector<std::array<double, D>> v(k);
-            for (std::size_t i = 0; i < k; ++i)
-                for (std::size_t d = 0; d < D; ++d) v[i][d] = s[i + 1][d] - s[0][d];
-            for (std::size_t i = 0; i < k; ++i) {
-                for (std::size_t j = 0; j < k; ++j) {
-                    double g = 0;
-                    for (std::size_t d = 0; d < D; ++d) g += v[i][d] * v[j][d];
-                    a[i][j] = 2 * g;
-                }
-                double n2 = 0;
-                for (std::size_t d = 0; d < D; ++d) n2 += v[i][d] * v[i][d];
-                a[i][k] = n2;
-            }
-            bool ok = true;
-            for (std::size_t col = 0; col < k && ok; ++col) {
-                std::size_t piv = col;
-                for (std::size_t r = col + 1; r < k; ++r)
-                    if (std::abs(a[r][col]) > std::abs(a[piv][col])) piv = r;
-                if (std::abs(a[piv][col]) < 1e-12) ok = false;
-                else {
-                    std::swap(a[col], a[piv]);
-                    for (std::size_t r = 0; r < k; ++r)
-                        if (r != col) {
-                            const double f = a[r][col] / a[col][col];
-                            for (std::size_t j = col; j <= k; ++j) a[r][j] -= f * a[col][j];
-                        }
-                }
-            }
-            if (!ok) continue;
-            for (std::size_t i = 0; i < k; ++i)
-                for (std::size_t d = 0; d < D; ++d) c[d] += a[i][k] / a[i][i] * v[i][d];
+        for (std::size_t i = 0; i < k; ++i) {
+            auto with_rhs = gram;  // column i replaced by the right-hand side
+            for (std::size_t j = 0; j < k; ++j) with_rhs[j][i] = rhs[j];
+            const double l = leading_det(with_rhs, k) / g;
+            for (std::size_t d = 0; d < D; ++d) c[d] += l * e(i, d);
         }
         double r2 = 0;
         for (std::size_t d = 0; d < D; ++d) r2 += (c[d] - s[0][d]) * (c[d] - s[0][d]);

@@ -44,6 +44,12 @@ protected:
     using point_t = spatial::point<scalar_t, dim>;
 };
 
+// The fixture's names as a typed test's body uses them: T (scalar), D (dimension), P (point).
+#define SPATIAL_DIMS_NAMES                                       \
+    using T [[maybe_unused]] = typename TestFixture::scalar_t;   \
+    [[maybe_unused]] constexpr std::size_t D = TestFixture::dim; \
+    using P [[maybe_unused]] = typename TestFixture::point_t
+
 template <class T, std::size_t D>
 using named_point_sets = std::vector<std::pair<std::string, std::vector<spatial::point<T, D>>>>;
 
@@ -103,6 +109,17 @@ std::array<std::array<double, D>, D> random_rotation(std::mt19937_64& rng, Gauss
     return m;
 }
 
+// Every 4th ray of the ray tests is an axis ray: along axis (trial / 4) % D, its other direction
+// components set to 0 (every 8th) or -0.
+template <class P>
+void make_axis_ray_every_4th(int trial, P& dir) {
+    using T = typename P::scalar_type;
+    constexpr std::size_t D = P::dimension;
+    if (trial % 4 == 0)
+        for (std::size_t d = 0; d < D; ++d)
+            if (d != static_cast<std::size_t>(trial / 4) % D) dir[d] = trial % 8 == 0 ? T(0) : T(-0.0);
+}
+
 // The ray of trial `trial` in the ray tests: origin in [-4, 4)^D and direction in [-0.5, 0.5)^D
 // from u() (drawn in the order o[0], dir[0], o[1], ...); every 4th is an axis ray whose other
 // components are 0 (every 8th) or -0.
@@ -111,9 +128,38 @@ void random_trial_ray(int trial, U&& u, P& o, P& dir) {
     using T = typename P::scalar_type;
     constexpr std::size_t D = P::dimension;
     for (std::size_t d = 0; d < D; ++d) o[d] = u() * 8 - 4, dir[d] = u() - T(0.5);
-    if (trial % 4 == 0)
-        for (std::size_t d = 0; d < D; ++d)
-            if (d != static_cast<std::size_t>(trial / 4) % D) dir[d] = trial % 8 == 0 ? T(0) : T(-0.0);
+    make_axis_ray_every_4th(trial, dir);
+}
+
+// The same with the origin in [-3, 3)^D, each coordinate drawn in double from unit(rng) and
+// rounded to T (the order o[0], dir[0], o[1], ...).
+template <class P>
+void random_trial_ray_from_doubles(int trial, std::mt19937_64& rng, P& o, P& dir) {
+    using T = typename P::scalar_type;
+    constexpr std::size_t D = P::dimension;
+    for (std::size_t c = 0; c < D; ++c)
+        o[c] = static_cast<T>(unit(rng) * 6 - 3), dir[c] = static_cast<T>(unit(rng) - 0.5);
+    make_axis_ray_every_4th(trial, dir);
+}
+
+// The line o + t dir sampled at t = k / 100, |k| <= 600: a sample inside `b` means the ray hit
+// (`hit`) and lies in its interval [t0, t1] up to 1e-3. `any_inside`: whether a sample was
+// inside. Call it in ASSERT_NO_FATAL_FAILURE.
+template <class B, class P, class T = typename P::scalar_type>
+void expect_inside_samples_in_interval(const B& b, const P& o, const P& dir, bool hit, T t0, T t1, int trial,
+                                       bool& any_inside) {
+    constexpr std::size_t D = P::dimension;
+    any_inside = false;
+    for (int k = -600; k <= 600; ++k) {
+        const T t = static_cast<T>(k) * T(0.01);
+        P p;
+        for (std::size_t c = 0; c < D; ++c) p[c] = o[c] + t * dir[c];
+        if (!b.contains(p)) continue;
+        any_inside = true;
+        ASSERT_TRUE(hit) << "missed a line through the volume, trial " << trial;
+        EXPECT_GE(t, t0 - T(1e-3));
+        EXPECT_LE(t, t1 + T(1e-3));
+    }
 }
 
 // An empty volume stays empty when transformed, and no ray meets it.
@@ -126,6 +172,24 @@ void expect_empty_stays_empty_and_is_missed(const B& e) {
     spatial::point<T, D> d{};
     d[0] = 1;
     EXPECT_FALSE(e.ray_interval(spatial::point<T, D>{}, d, t0, t1));
+}
+
+// The conventions of the empty volume `e` next to a non-empty `f`: empty, containing nothing,
+// no volume or area, overlapping nothing (f neither way round; f overlaps itself), merged with f
+// giving f (`expect_same_as_f` checks it), empty when transformed and missed by every ray.
+template <class B, class Same>
+void expect_empty_conventions(const B& e, const B& f, Same&& expect_same_as_f) {
+    using T = typename B::scalar_type;
+    constexpr std::size_t D = B::dimension;
+    EXPECT_TRUE(e.is_empty());
+    EXPECT_FALSE(e.contains(spatial::point<T, D>{}));
+    EXPECT_EQ(e.volume(), T(0));
+    EXPECT_EQ(e.surface_area(), T(0));
+    EXPECT_FALSE(e.overlaps(f));
+    EXPECT_FALSE(f.overlaps(e));
+    EXPECT_TRUE(f.overlaps(f));
+    expect_same_as_f(e.merged(f));
+    expect_empty_stays_empty_and_is_missed(e);
 }
 
 }  // namespace spatial_test

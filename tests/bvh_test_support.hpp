@@ -98,12 +98,7 @@ std::vector<std::vector<double>> signatures(const auto& range) {
     std::sort(v.begin(), v.end());
     return v;
 }
-template <class C>
-std::vector<typename C::iterator> all_iterators(const C& c) {
-    std::vector<typename C::iterator> v;
-    for (auto it = c.begin(); it != c.end(); ++it) v.push_back(it);
-    return v;
-}
+using spatial_test::all_iterators;
 
 // Queries compared with the oracle. Returns the number of ray hits seen (so callers can
 // check the scene was not trivially empty).

@@ -132,22 +132,18 @@ using trees = ::testing::Types<bvh<B3>, bvh<B3, obb<double, 3>>, bvh<objects::bo
 TYPED_TEST_SUITE(collide_pairs, trees);
 
 TYPED_TEST(collide_pairs, self_pairs_equal_brute_force_before_and_after_updates) {
-    using Tree = TypeParam;
-    using O = typename Tree::value_type;
+    using O = typename TypeParam::value_type;
     spatial_test::seeded_rng rng(101);
     std::vector<O> objects = random_objects<O>(rng, 1200);
-    Tree tree(objects.begin(), objects.end());
-    brute_force<O> oracle;
-    oracle.insert(objects.begin(), objects.end());
+    TypeParam tree(objects.begin(), objects.end());
+    brute_force<O> oracle(objects.begin(), objects.end());
     check_against_oracle(tree, oracle);
     EXPECT_GT(tree.self_pairs().size(), 20u) << "too few pairs to test anything";
 
     // Move 200, erase 100, insert 150: both containers keep slots in step (erase frees a
     // slot, the next insert reuses it in both, LIFO).
-    std::vector<typename Tree::iterator> handles;
-    for (auto it = tree.begin(); it != tree.end(); ++it) handles.push_back(it);
-    std::vector<typename brute_force<O>::iterator> oracle_handles;
-    for (auto it = oracle.begin(); it != oracle.end(); ++it) oracle_handles.push_back(it);
+    const auto handles = spatial_test::all_iterators(tree);
+    const auto oracle_handles = spatial_test::all_iterators(oracle);
     for (int k = 0; k < 200; ++k) {
         const auto i = static_cast<std::size_t>(k * 5);
         const O moved = make_object<O>::random(rng, k + 1);
@@ -170,12 +166,11 @@ TYPED_TEST(collide_pairs, self_pairs_equal_brute_force_before_and_after_updates)
 }
 
 TYPED_TEST(collide_pairs, bipartite_pairs_equal_brute_force) {
-    using Tree = TypeParam;
-    using O = typename Tree::value_type;
+    using O = typename TypeParam::value_type;
     spatial_test::seeded_rng rng(102);
     std::vector<O> a = random_objects<O>(rng, 700);
     std::vector<O> b = random_objects<O>(rng, 500, 1);
-    Tree ta(a.begin(), a.end()), tb(b.begin(), b.end());
+    TypeParam ta(a.begin(), a.end()), tb(b.begin(), b.end());
     brute_force<O> oa, ob;
     oa.insert(a.begin(), a.end());
     ob.insert(b.begin(), b.end());
@@ -200,14 +195,12 @@ using others = ::testing::Types<kd_tree<B3>, octree<B3>, uniform_grid<B3>, hashe
 TYPED_TEST_SUITE(collide_pairs_other, others);
 
 TYPED_TEST(collide_pairs_other, self_and_bipartite_pairs_equal_brute_force) {
-    using C = TypeParam;
-    using O = typename C::value_type;
+    using O = typename TypeParam::value_type;
     spatial_test::seeded_rng rng(103);
     std::vector<O> objects = random_objects<O>(rng, 1000);
-    C c;
+    TypeParam c;
     c.insert(objects.begin(), objects.end());
-    brute_force<O> oracle;
-    oracle.insert(objects.begin(), objects.end());
+    brute_force<O> oracle(objects.begin(), objects.end());
     auto check = [&] {
         const auto exact = c.self_pairs();
         expect_well_formed(exact, true);
@@ -218,8 +211,7 @@ TYPED_TEST(collide_pairs_other, self_and_bipartite_pairs_equal_brute_force) {
         return want.size();
     };
     EXPECT_GT(check(), 20u);
-    std::vector<typename C::iterator> handles;
-    for (auto it = c.begin(); it != c.end(); ++it) handles.push_back(it);
+    const auto handles = spatial_test::all_iterators(c);
     for (int k = 0; k < 100; ++k) {  // erase one copy of the same value from both
         const auto i = static_cast<std::size_t>(k * 9 + 1);
         const O gone = *handles[i];
@@ -234,8 +226,7 @@ TYPED_TEST(collide_pairs_other, self_and_bipartite_pairs_equal_brute_force) {
     ASSERT_EQ(c.size(), oracle.size());
     check();
     std::vector<O> more = random_objects<O>(rng, 300, 2);
-    brute_force<O> other;
-    other.insert(more.begin(), more.end());
+    brute_force<O> other(more.begin(), more.end());
     EXPECT_EQ(spatial_test::signature_pairs(c.pairs_with(other)), spatial_test::signature_pairs(oracle.pairs_with(other)));
 }
 
@@ -248,8 +239,7 @@ void check_handle_structure(std::uint64_t seed) {
     std::mt19937_64 rng(seed);
     std::vector<O> objects = random_objects<O>(rng, 1500);
     S<O> sap(objects.begin(), objects.end());
-    brute_force<O> oracle;
-    oracle.insert(objects.begin(), objects.end());
+    brute_force<O> oracle(objects.begin(), objects.end());
     auto check = [&] {
         const auto exact = sap.self_pairs();
         expect_well_formed(exact, true);
@@ -260,10 +250,8 @@ void check_handle_structure(std::uint64_t seed) {
         return want.size();
     };
     EXPECT_GT(check(), 20u);
-    std::vector<typename S<O>::iterator> handles;
-    for (auto it = sap.begin(); it != sap.end(); ++it) handles.push_back(it);
-    std::vector<typename brute_force<O>::iterator> oracle_handles;
-    for (auto it = oracle.begin(); it != oracle.end(); ++it) oracle_handles.push_back(it);
+    const auto handles = spatial_test::all_iterators(sap);
+    const auto oracle_handles = spatial_test::all_iterators(oracle);
     // Replace a fifth of the objects (large motion), erase some, insert some.
     for (std::size_t i = 0; i < handles.size(); i += 5) {
         const O moved = make_object<O>::random(rng, static_cast<int>(i) + 1);
@@ -298,21 +286,22 @@ void check_handle_structure(std::uint64_t seed) {
     }
 }
 
+// check_handle_structure<S, O> for each object type O, all with the same seed.
+template <template <class> class S, class... O>
+void check_handle_structure_on(std::uint64_t seed) {
+    (check_handle_structure<S, O>(seed), ...);
+}
+
 TEST(collide_sweep_and_prune, pairs_equal_brute_force_for_boxes_spheres_and_triangles) {
     const spatial_test::logged_seed seed(104);
-    check_handle_structure<sweep_and_prune, B3>(seed);
-    check_handle_structure<sweep_and_prune, objects::box<float, 2>>(seed);
-    check_handle_structure<sweep_and_prune, objects::sphere<double, 3>>(seed);
-    check_handle_structure<sweep_and_prune, objects::triangle<double, 3>>(seed);
+    check_handle_structure_on<sweep_and_prune, B3, objects::box<float, 2>, objects::sphere<double, 3>,
+                              objects::triangle<double, 3>>(seed);
 }
 
 TEST(collide_collision_grid, pairs_equal_brute_force_for_boxes_spheres_triangles_and_points) {
     const spatial_test::logged_seed seed(105);
-    check_handle_structure<collision_grid, B3>(seed);
-    check_handle_structure<collision_grid, objects::box<float, 2>>(seed);
-    check_handle_structure<collision_grid, objects::sphere<double, 3>>(seed);
-    check_handle_structure<collision_grid, objects::triangle<double, 3>>(seed);
-    check_handle_structure<collision_grid, P3>(seed);  // all extents zero, many duplicates
+    check_handle_structure_on<collision_grid, B3, objects::box<float, 2>, objects::sphere<double, 3>,
+                              objects::triangle<double, 3>, P3>(seed);  // points: all extents zero, many duplicates
 }
 
 TEST(collide_sweep_and_prune, coherent_motion_needs_few_swaps_and_the_axis_follows_the_spread) {
@@ -324,8 +313,7 @@ TEST(collide_sweep_and_prune, coherent_motion_needs_few_swaps_and_the_axis_follo
     }
     sweep_and_prune<B3> sap(boxes.begin(), boxes.end());
     EXPECT_EQ(sap.self_pairs().size(), 999u);  // each box overlaps its right neighbour only
-    std::vector<sweep_and_prune<B3>::iterator> handles;
-    for (auto it = sap.begin(); it != sap.end(); ++it) handles.push_back(it);
+    const auto handles = spatial_test::all_iterators(sap);
     for (std::size_t i = 0; i < handles.size(); i += 2) {  // every other box moves right by 0.012
         B3 b = *handles[i];
         b.lo[0] += 0.012;

@@ -313,6 +313,26 @@ struct sets_for {
             if (i < D) p[i++] = static_cast<T>(x);
         return p;
     }
+    // The 2^D corners of the unit cube (square), corner m having coordinate d = bit d of m.
+    static std::vector<P> unit_cube() {
+        std::vector<P> v;
+        for (unsigned m = 0; m < (1u << D); ++m) {
+            P p;
+            for (std::size_t d = 0; d < D; ++d) p[d] = T((m >> d) & 1);
+            v.push_back(p);
+        }
+        return v;
+    }
+    // A rotation by the angle unit(rng) * turn; in 3D about the axis
+    // (u - 0.5, u - 0.5, u - z_minus + z_plus), u = unit(rng) drawn in that order.
+    template <class Rng>
+    static rigid_transform<T, D> random_rotation(Rng& rng, double z_minus, double z_plus, double turn) {
+        if constexpr (D == 2)
+            return rigid_transform<T, D>::rotate(T(unit(rng) * turn));
+        else
+            return rigid_transform<T, D>::rotate(
+                P{{T(unit(rng) - 0.5), T(unit(rng) - 0.5), T(unit(rng) - z_minus + z_plus)}}, T(unit(rng) * turn));
+    }
     static named build(std::uint64_t seed, std::size_t n_random) {
         std::mt19937_64 rng(seed);
             auto gauss = [&] {
@@ -445,11 +465,7 @@ struct sets_for {
                 v.push_back(p);
                 if (i % 7 == 0) v.push_back(p);
             }
-            for (unsigned m = 0; m < (1u << D); ++m) {
-                P p;
-                for (std::size_t d = 0; d < D; ++d) p[d] = T((m >> d) & 1);
-                v.push_back(p);
-            }
+            for (const P& p : unit_cube()) v.push_back(p);
             out.push_back({"box faces", v});
         }
         return out;
@@ -465,8 +481,7 @@ protected:
 TYPED_TEST_SUITE(hull, spatial_test::dim_types);
 
 TYPED_TEST(hull, valid_closed_convex_and_containing_on_random_and_hard_sets) {
-    using T = typename TestFixture::scalar_t;
-    constexpr std::size_t D = TestFixture::dim;
+    SPATIAL_DIMS_NAMES;
     using H = typename TestFixture::hull_t;
     const spatial_test::logged_seed seed(11);
     for (std::uint64_t round = 0; round < 3; ++round)
@@ -479,9 +494,7 @@ TYPED_TEST(hull, valid_closed_convex_and_containing_on_random_and_hard_sets) {
 }
 
 TYPED_TEST(hull, degenerate_inputs_have_documented_dimension_and_shape) {
-    using T = typename TestFixture::scalar_t;
-    constexpr std::size_t D = TestFixture::dim;
-    using P = typename TestFixture::point_t;
+    SPATIAL_DIMS_NAMES;
     using H = typename TestFixture::hull_t;
     auto mk = sets_for<T, D>::make;
     EXPECT_TRUE(H::fit(std::vector<P>{}).is_empty());
@@ -538,9 +551,7 @@ TYPED_TEST(hull, degenerate_inputs_have_documented_dimension_and_shape) {
 // The vertex set equals the brute-force set of extreme points on small sets, including
 // degenerate ones (many coplanar / collinear / duplicate points on a small integer grid).
 TYPED_TEST(hull, vertices_are_exactly_the_extreme_points_small_sets) {
-    using T = typename TestFixture::scalar_t;
-    constexpr std::size_t D = TestFixture::dim;
-    using P = typename TestFixture::point_t;
+    SPATIAL_DIMS_NAMES;
     using H = typename TestFixture::hull_t;
     spatial_test::seeded_rng rng(12);
     for (int trial = 0; trial < 300; ++trial) {
@@ -565,9 +576,7 @@ TYPED_TEST(hull, vertices_are_exactly_the_extreme_points_small_sets) {
 }
 
 TYPED_TEST(hull, volume_matches_brute_force_facets_and_known_polytopes) {
-    using T = typename TestFixture::scalar_t;
-    constexpr std::size_t D = TestFixture::dim;
-    using P = typename TestFixture::point_t;
+    SPATIAL_DIMS_NAMES;
     using H = typename TestFixture::hull_t;
     spatial_test::seeded_rng rng(13);
     for (int trial = 0; trial < 40; ++trial) {  // general position: facets are unique triples
@@ -586,16 +595,10 @@ TYPED_TEST(hull, volume_matches_brute_force_facets_and_known_polytopes) {
     // Known polytopes: a rotated, offset unit cube (square) with interior points: volume 1;
     // the cross-polytope (octahedron / diamond) of radius 1: 4/3 in 3D, 2 in 2D.
     for (int trial = 0; trial < 10; ++trial) {
-        rigid_transform<T, D> xf;
-        if constexpr (D == 2) xf = rigid_transform<T, D>::rotate(T(unit(rng) * 6));
-        else xf = rigid_transform<T, D>::rotate(P{{T(unit(rng) - 0.5), T(unit(rng) - 0.5), T(unit(rng) + 0.1)}}, T(unit(rng) * 6));
+        rigid_transform<T, D> xf = sets_for<T, D>::random_rotation(rng, 0, 0.1, 6);
         for (std::size_t d = 0; d < D; ++d) xf.translation[d] = T(unit(rng) * 10);
         std::vector<P> pts;
-        for (unsigned m = 0; m < (1u << D); ++m) {
-            P p;
-            for (std::size_t d = 0; d < D; ++d) p[d] = T((m >> d) & 1);
-            pts.push_back(xf.apply(p));
-        }
+        for (const P& p : sets_for<T, D>::unit_cube()) pts.push_back(xf.apply(p));
         for (int i = 0; i < 100; ++i) {
             P p;
             for (std::size_t d = 0; d < D; ++d) p[d] = T(0.05 + 0.9 * unit(rng));
@@ -635,17 +638,10 @@ TYPED_TEST(hull, volume_matches_brute_force_facets_and_known_polytopes) {
 // Exact touching (cubes sharing a face, an edge, a corner; random integer hulls placed so a
 // vertex lies on the other's facet plane) overlaps; a clear gap does not; penetration does.
 TYPED_TEST(hull, overlaps_touching_pairs_and_gaps) {
-    using T = typename TestFixture::scalar_t;
-    constexpr std::size_t D = TestFixture::dim;
-    using P = typename TestFixture::point_t;
+    SPATIAL_DIMS_NAMES;
     using H = typename TestFixture::hull_t;
     spatial_test::seeded_rng rng(14);
-    std::vector<P> cube;
-    for (unsigned m = 0; m < (1u << D); ++m) {
-        P p;
-        for (std::size_t d = 0; d < D; ++d) p[d] = T((m >> d) & 1);
-        cube.push_back(p);
-    }
+    const std::vector<P> cube = sets_for<T, D>::unit_cube();
     const H a = H::fit(cube);
     const T gap = sizeof(T) == 4 ? T(1e-4) : T(1e-9);
     for (unsigned m = 1; m < (1u << D); ++m) {  // face, edge, corner contact
@@ -738,18 +734,14 @@ TYPED_TEST(hull, overlaps_touching_pairs_and_gaps) {
 }
 
 TYPED_TEST(hull, overlaps_matches_separating_axis_reference_on_random_rotated_pairs) {
-    using T = typename TestFixture::scalar_t;
-    constexpr std::size_t D = TestFixture::dim;
-    using P = typename TestFixture::point_t;
+    SPATIAL_DIMS_NAMES;
     using H = typename TestFixture::hull_t;
     spatial_test::seeded_rng rng(15);
     int both = 0, neither = 0;
     for (int trial = 0; trial < 400; ++trial) {
         auto make = [&](double cx) {
             std::vector<P> v(4 + rng() % 8);
-            rigid_transform<T, D> xf;
-            if constexpr (D == 2) xf = rigid_transform<T, D>::rotate(T(unit(rng) * 6.3));
-            else xf = rigid_transform<T, D>::rotate(P{{T(unit(rng) - 0.5), T(unit(rng) - 0.5), T(unit(rng) - 0.5 + 1e-3)}}, T(unit(rng) * 6.3));
+            const rigid_transform<T, D> xf = sets_for<T, D>::random_rotation(rng, 0.5, 1e-3, 6.3);
             const double sx = 0.2 + unit(rng), sy = 0.2 + unit(rng);
             for (auto& p : v) {
                 P q;
@@ -780,17 +772,10 @@ TYPED_TEST(hull, overlaps_matches_separating_axis_reference_on_random_rotated_pa
 }
 
 TYPED_TEST(hull, overlaps_with_flat_and_point_hulls) {
-    using T = typename TestFixture::scalar_t;
-    constexpr std::size_t D = TestFixture::dim;
-    using P = typename TestFixture::point_t;
+    SPATIAL_DIMS_NAMES;
     using H = typename TestFixture::hull_t;
     auto mk = sets_for<T, D>::make;
-    std::vector<P> cube;
-    for (unsigned m = 0; m < (1u << D); ++m) {
-        P p;
-        for (std::size_t d = 0; d < D; ++d) p[d] = T((m >> d) & 1);
-        cube.push_back(p);
-    }
+    const std::vector<P> cube = sets_for<T, D>::unit_cube();
     const H c = H::fit(cube);
     const H inside = H::fit(std::vector<P>{mk({0.5, 0.5, 0.5})});
     const H on_face = H::fit(std::vector<P>{mk({1, 0.5, 0.5})});
@@ -821,9 +806,7 @@ TYPED_TEST(hull, overlaps_with_flat_and_point_hulls) {
 }
 
 TYPED_TEST(hull, ray_intervals_agree_with_point_sampling) {
-    using T = typename TestFixture::scalar_t;
-    constexpr std::size_t D = TestFixture::dim;
-    using P = typename TestFixture::point_t;
+    SPATIAL_DIMS_NAMES;
     using H = typename TestFixture::hull_t;
     spatial_test::seeded_rng rng(16);
     auto u = [&] { return static_cast<T>(unit(rng)); };
@@ -872,12 +855,7 @@ TYPED_TEST(hull, ray_intervals_agree_with_point_sampling) {
     }
     EXPECT_GT(hits, 30);
     // A unit box: exact entry/exit; a grazing ray along a face is a hit; parallel outside is not.
-    std::vector<P> cube;
-    for (unsigned m = 0; m < (1u << D); ++m) {
-        P p;
-        for (std::size_t d = 0; d < D; ++d) p[d] = T((m >> d) & 1);
-        cube.push_back(p);
-    }
+    const std::vector<P> cube = sets_for<T, D>::unit_cube();
     const H c = H::fit(cube);
     auto mk = sets_for<T, D>::make;
     T t0, t1;
@@ -893,9 +871,7 @@ TYPED_TEST(hull, ray_intervals_agree_with_point_sampling) {
 }
 
 TYPED_TEST(hull, distance_lower_bound_is_valid_and_tight_along_facet_normals) {
-    using T = typename TestFixture::scalar_t;
-    constexpr std::size_t D = TestFixture::dim;
-    using P = typename TestFixture::point_t;
+    SPATIAL_DIMS_NAMES;
     using H = typename TestFixture::hull_t;
     spatial_test::seeded_rng rng(17);
     std::vector<P> pts(200);
@@ -942,9 +918,7 @@ TYPED_TEST(hull, distance_lower_bound_is_valid_and_tight_along_facet_normals) {
 }
 
 TYPED_TEST(hull, merged_contains_both_and_transformed_contains_moved_points) {
-    using T = typename TestFixture::scalar_t;
-    constexpr std::size_t D = TestFixture::dim;
-    using P = typename TestFixture::point_t;
+    SPATIAL_DIMS_NAMES;
     using H = typename TestFixture::hull_t;
     spatial_test::seeded_rng rng(18);
     const double offsets[3] = {0, 1e3, sizeof(T) == 4 ? 1e5 : 1e8};
@@ -971,9 +945,7 @@ TYPED_TEST(hull, merged_contains_both_and_transformed_contains_moved_points) {
         EXPECT_TRUE(a.merged(H::empty()).contains(pa[0]));
         EXPECT_TRUE(H::empty().merged(a).contains(pa[0]));
 
-        rigid_transform<T, D> xf;
-        if constexpr (D == 2) xf = rigid_transform<T, D>::rotate(T(unit(rng) * 6.3));
-        else xf = rigid_transform<T, D>::rotate(P{{T(unit(rng) - 0.5), T(unit(rng) - 0.5), T(unit(rng) + 0.01)}}, T(unit(rng) * 6.3));
+        rigid_transform<T, D> xf = sets_for<T, D>::random_rotation(rng, 0, 0.01, 6.3);
         for (std::size_t d = 0; d < D; ++d) xf.translation[d] = T(unit(rng) * 100 - 50);
         const H moved = a.transformed(xf);
         for (const auto& p : pa) ASSERT_TRUE(moved.contains(xf.apply(p))) << "trial " << trial;
@@ -992,8 +964,7 @@ TYPED_TEST(hull, merged_contains_both_and_transformed_contains_moved_points) {
 // 1e4-point sets of each distribution: fast enough, valid (sampled exact checks), and the
 // same hull (vertex set) whatever the input order.
 TYPED_TEST(hull, larger_sets_are_valid_and_order_independent) {
-    using T = typename TestFixture::scalar_t;
-    constexpr std::size_t D = TestFixture::dim;
+    SPATIAL_DIMS_NAMES;
     using H = typename TestFixture::hull_t;
     const spatial_test::logged_seed seed(19);
     std::mt19937_64 rng(seed);
@@ -1016,9 +987,7 @@ TYPED_TEST(hull, larger_sets_are_valid_and_order_independent) {
 // start vertex, also on hulls of near-duplicate clusters where rounding makes neighbouring
 // vertices look equal (axis directions give exact ties).
 TYPED_TEST(hull, support_index_reaches_the_maximum_from_any_start) {
-    using T = typename TestFixture::scalar_t;
-    constexpr std::size_t D = TestFixture::dim;
-    using P = typename TestFixture::point_t;
+    SPATIAL_DIMS_NAMES;
     using H = typename TestFixture::hull_t;
     spatial_test::seeded_rng rng(22);
     for (int trial = 0; trial < 6; ++trial) {
@@ -1062,8 +1031,7 @@ TYPED_TEST(hull, support_index_reaches_the_maximum_from_any_start) {
 }
 
 TYPED_TEST(hull, rejects_non_finite_input) {
-    using T = typename TestFixture::scalar_t;
-    using P = typename TestFixture::point_t;
+    SPATIAL_DIMS_NAMES;
     using H = typename TestFixture::hull_t;
     std::vector<P> pts(3);
     pts[1][0] = std::numeric_limits<T>::quiet_NaN();

@@ -226,8 +226,7 @@ TEST(kd_tree_objects, objects_exactly_on_split_planes_and_rays_along_them) {
     }
 }
 
-template <class T>
-class kd_tree_objects_scale : public ::testing::Test {};
+template <class T> using kd_tree_objects_scale = spatial_test::plain_typed_suite<T>;
 TYPED_TEST_SUITE(kd_tree_objects_scale, spatial_test::scalar_types);
 
 // Huge (offset 1e15 for double, 1e7 for float so that objects stay resolvable) and tiny (1e-15)

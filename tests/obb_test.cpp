@@ -282,8 +282,7 @@ protected:
 TYPED_TEST_SUITE(obb_typed, spatial_test::dim_types);
 
 TYPED_TEST(obb_typed, every_fit_contains_every_point_without_nan) {
-    using T = typename TestFixture::scalar_t;
-    constexpr std::size_t D = TestFixture::dim;
+    SPATIAL_DIMS_NAMES;
     const spatial_test::logged_seed seed(71);
     constexpr double eps = std::numeric_limits<T>::epsilon();
     const double ortho_tol = sizeof(T) == 4 ? 1e-6 : 1e-14;
@@ -340,10 +339,8 @@ TYPED_TEST(obb_typed, fits_reject_non_finite_input_and_bad_parameters) {
 }
 
 TYPED_TEST(obb_typed, empty_box_conventions_and_measures) {
-    using T = typename TestFixture::scalar_t;
-    using P = typename TestFixture::point_t;
+    SPATIAL_DIMS_NAMES;
     using B = typename TestFixture::box_t;
-    constexpr std::size_t D = TestFixture::dim;
     const B e = B::empty();
     EXPECT_TRUE(e.is_empty());
     EXPECT_TRUE(B{}.is_empty());
@@ -463,8 +460,7 @@ TEST(obb_min_area, large_circle_uses_every_hull_edge) {
 // ---- 3D: principal-axes search vs PCA, and every fit vs a brute-force best -------------
 
 TYPED_TEST(obb_typed, principal_axes_search_is_never_larger_than_pca) {
-    using T = typename TestFixture::scalar_t;
-    constexpr std::size_t D = TestFixture::dim;
+    SPATIAL_DIMS_NAMES;
     const spatial_test::logged_seed seed(1996);
     auto sets = TestFixture::sets(seed);
     std::mt19937_64 rng(seed);
@@ -654,9 +650,8 @@ void check_pair(const obb<T, D>& a, const obb<T, D>& b, sat_stats<T, D>& st, con
 }
 
 TYPED_TEST(obb_typed, sat_has_no_false_negatives_against_exact_reference) {
-    using T = typename TestFixture::scalar_t;
+    SPATIAL_DIMS_NAMES;
     using B = typename TestFixture::box_t;
-    constexpr std::size_t D = TestFixture::dim;
     spatial_test::seeded_rng rng(1996);
     auto rand_h = [&] {
         std::array<double, D> h;
@@ -787,10 +782,8 @@ TYPED_TEST(obb_typed, sat_has_no_false_negatives_against_exact_reference) {
 // ---- rays, distances, merge, transform ----------------------------------------------------
 
 TYPED_TEST(obb_typed, ray_intervals_match_exact_slabs_and_sampling) {
-    using T = typename TestFixture::scalar_t;
-    using P = typename TestFixture::point_t;
+    SPATIAL_DIMS_NAMES;
     using B = typename TestFixture::box_t;
-    constexpr std::size_t D = TestFixture::dim;
     spatial_test::seeded_rng rng(1986);
     const double tol = sizeof(T) == 4 ? 1e-4 : 1e-10;
     for (int trial = 0; trial < 600; ++trial) {
@@ -895,9 +888,7 @@ TYPED_TEST(obb_typed, ray_intervals_match_exact_slabs_and_sampling) {
 }
 
 TYPED_TEST(obb_typed, distance_lower_bound_is_a_tight_lower_bound) {
-    using T = typename TestFixture::scalar_t;
-    using P = typename TestFixture::point_t;
-    constexpr std::size_t D = TestFixture::dim;
+    SPATIAL_DIMS_NAMES;
     spatial_test::seeded_rng rng(44);
     const double tol = sizeof(T) == 4 ? 1e-5 : 1e-12;
     for (int trial = 0; trial < 2000; ++trial) {
@@ -926,10 +917,8 @@ TYPED_TEST(obb_typed, distance_lower_bound_is_a_tight_lower_bound) {
 }
 
 TYPED_TEST(obb_typed, merged_contains_both_and_transformed_contains_the_moved_box) {
-    using T = typename TestFixture::scalar_t;
-    using P = typename TestFixture::point_t;
+    SPATIAL_DIMS_NAMES;
     using B = typename TestFixture::box_t;
-    constexpr std::size_t D = TestFixture::dim;
     spatial_test::seeded_rng rng(77);
     auto random_box = [&](double offset, double size) {
         std::array<double, D> c{}, h{};

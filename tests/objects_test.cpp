@@ -9,6 +9,7 @@
 #include <limits>
 #include <map>
 #include <random>
+#include <source_location>
 #include <vector>
 
 #include "spatial/brute/brute_force.hpp"
@@ -38,6 +39,22 @@ namespace {
 P3 p3(double x, double y, double z) { return P3{{x, y, z}}; }
 P2 p2(double x, double y) { return P2{{x, y}}; }
 
+// The random geometry of the triangle and split tests: uniform draws in [-1, 1) from a
+// seeded_rng (its seed logged as for the test's own line), points of three draws and triangles
+// of three such points.
+class uniform_draws {
+public:
+    explicit uniform_draws(std::uint64_t seed, std::source_location where = std::source_location::current())
+        : rng_(seed, where) {}
+    double operator()() { return u_(rng_); }
+    P3 point() { return p3(u_(rng_), u_(rng_), u_(rng_)); }
+    triangle<double, 3> triangle3() { return triangle<double, 3>(point(), point(), point()); }
+
+private:
+    spatial_test::seeded_rng rng_;
+    std::uniform_real_distribution<double> u_{-1, 1};
+};
+
 template <class T>
 bool any_hit(const std::vector<triangle<T, 3>>& mesh, const point<T, 3>& o, const point<T, 3>& d) {
     for (const auto& tri : mesh) {
@@ -51,8 +68,7 @@ bool any_hit(const std::vector<triangle<T, 3>>& mesh, const point<T, 3>& o, cons
 
 // ---- triangle: watertightness ------------------------------------------------------------
 
-template <class T>
-class watertight : public ::testing::Test {};
+template <class T> using watertight = spatial_test::plain_typed_suite<T>;
 TYPED_TEST_SUITE(watertight, spatial_test::scalar_types);
 
 TYPED_TEST(watertight, rays_from_inside_through_every_vertex_and_along_every_edge_hit_the_closed_mesh) {
@@ -110,16 +126,15 @@ TYPED_TEST(watertight, axis_rays_with_zero_and_negative_zero_components_hit_the_
 // ---- triangle: ray against an independent plane computation ------------------------------
 
 TEST(triangle_ray, hit_time_matches_the_plane_and_barycentric_test_on_random_rays) {
-    spatial_test::seeded_rng rng(7);
-    std::uniform_real_distribution<double> u(-1, 1);
+    uniform_draws u(7);
     int hits = 0, misses = 0;
     for (int i = 0; i < 20000; ++i) {
-        const triangle<double, 3> tri(p3(u(rng), u(rng), u(rng)), p3(u(rng), u(rng), u(rng)), p3(u(rng), u(rng), u(rng)));
-        const P3 o = p3(3 * u(rng), 3 * u(rng), 3 * u(rng));
+        const triangle<double, 3> tri = u.triangle3();
+        const P3 o = p3(3 * u(), 3 * u(), 3 * u());
         // Half the rays aim at a point near the triangle (barycentrics in [-0.2, 1.2]).
-        P3 d = p3(u(rng), u(rng), u(rng));
+        P3 d = u.point();
         if (i % 2 == 0) {
-            const double a = 0.7 * u(rng) + 0.5, b = 0.7 * u(rng) + 0.5;
+            const double a = 0.7 * u() + 0.5, b = 0.7 * u() + 0.5;
             for (int k = 0; k < 3; ++k)
                 d[k] = tri.vertex(0)[k] + a * (tri.vertex(1)[k] - tri.vertex(0)[k]) +
                        b * (tri.vertex(2)[k] - tri.vertex(0)[k]) - o[k];
@@ -190,11 +205,10 @@ TEST(triangle_ray, thick_ray_first_contact_is_at_distance_thickness) {
 // ---- triangle: distance, overlap, split ----------------------------------------------------
 
 TEST(triangle_geometry, squared_distance_is_the_minimum_over_a_dense_sample_and_a_lower_bound_of_it) {
-    spatial_test::seeded_rng rng(11);
-    std::uniform_real_distribution<double> u(-1, 1);
+    uniform_draws u(11);
     for (int i = 0; i < 300; ++i) {
-        const triangle<double, 3> tri(p3(u(rng), u(rng), u(rng)), p3(u(rng), u(rng), u(rng)), p3(u(rng), u(rng), u(rng)));
-        const P3 q = p3(2 * u(rng), 2 * u(rng), 2 * u(rng));
+        const triangle<double, 3> tri = u.triangle3();
+        const P3 q = p3(2 * u(), 2 * u(), 2 * u());
         double best = std::numeric_limits<double>::infinity();
         const int n = 120;
         for (int a = 0; a <= n; ++a)
@@ -255,18 +269,17 @@ bool clip_overlaps(const triangle<double, D>& tri, const point<double, D>& lo, c
 }  // namespace
 
 TEST(triangle_geometry, box_overlap_agrees_with_polygon_clipping_in_2d_and_3d) {
-    spatial_test::seeded_rng rng(13);
-    std::uniform_real_distribution<double> u(-1, 1);
+    uniform_draws u(13);
     int yes = 0, no = 0;
     for (int i = 0; i < 20000; ++i) {
-        const triangle<double, 3> t3(p3(u(rng), u(rng), u(rng)), p3(u(rng), u(rng), u(rng)), p3(u(rng), u(rng), u(rng)));
-        const P3 c = p3(u(rng), u(rng), u(rng));
-        const double h = 0.05 + 0.3 * (u(rng) + 1);
+        const triangle<double, 3> t3 = u.triangle3();
+        const P3 c = u.point();
+        const double h = 0.05 + 0.3 * (u() + 1);
         const P3 lo = p3(c[0] - h, c[1] - h * 0.7, c[2] - h * 0.4), hi = p3(c[0] + h, c[1] + h * 0.7, c[2] + h * 0.4);
         const bool expect3 = clip_overlaps(t3, lo, hi);
         ASSERT_EQ(t3.overlaps_box(lo, hi), expect3) << "3D case " << i;
         (expect3 ? yes : no)++;
-        const triangle<double, 2> t2(p2(u(rng), u(rng)), p2(u(rng), u(rng)), p2(u(rng), u(rng)));
+        const triangle<double, 2> t2(p2(u(), u()), p2(u(), u()), p2(u(), u()));
         const P2 lo2 = p2(lo[0], lo[1]), hi2 = p2(hi[0], hi[1]);
         ASSERT_EQ(t2.overlaps_box(lo2, hi2), clip_overlaps(t2, lo2, hi2)) << "2D case " << i;
     }
@@ -275,13 +288,12 @@ TEST(triangle_geometry, box_overlap_agrees_with_polygon_clipping_in_2d_and_3d) {
 }
 
 TEST(triangle_geometry, split_boxes_contain_every_sampled_point_of_their_side) {
-    spatial_test::seeded_rng rng(17);
-    std::uniform_real_distribution<double> u(-1, 1);
+    uniform_draws u(17);
     for (int i = 0; i < 500; ++i) {
-        const triangle<double, 3> tri(p3(u(rng), u(rng), u(rng)), p3(u(rng), u(rng), u(rng)), p3(u(rng), u(rng), u(rng)));
-        double normal[3] = {u(rng), u(rng), u(rng)};
+        const triangle<double, 3> tri = u.triangle3();
+        double normal[3] = {u(), u(), u()};
         if (i % 3 == 0) normal[0] = normal[1] = 0, normal[2] = i % 2 ? 1 : -1;  // axis-aligned planes too
-        const double offset = 0.5 * u(rng);
+        const double offset = 0.5 * u();
         box<double, 3> left, right;
         tri.split(normal, offset, left, right);
         const int n = 40;
@@ -360,20 +372,19 @@ TEST(sphere_object, a_tiny_sphere_far_from_the_origin_is_still_hit_stable_form) 
 }
 
 TEST(sphere_object, bounds_contain_the_ball_and_split_caps_contain_sampled_points) {
-    spatial_test::seeded_rng rng(19);
-    std::uniform_real_distribution<double> u(-1, 1);
+    uniform_draws u(19);
     for (int i = 0; i < 300; ++i) {
-        const sphere<double, 3> s(p3(u(rng) * 1e3, u(rng), u(rng)), 0.1 + (u(rng) + 1) / 2);
+        const sphere<double, 3> s(p3(u() * 1e3, u(), u()), 0.1 + (u() + 1) / 2);
         const int axis = i % 3;
         double normal[3] = {0, 0, 0};
         normal[axis] = i % 2 ? 2.0 : -0.5;
-        const double offset = normal[axis] * (s.center()[axis] + 0.8 * s.radius() * u(rng));
+        const double offset = normal[axis] * (s.center()[axis] + 0.8 * s.radius() * u());
         box<double, 3> left, right;
         s.split(normal, offset, left, right);
         for (int k = 0; k < 2000; ++k) {
-            P3 dir = p3(u(rng), u(rng), u(rng));
+            P3 dir = u.point();
             const double n = std::sqrt(dir[0] * dir[0] + dir[1] * dir[1] + dir[2] * dir[2]);
-            const double r = s.radius() * std::cbrt((u(rng) + 1) / 2);
+            const double r = s.radius() * std::cbrt((u() + 1) / 2);
             P3 x;
             for (int j = 0; j < 3; ++j) x[j] = s.center()[j] + dir[j] / n * r;
             if (k % 10 == 0) x = [&] { P3 y = x; for (int j = 0; j < 3; ++j) y[j] = s.center()[j] + dir[j] / n * s.radius(); return y; }();

@@ -667,23 +667,18 @@ TEST(scene_errors, effect_specific_checks) {
 
 // ---- generation ------------------------------------------------------------------------------
 
+// One of the twin scene's two box sets: the same keys whatever the name.
+std::string twin_box_set(std::string_view name) {
+    const std::string name_line = "name = \"" + std::string(name) + "\"";
+    return lines_of({"[[objects]]", name_line, "kind = \"box\"", "count = 500", "size = 0.05", "size_distribution = \"uniform\""});
+}
+
 // Two sets with the same keys (different names), plus a triangle set and a point set.
 const std::string twin_scene = lines_of({
     "[scene]",
     "seed = 99",
     "domain = { lo = [-2, 0, 0], hi = [2, 1, 3] }",
-    "[[objects]]",
-    "name = \"a\"",
-    "kind = \"box\"",
-    "count = 500",
-    "size = 0.05",
-    "size_distribution = \"uniform\"",
-    "[[objects]]",
-    "name = \"b\"",
-    "kind = \"box\"",
-    "count = 500",
-    "size = 0.05",
-    "size_distribution = \"uniform\"",
+}) + twin_box_set("a") + twin_box_set("b") + lines_of({
     "[[objects]]",
     "name = \"t\"",
     "kind = \"triangle\"",

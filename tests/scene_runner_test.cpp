@@ -34,22 +34,29 @@ scene_counters run(const std::string& toml, harness::scene_run_options o = quiet
     return k;
 }
 
-const std::string boxes_set = R"(
-[[objects]]
-name = "boxes"
-kind = "box"
-count = 300
-size = 0.08
-)";
+// The [scene] table of a scene of `steps` steps.
+std::string scene_of_steps(int steps) { return "[scene]\nsteps = " + std::to_string(steps) + "\n"; }
+
+// An [[objects]] table: `count` generated objects of `kind`, of `size` (TOML text; none for
+// points), moving by `motion` (the inside of its inline table) when one is given.
+std::string objects_table(const std::string& name, const std::string& kind, int count, const std::string& size = "",
+                          const std::string& motion = "") {
+    std::string t =
+        "[[objects]]\nname = \"" + name + "\"\nkind = \"" + kind + "\"\ncount = " + std::to_string(count) + "\n";
+    if (!size.empty()) t += "size = " + size + "\n";
+    if (!motion.empty()) t += "motion = { " + motion + " }\n";
+    return t;
+}
+
+// An [effects.collide] table testing the pairs `between` (TOML text) with `filter`.
+std::string collide_effect(const std::string& between, const std::string& filter) {
+    return "[effects.collide]\nbetween = " + between + "\nfilter = \"" + filter + "\"\n";
+}
+
+const std::string boxes_set = objects_table("boxes", "box", 300, "0.08");
 
 TEST(scene_runner, a_static_scene_with_rays_only_moves_nothing_and_tests_no_pairs) {
-    const auto k = run(R"(
-[scene]
-steps = 4
-)" + boxes_set + R"(
-[effects.raycast]
-rays_per_step = 50
-)");
+    const auto k = run(scene_of_steps(4) + boxes_set + "[effects.raycast]\nrays_per_step = 50\n");
     EXPECT_EQ(k.motion_steps, 0u);
     EXPECT_EQ(k.index_updates, 0u);
     EXPECT_EQ(k.index_builds, 1u);
@@ -60,55 +67,24 @@ rays_per_step = 50
 }
 
 TEST(scene_runner, candidate_pairs_run_no_narrow_phase_and_exact_pairs_do) {
-    const std::string moving = R"(
-[scene]
-steps = 5
-[[objects]]
-name = "boxes"
-kind = "box"
-count = 400
-size = 0.06
-motion = { kind = "linear", speed = 1.0 }
-)";
-    const auto candidates = run(moving + R"(
-[effects.collide]
-between = [["boxes", "boxes"]]
-filter = "candidates"
-)");
+    const std::string moving =
+        scene_of_steps(5) + objects_table("boxes", "box", 400, "0.06", "kind = \"linear\", speed = 1.0");
+    const auto candidates = run(moving + collide_effect(R"([["boxes", "boxes"]])", "candidates"));
     EXPECT_EQ(candidates.narrow_phase_tests, 0u);
     EXPECT_EQ(candidates.broad_phase_queries, 5u);
     EXPECT_EQ(candidates.motion_steps, 5u);
     EXPECT_EQ(candidates.index_updates, 5u);
     EXPECT_EQ(candidates.rays_cast, 0u);
-    const auto exact = run(moving + R"(
-[effects.collide]
-between = [["boxes", "boxes"]]
-filter = "exact"
-)");
+    const auto exact = run(moving + collide_effect(R"([["boxes", "boxes"]])", "exact"));
     EXPECT_GT(exact.narrow_phase_tests, 0u);
     EXPECT_EQ(exact.broad_phase_queries, 5u);
 }
 
 TEST(scene_runner, no_index_for_a_set_nobody_queries_and_no_update_for_a_static_set) {
-    const auto k = run(R"(
-[scene]
-steps = 3
-[[objects]]
-name = "queried"
-kind = "sphere"
-count = 200
-size = 0.03
-motion = { kind = "random_walk", speed = 0.5 }
-[[objects]]
-name = "ignored"
-kind = "box"
-count = 500
-size = 0.05
-motion = { kind = "linear", speed = 0.5 }
-[[objects]]
-name = "still"
-kind = "point"
-count = 100
+    const auto k = run(scene_of_steps(3) +
+                       objects_table("queried", "sphere", 200, "0.03", "kind = \"random_walk\", speed = 0.5") +
+                       objects_table("ignored", "box", 500, "0.05", "kind = \"linear\", speed = 0.5") +
+                       objects_table("still", "point", 100) + R"(
 [effects.nearest]
 target = "queried"
 queries_per_step = 20
@@ -127,28 +103,11 @@ half_extent = 0.2
 }
 
 TEST(scene_runner, churn_is_counted_and_every_structure_reports_the_same_exact_pairs) {
-    const std::string scene = R"(
-[scene]
-steps = 4
-[[objects]]
-name = "balls"
-kind = "sphere"
-count = 300
-size = 0.04
-motion = { kind = "linear", speed = 0.8 }
-[[objects]]
-name = "boxes"
-kind = "box"
-count = 200
-size = 0.06
-[effects.churn]
-target = "balls"
-inserts_per_step = 7
-erases_per_step = 5
-[effects.collide]
-between = [["balls", "balls"], ["balls", "boxes"]]
-filter = "exact"
-)";
+    const std::string scene = scene_of_steps(4) +
+                              objects_table("balls", "sphere", 300, "0.04", "kind = \"linear\", speed = 0.8") +
+                              objects_table("boxes", "box", 200, "0.06") +
+                              "[effects.churn]\ntarget = \"balls\"\ninserts_per_step = 7\nerases_per_step = 5\n" +
+                              collide_effect(R"([["balls", "balls"], ["balls", "boxes"]])", "exact");
     const auto k = run(scene, quiet({"all"}));  // throws validation_error if any two disagree
     const std::size_t structures = harness::scene_structure_names().size();
     EXPECT_EQ(k.churn_inserts, structures * 4u * 7u);
@@ -157,7 +116,7 @@ filter = "exact"
 }
 
 TEST(scene_runner, structures_that_cannot_answer_an_effect_are_refused_by_name) {
-    const std::string scene = "[scene]\nsteps = 1\n" + boxes_set + "\n[effects.raycast]\nrays_per_step = 5\n";
+    const std::string scene = scene_of_steps(1) + boxes_set + "\n[effects.raycast]\nrays_per_step = 5\n";
     scene_counters k;
     const auto description = datasets::parse_scene(scene, "test.toml");
     try {

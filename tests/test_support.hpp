@@ -34,6 +34,19 @@ using B3 = spatial::objects::box<double, 3>;
 // The type list of suites typed on the scalar alone.
 using scalar_types = ::testing::Types<float, double>;
 
+// Every stored element's iterator (handle), in iteration order.
+template <class C>
+std::vector<typename C::iterator> all_iterators(const C& c) {
+    std::vector<typename C::iterator> v;
+    for (auto it = c.begin(); it != c.end(); ++it) v.push_back(it);
+    return v;
+}
+
+// The fixture of a typed suite that needs nothing of its own; the suite names it with
+// `template <class T> using my_suite = spatial_test::plain_typed_suite<T>;`.
+template <class T>
+class plain_typed_suite : public ::testing::Test {};
+
 // A user-defined point type that models spatial::point_object WITHOUT being spatial::point:
 // it carries a payload (excluded from geometry, included in equality).
 struct tagged_point {

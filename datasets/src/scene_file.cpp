@@ -526,46 +526,51 @@ private:
         t.allow_only({"collide", "raycast", "nearest", "range", "churn"});
         if (const auto* c = t.table("collide")) scene.collide = parse_collide(table_reader(*this, *c, "[effects.collide]"), scene);
         if (const auto* r = t.table("raycast")) scene.raycast = parse_raycast(table_reader(*this, *r, "[effects.raycast]"), scene);
-        if (const auto* n = t.table("nearest")) {
-            const table_reader e(*this, *n, "[effects.nearest]");
-            e.allow_only({"target", "queries_per_step", "k"});
-            nearest_effect effect;
-            effect.position = e.position();
-            effect.target = target_set(e, scene);
-            effect.queries_per_step = e.required_count("queries_per_step", 1);
-            effect.k = e.count("k", 1, effect.k);
-            scene.nearest = effect;
-        }
-        if (const auto* r = t.table("range")) {
-            const table_reader e(*this, *r, "[effects.range]");
-            e.allow_only({"target", "queries_per_step", "half_extent"});
-            range_effect effect;
-            effect.position = e.position();
-            effect.target = target_set(e, scene);
-            effect.queries_per_step = e.required_count("queries_per_step", 1);
-            effect.half_extent = e.required_number("half_extent");
-            if (!(effect.half_extent > 0))
-                e.fail_key("half_extent", "must be > 0 (got " + format_number(effect.half_extent) + ")");
-            scene.range = effect;
-        }
-        if (const auto* c = t.table("churn")) {
-            const table_reader e(*this, *c, "[effects.churn]");
-            e.allow_only({"target", "inserts_per_step", "erases_per_step"});
-            churn_effect effect;
-            effect.position = e.position();
-            effect.target = target_set(e, scene);
-            if (scene.objects[effect.target].is_mesh())
-                e.fail(position_of(e.node("target")->source()),
-                       "'target' must be a generator set: churn draws new objects like the set's initial ones, "
-                       "and '" + scene.objects[effect.target].name + "' is a mesh");
-            effect.inserts_per_step = e.count("inserts_per_step", 0, 0);
-            effect.erases_per_step = e.count("erases_per_step", 0, 0);
-            if (effect.inserts_per_step == 0 && effect.erases_per_step == 0)
-                e.fail(e.position(), "needs inserts_per_step or erases_per_step > 0 (otherwise it does nothing)");
-            scene.churn = effect;
-        }
+        if (const auto* n = t.table("nearest")) scene.nearest = parse_nearest(table_reader(*this, *n, "[effects.nearest]"), scene);
+        if (const auto* r = t.table("range")) scene.range = parse_range(table_reader(*this, *r, "[effects.range]"), scene);
+        if (const auto* c = t.table("churn")) scene.churn = parse_churn(table_reader(*this, *c, "[effects.churn]"), scene);
         if (!scene.collide && !scene.raycast && !scene.nearest && !scene.range && !scene.churn)
             t.fail(t.position(), "asks for no effect: add at least one of collide, raycast, nearest, range, churn");
+    }
+
+    // An effect on one set: only the keys `allowed`, its position, and its 'target'.
+    template <class Effect>
+    Effect targeted_effect(const table_reader& t, const scene_description& scene,
+                           std::initializer_list<std::string_view> allowed) const {
+        t.allow_only(allowed);
+        Effect effect;
+        effect.position = t.position();
+        effect.target = target_set(t, scene);
+        return effect;
+    }
+
+    nearest_effect parse_nearest(const table_reader& t, const scene_description& scene) const {
+        auto effect = targeted_effect<nearest_effect>(t, scene, {"target", "queries_per_step", "k"});
+        effect.queries_per_step = t.required_count("queries_per_step", 1);
+        effect.k = t.count("k", 1, effect.k);
+        return effect;
+    }
+
+    range_effect parse_range(const table_reader& t, const scene_description& scene) const {
+        auto effect = targeted_effect<range_effect>(t, scene, {"target", "queries_per_step", "half_extent"});
+        effect.queries_per_step = t.required_count("queries_per_step", 1);
+        effect.half_extent = t.required_number("half_extent");
+        if (!(effect.half_extent > 0))
+            t.fail_key("half_extent", "must be > 0 (got " + format_number(effect.half_extent) + ")");
+        return effect;
+    }
+
+    churn_effect parse_churn(const table_reader& t, const scene_description& scene) const {
+        auto effect = targeted_effect<churn_effect>(t, scene, {"target", "inserts_per_step", "erases_per_step"});
+        if (scene.objects[effect.target].is_mesh())
+            t.fail(position_of(t.node("target")->source()),
+                   "'target' must be a generator set: churn draws new objects like the set's initial ones, "
+                   "and '" + scene.objects[effect.target].name + "' is a mesh");
+        effect.inserts_per_step = t.count("inserts_per_step", 0, 0);
+        effect.erases_per_step = t.count("erases_per_step", 0, 0);
+        if (effect.inserts_per_step == 0 && effect.erases_per_step == 0)
+            t.fail(t.position(), "needs inserts_per_step or erases_per_step > 0 (otherwise it does nothing)");
+        return effect;
     }
 
     collide_effect parse_collide(const table_reader& t, const scene_description& scene) const {

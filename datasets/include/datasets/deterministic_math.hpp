@@ -17,7 +17,9 @@
 // Accuracy is a few ulps, ample for generating workloads; the functions are not meant as
 // general replacements for <cmath>.
 
+#include <array>
 #include <cmath>
+#include <cstddef>
 
 namespace datasets::detail {
 
@@ -26,6 +28,34 @@ constexpr double inverse_factorial(int k) noexcept {
     double f = 1.0;
     for (int i = 2; i <= k; ++i) f *= static_cast<double>(i);
     return 1.0 / f;
+}
+
+// The coefficients of the series below, highest power first, folded at compile time.
+// odd_reciprocals<N>(top): 1/top, 1/(top - 2), ..., N of them.
+template <std::size_t N>
+constexpr std::array<double, N> odd_reciprocals(int top) noexcept {
+    std::array<double, N> c{};
+    for (std::size_t i = 0; i < N; ++i) c[i] = 1.0 / static_cast<double>(top - 2 * static_cast<int>(i));
+    return c;
+}
+// taylor_coefficients<N>(top): +-1/n! for n = top, top - 2, ..., N of them, signed as in the
+// series of sin (odd n) and cos (even n): + where n mod 4 is 2 or 3, - where it is 0 or 1.
+template <std::size_t N>
+constexpr std::array<double, N> taylor_coefficients(int top) noexcept {
+    std::array<double, N> c{};
+    for (std::size_t i = 0; i < N; ++i) {
+        const int n = top - 2 * static_cast<int>(i);
+        c[i] = n % 4 >= 2 ? inverse_factorial(n) : -inverse_factorial(n);
+    }
+    return c;
+}
+
+// Horner's rule in y, one std::fma a step: c[0] y^(N-1) + c[1] y^(N-2) + ... + c[N-1].
+template <std::size_t N>
+inline double horner_fma(const std::array<double, N>& c, double y) noexcept {
+    double p = c[0];
+    for (std::size_t i = 1; i < N; ++i) p = std::fma(p, y, c[i]);
+    return p;
 }
 
 // log(x) for finite x > 0. O(1): 12 FMAs.
@@ -41,18 +71,8 @@ inline double deterministic_log(double x) noexcept {
     }
     const double s = (m - 1.0) / (m + 1.0);  // m - 1 is exact (Sterbenz)
     const double s2 = s * s;
-    double p = 1.0 / 23.0;
-    p = std::fma(p, s2, 1.0 / 21.0);
-    p = std::fma(p, s2, 1.0 / 19.0);
-    p = std::fma(p, s2, 1.0 / 17.0);
-    p = std::fma(p, s2, 1.0 / 15.0);
-    p = std::fma(p, s2, 1.0 / 13.0);
-    p = std::fma(p, s2, 1.0 / 11.0);
-    p = std::fma(p, s2, 1.0 / 9.0);
-    p = std::fma(p, s2, 1.0 / 7.0);
-    p = std::fma(p, s2, 1.0 / 5.0);
-    p = std::fma(p, s2, 1.0 / 3.0);
-    p = std::fma(p, s2, 1.0);
+    static constexpr auto odd = odd_reciprocals<12>(23);  // 1/23, 1/21, ..., 1/3, 1
+    const double p = horner_fma(odd, s2);
     const double log_m = (2.0 * s) * p;
     constexpr double ln2 = 0.693147180559945309417232121458;
     return std::fma(static_cast<double>(e), ln2, log_m);
@@ -77,28 +97,15 @@ inline sin_cos deterministic_sin_cos_turns(double turns) noexcept {
     const double x = f * half_pi;
     const double x2 = x * x;
 
-    double ps = -inverse_factorial(17);
-    ps = std::fma(ps, x2, inverse_factorial(15));
-    ps = std::fma(ps, x2, -inverse_factorial(13));
-    ps = std::fma(ps, x2, inverse_factorial(11));
-    ps = std::fma(ps, x2, -inverse_factorial(9));
-    ps = std::fma(ps, x2, inverse_factorial(7));
-    ps = std::fma(ps, x2, -inverse_factorial(5));
-    ps = std::fma(ps, x2, inverse_factorial(3));
-    // sin x = x - x^3/3! + ... = x * (1 - x2 * (1/3! - x2 * (...))): the sign pattern above
-    // builds the inner bracket, so sin x = x - x * x2 * ps.
+    // -1/17!, +1/15!, ..., +1/3!: sin x = x - x^3/3! + ... = x * (1 - x2 * (1/3! - x2 * (...))):
+    // the signs build the inner bracket, so sin x = x - x * x2 * ps.
+    static constexpr auto sin_c = taylor_coefficients<8>(17);
+    const double ps = horner_fma(sin_c, x2);
     const double sin_x = std::fma(-x * x2, ps, x);
 
-    double pc = inverse_factorial(18);
-    pc = std::fma(pc, x2, -inverse_factorial(16));
-    pc = std::fma(pc, x2, inverse_factorial(14));
-    pc = std::fma(pc, x2, -inverse_factorial(12));
-    pc = std::fma(pc, x2, inverse_factorial(10));
-    pc = std::fma(pc, x2, -inverse_factorial(8));
-    pc = std::fma(pc, x2, inverse_factorial(6));
-    pc = std::fma(pc, x2, -inverse_factorial(4));
-    pc = std::fma(pc, x2, inverse_factorial(2));
-    // cos x = 1 - x2/2! + x2^2/4! - ... = 1 - x2 * pc.
+    // +1/18!, -1/16!, ..., +1/2!: cos x = 1 - x2/2! + x2^2/4! - ... = 1 - x2 * pc.
+    static constexpr auto cos_c = taylor_coefficients<9>(18);
+    const double pc = horner_fma(cos_c, x2);
     const double cos_x = std::fma(-x2, pc, 1.0);
 
     const double s = folded ? cos_x : sin_x;

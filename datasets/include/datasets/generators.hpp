@@ -122,17 +122,8 @@ spatial::point<T, D> cluster_point(random_stream& rng,
 
 template <class T, std::size_t D>
 spatial::point<T, D> sphere_point(random_stream& rng) {
-    std::array<double, D> g{};
     double length = 0.0;
-    // A zero vector needs every Gaussian to be exactly 0 (u1 = 1 in each pair): redraw then.
-    while (!(length > 0.0)) {
-        double sum = 0.0;
-        for (auto& x : g) {
-            x = rng.gaussian();
-            sum = std::fma(x, x, sum);
-        }
-        length = std::sqrt(sum);
-    }
+    const std::array<double, D> g = nonzero_gaussian_vector<D>(rng, length);
     spatial::point<T, D> p;
     for (std::size_t d = 0; d < D; ++d) p[d] = static_cast<T>(std::fma(0.5, g[d] / length, 0.5));
     return p;

@@ -13,7 +13,9 @@
 // user seed with splitmix64 (Steele, Lea & Flood 2014), whose output mixing makes nearby
 // inputs (seed, seed + 1) give unrelated engine seeds.
 
+#include <array>
 #include <cmath>
+#include <cstddef>
 #include <cstdint>
 #include <random>
 #include <string_view>
@@ -97,5 +99,23 @@ private:
     double spare_ = 0.0;
     bool has_spare_ = false;
 };
+
+// D standard normals (a uniformly random direction once divided by `length`), drawn again
+// while they are all exactly 0 (u1 = 1 in each pair); `length` receives their norm (> 0), the
+// squares summed in order with std::fma.
+template <std::size_t D>
+std::array<double, D> nonzero_gaussian_vector(random_stream& rng, double& length) {
+    std::array<double, D> g{};
+    length = 0.0;
+    while (!(length > 0.0)) {
+        double sum = 0.0;
+        for (auto& x : g) {
+            x = rng.gaussian();
+            sum = std::fma(x, x, sum);
+        }
+        length = std::sqrt(sum);
+    }
+    return g;
+}
 
 }  // namespace datasets

@@ -271,14 +271,7 @@ private:
             for (auto& x : v) x /= length;
         } else {
             double length = 0;  // a uniformly random direction: a normalised Gaussian vector
-            while (!(length > 0)) {
-                double sum = 0;
-                for (auto& x : v) {
-                    x = rng_.gaussian();
-                    sum = std::fma(x, x, sum);
-                }
-                length = std::sqrt(sum);
-            }
+            v = nonzero_gaussian_vector<dimension>(rng_, length);
             for (auto& x : v) x /= length;
         }
         for (auto& x : v) x *= motion_.speed;
