@@ -6,19 +6,25 @@
 set -euo pipefail
 cd "$(dirname "$0")/.."
 
+# Each phase's wall time goes to the log (CI must stay under 30 minutes on 2 cores).
+phase() { echo "== $1 (at ${SECONDS} s)"; }
+
 scripts/install_deps.sh
 jobs="$(nproc)"
 
-echo "== release build"
+phase "release build"
 cmake --preset release -G Ninja
 cmake --build --preset release -j"$jobs"
+phase "release tests"
 ctest --preset release -j"$jobs"
 
-echo "== plot script tests"
+phase "plot script tests"
 /usr/bin/python3 -m unittest discover -s plots/tests -t plots
 
-echo "== address+undefined sanitizer build"
+phase "address+undefined sanitizer build"
 cmake --preset asan -G Ninja
 cmake --build --preset asan -j"$jobs"
+phase "sanitizer tests"
 ASAN_OPTIONS=detect_leaks=1:abort_on_error=1 UBSAN_OPTIONS=print_stacktrace=1:halt_on_error=1 \
   ctest --preset asan -j"$jobs"
+phase "done"

@@ -54,3 +54,10 @@ target_link_libraries(example_structures_test PRIVATE spatial::examples)
 # The capability concepts hold for exactly their documented models; the shared container base
 # (statistics, error names, ray thickness).
 spatial_add_test(capabilities_test capabilities_test.cpp)
+
+# The library in another project: installed into a fresh prefix, found by a consumer project
+# with find_package(spatial CONFIG), built and run (README, "Use it in your project").
+add_test(NAME spatial_install_and_use_from_another_project
+         COMMAND bash ${CMAKE_CURRENT_SOURCE_DIR}/check_install.sh ${PROJECT_BINARY_DIR} ${PROJECT_SOURCE_DIR}
+                 ${CMAKE_CURRENT_BINARY_DIR}/install_check)
+set_tests_properties(spatial_install_and_use_from_another_project PROPERTIES TIMEOUT 300)

@@ -46,7 +46,11 @@ std::string utc_stamp(const char* fmt) {
 std::string git_commit() {
     std::string c = run_command("git -C '" SPATIAL_SOURCE_DIR "' rev-parse HEAD 2>/dev/null");
     if (c.empty()) return "unknown";
-    if (!run_command("git -C '" SPATIAL_SOURCE_DIR "' status --porcelain --untracked-files=no 2>/dev/null").empty())
+    // Dirty means the code differs from the commit: the outputs a run itself rewrites
+    // (results/, plots/, paper/) do not count, or every sidecar of a main job would say dirty.
+    if (!run_command("git -C '" SPATIAL_SOURCE_DIR "' status --porcelain --untracked-files=no -- . "
+                     "':(exclude)results' ':(exclude)plots' ':(exclude)paper' 2>/dev/null")
+             .empty())
         c += "-dirty";
     return c;
 }

@@ -8,7 +8,10 @@
 //               raycast, nearest, range — each only if present.
 // Objects live in the runner's arrays (index = object id within its set; churn erases by
 // swap-and-pop, mirrored in the structure's handle array), so every answer is mapped to
-// (set, index) and compared across structures and with brute force.
+// (set, index). What is compared: exact pairs with brute force (every object of small sets,
+// else 64 sampled objects per step) and across structures at every step; rays, nearest and
+// range queries with brute force on about 16 sampled queries per step (their answers are not
+// compared across structures). Each row's `check` column says which (run.check_of).
 
 #include "harness/scene_runner.hpp"
 #include "harness/structure_registry.hpp"
