@@ -1,0 +1,142 @@
+#pragma once
+// spatial::kd_tree — the stored layout and its bookkeeping: coordinates and partitioning keys
+// of stored objects, build entries, the node extents of objects with extent (grown on
+// insertion, refit on erasure), the tree's key bounds, the allocation of leaf buckets and
+// child node pairs (freed ones reused), and resetting or swapping a whole tree.
+
+#include "spatial/kdtree/kd_tree.hpp"
+
+namespace spatial {
+
+template <stored_object O, class Config>
+inline void kd_tree<O, Config>::swap_contents(kd_tree& o) {
+    this->swap_base(o);
+    std::swap(nodes_, o.nodes_);
+    std::swap(extents_, o.extents_);
+    std::swap(buckets_, o.buckets_);
+    std::swap(free_pairs_, o.free_pairs_);
+    std::swap(free_buckets_, o.free_buckets_);
+    std::swap(leaves_, o.leaves_);
+    std::swap(bounds_lo_, o.bounds_lo_);
+    std::swap(bounds_hi_, o.bounds_hi_);
+    std::swap(size_at_rebuild_, o.size_at_rebuild_);
+}
+
+// ================= helpers: coordinates, cells ========================================
+template <stored_object O, class Config>
+inline auto kd_tree<O, Config>::coords_of(const P& p) -> coords {
+    coords c;
+    for (std::size_t i = 0; i < D; ++i) c[i] = p[i];
+    return c;
+}
+
+// The partitioning key of a stored value: the point itself, or the centre of an object's
+// bounding box (object_center never rounds outside the box).
+template <stored_object O, class Config>
+inline auto kd_tree<O, Config>::key_of(const O& x) -> coords {
+    coords c;
+    for (std::size_t i = 0; i < D; ++i) c[i] = object_center(x, i);
+    return c;
+}
+
+template <stored_object O, class Config>
+inline auto kd_tree<O, Config>::extent_of(const O& x) -> extent {
+    extent e;
+    for (std::size_t i = 0; i < D; ++i) e.lo[i] = object_lower(x, i), e.hi[i] = object_upper(x, i);
+    return e;
+}
+
+template <stored_object O, class Config>
+inline auto kd_tree<O, Config>::make_entry(const O& x, slot_index s) -> entry {
+    entry e{key_of(x), s};
+    if constexpr (has_extent) e.bounds = extent_of(x);
+    return e;
+}
+
+// ---- objects: keeping node extents conservative ----
+// Insertion grows the extents from the leaf upwards and stops at the first node that
+// already contains the object's box: every ancestor's extent contains its descendants',
+// so the nodes above contain it too. O(1) when the object fits its leaf's extent (the
+// usual case), O(depth) at worst.
+template <stored_object O, class Config>
+inline void kd_tree<O, Config>::grow_extents_upward(node_index n, const extent& box) {
+    while (!extents_[n].contains(box)) {
+        extents_[n].grow(box);
+        if (n == root) return;
+        n = nodes_[n].parent;
+    }
+}
+
+// Erasure tightens only the leaf (O(leaf_capacity)); its ancestors keep their extents,
+// which stay conservative (they contain everything below, and more) until the subtree
+// is rebuilt. Loose extents cost pruning power, never correctness.
+template <stored_object O, class Config>
+inline void kd_tree<O, Config>::refit_leaf(node_index leaf) {
+    const node& L = nodes_[leaf];
+    const bucket& b = buckets_[L.first];
+    extent ex = extent::empty();
+    for (std::uint32_t i = 0; i < L.count; ++i) ex.grow(extent_of(slots_.value(b.items[i])));
+    extents_[leaf] = ex;
+}
+
+template <stored_object O, class Config>
+inline bool kd_tree<O, Config>::in_cell(const coords& c, const coords& lo, const coords& hi) {
+    for (std::size_t i = 0; i < D; ++i)
+        if (c[i] < lo[i] || c[i] > hi[i]) return false;
+    return true;
+}
+
+template <stored_object O, class Config>
+inline void kd_tree<O, Config>::grow_bounds(const coords& c) {
+    for (std::size_t i = 0; i < D; ++i) {
+        bounds_lo_[i] = std::min(bounds_lo_[i], c[i]);
+        bounds_hi_[i] = std::max(bounds_hi_[i], c[i]);
+    }
+}
+
+template <stored_object O, class Config>
+inline void kd_tree<O, Config>::reset_to_empty() {
+    nodes_.assign(1, node{});
+    if constexpr (has_extent) extents_.assign(1, extent::empty());
+    buckets_.clear();
+    free_pairs_.clear();
+    free_buckets_.clear();
+    coords lo, hi;
+    lo.fill(-std::numeric_limits<T>::infinity());
+    hi.fill(std::numeric_limits<T>::infinity());
+    nodes_[root].first = new_bucket(root, lo, hi);
+    leaves_ = 1;
+    bounds_lo_.fill(std::numeric_limits<T>::infinity());
+    bounds_hi_.fill(-std::numeric_limits<T>::infinity());
+    size_at_rebuild_ = 0;
+}
+
+template <stored_object O, class Config>
+inline auto kd_tree<O, Config>::new_bucket(node_index owner, const coords& lo, const coords& hi) -> node_index {
+    node_index b;
+    if (!free_buckets_.empty()) {
+        b = free_buckets_.back();
+        free_buckets_.pop_back();
+    } else {
+        b = static_cast<node_index>(buckets_.size());
+        buckets_.emplace_back();
+    }
+    buckets_[b].cell_lo = lo;
+    buckets_[b].cell_hi = hi;
+    buckets_[b].owner = owner;
+    return b;
+}
+
+template <stored_object O, class Config>
+inline auto kd_tree<O, Config>::new_pair() -> node_index {
+    if (!free_pairs_.empty()) {
+        const node_index p = free_pairs_.back();
+        free_pairs_.pop_back();
+        return p;
+    }
+    const node_index p = static_cast<node_index>(nodes_.size());
+    nodes_.resize(nodes_.size() + 2);
+    if constexpr (has_extent) extents_.resize(nodes_.size(), extent::empty());
+    return p;
+}
+}  // namespace spatial
