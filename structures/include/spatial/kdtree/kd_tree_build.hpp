@@ -8,7 +8,6 @@
 
 namespace spatial {
 
-// ================= (re)building ========================================================
 template <stored_object O, class Config>
 inline std::uint16_t kd_tree<O, Config>::depth_limit() const {
     const double n = std::max<double>(static_cast<double>(slots_.size()), leaf_capacity);

@@ -7,7 +7,6 @@
 
 namespace spatial {
 
-// ---- STL basics and introspection ----------------------------------------------------
 // ---- collision pairs (collide/pairs.hpp) ---------------------------------------------
 // Objects with extent: self pairs by descending the tree against itself, as a BVH does
 // (simultaneous traversal of node pairs, Gottschalk, Lin & Manocha 1996). Each object is

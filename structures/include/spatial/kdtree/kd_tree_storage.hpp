@@ -22,7 +22,6 @@ inline void kd_tree<O, Config>::swap_contents(kd_tree& o) {
     std::swap(size_at_rebuild_, o.size_at_rebuild_);
 }
 
-// ================= helpers: coordinates, cells ========================================
 template <stored_object O, class Config>
 inline auto kd_tree<O, Config>::coords_of(const P& p) -> coords {
     coords c;
