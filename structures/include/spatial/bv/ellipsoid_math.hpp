@@ -5,6 +5,7 @@
 // the maximum of a quadratic over the unit ball (Lagrangian duality), plus the directed
 // rounding to T (bv/rounding.hpp).
 
+#include <algorithm>
 #include <array>
 #include <cmath>
 #include <cstddef>
