@@ -131,13 +131,7 @@ public:
     bvh& operator=(const bvh&) = default;
     // A moved-from tree is empty and usable; iterators into the source are invalidated.
     bvh(bvh&& o) noexcept(false) : bvh() { swap_contents(o); }
-    bvh& operator=(bvh&& o) noexcept(false) {
-        if (this != &o) {
-            clear();
-            swap_contents(o);
-        }
-        return *this;
-    }
+    bvh& operator=(bvh&& o) noexcept(false) { return this->move_assign_from(o); }
 
     // ---- insertion -------------------------------------------------------------------
     // O(depth + leaf_size fits) plus amortised rebuilds (see bvh_motion.hpp).

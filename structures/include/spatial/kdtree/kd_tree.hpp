@@ -142,13 +142,7 @@ public:
     // A moved-from tree is empty and usable. Iterators into the source are invalidated:
     // they refer to the source's storage (see docs/contract.md, iterators and invalidation).
     kd_tree(kd_tree&& other) noexcept(false) : kd_tree() { swap_contents(other); }
-    kd_tree& operator=(kd_tree&& other) noexcept(false) {
-        if (this != &other) {
-            clear();
-            swap_contents(other);
-        }
-        return *this;
-    }
+    kd_tree& operator=(kd_tree&& other) noexcept(false) { return this->move_assign_from(other); }
 
     // ---- insertion -------------------------------------------------------------------
     // O(log n) expected, O(log^2 n) amortised worst case (scapegoat subtree rebuilds).

@@ -10,23 +10,9 @@ namespace spatial {
 
 template <stored_object O, class Config>
 inline void kd_tree<O, Config>::swap_contents(kd_tree& o) {
-    this->swap_base(o);
-    std::swap(nodes_, o.nodes_);
-    std::swap(extents_, o.extents_);
-    std::swap(buckets_, o.buckets_);
-    std::swap(free_pairs_, o.free_pairs_);
-    std::swap(free_buckets_, o.free_buckets_);
-    std::swap(leaves_, o.leaves_);
-    std::swap(bounds_lo_, o.bounds_lo_);
-    std::swap(bounds_hi_, o.bounds_hi_);
-    std::swap(size_at_rebuild_, o.size_at_rebuild_);
-}
-
-template <stored_object O, class Config>
-inline auto kd_tree<O, Config>::coords_of(const P& p) -> coords {
-    coords c;
-    for (std::size_t i = 0; i < D; ++i) c[i] = p[i];
-    return c;
+    this->swap_with(o, &kd_tree::nodes_, &kd_tree::extents_, &kd_tree::buckets_, &kd_tree::free_pairs_,
+                    &kd_tree::free_buckets_, &kd_tree::leaves_, &kd_tree::bounds_lo_, &kd_tree::bounds_hi_,
+                    &kd_tree::size_at_rebuild_);
 }
 
 // The partitioning key of a stored value: the point itself, or the centre of an object's

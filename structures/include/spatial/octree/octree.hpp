@@ -115,13 +115,7 @@ public:
     octree(const octree&) = default;
     octree& operator=(const octree&) = default;
     octree(octree&& o) noexcept { swap_contents(o); }
-    octree& operator=(octree&& o) noexcept {
-        if (this != &o) {
-            clear();
-            swap_contents(o);
-        }
-        return *this;
-    }
+    octree& operator=(octree&& o) noexcept { return this->move_assign_from(o); }
 
     // ---- insertion -------------------------------------------------------------------
     // O(depth) descent plus amortised splits; depth is O(log(root size / object spacing)).

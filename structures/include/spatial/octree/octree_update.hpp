@@ -33,11 +33,7 @@ inline void octree<O, Config>::insert(InputIt first, InputIt last) {
 
 template <stored_object O, class Config>
 inline void octree<O, Config>::swap_contents(octree& o) {
-    this->swap_base(o);
-    std::swap(pos_, o.pos_);
-    std::swap(nodes_, o.nodes_);
-    std::swap(free_blocks_, o.free_blocks_);
-    std::swap(root_, o.root_);
+    this->swap_with(o, &octree::pos_, &octree::nodes_, &octree::free_blocks_, &octree::root_);
 }
 
 // ================= node and item bookkeeping ==========================================
