@@ -292,7 +292,7 @@ public:
             ball_objects(root, center, radius + sl, radius * radius, out);
         } else {
             coords offset{};
-            ball(root, T(0), offset, coords_of(center), radius * radius, out);
+            ball(root, T(0), offset, point_coords(center), radius * radius, out);
         }
         return out;
     }
@@ -351,7 +351,6 @@ public:
 
 private:
     // ---- storage: keys, extents, buckets, node pairs (kd_tree_storage.hpp) ----
-    static coords coords_of(const P& p);
     static coords key_of(const O& x);
     static extent extent_of(const O& x);
     static entry make_entry(const O& x, slot_index s);

@@ -13,7 +13,7 @@ inline void kd_tree<O, Config>::run_knn(const P& x, scalar_type eps, knn_result_
         knn_object_query q{x, (1 + eps) * (1 + eps), knn_slack(x), best};
         knn_objects(root, q);
     } else {
-        knn_query q{coords_of(x), (1 + eps) * (1 + eps), best};
+        knn_query q{point_coords(x), (1 + eps) * (1 + eps), best};
         coords offset{};
         knn(root, T(0), offset, q);
     }
@@ -124,12 +124,7 @@ inline bool kd_tree<O, Config>::extent_overlaps(const extent& ex, const P& lo, c
 // Squared distance from x to a closed box (+inf when the box is empty).
 template <stored_object O, class Config>
 inline auto kd_tree<O, Config>::extent_squared_distance(const extent& ex, const P& x) -> T {
-    T s = 0;
-    for (std::size_t i = 0; i < D; ++i) {
-        const T d = x[i] < ex.lo[i] ? ex.lo[i] - x[i] : (x[i] > ex.hi[i] ? x[i] - ex.hi[i] : T(0));
-        s += d * d;
-    }
-    return s;
+    return box_squared_distance<T, D>(x, ex.lo, ex.hi);
 }
 
 // Rounding slack for distance lower bounds at query x: an object's own distance routine

@@ -15,7 +15,7 @@ inline auto kd_tree<O, Config>::intersect_object(const P& origin, const P& direc
     detail::require_nonzero_direction(direction, site("intersect"));
     detail::require_nonnegative(thickness, site("intersect"), "ray thickness");
     if (slots_.size() == 0) return end();
-    ray_query q{coords_of(origin), coords_of(direction), thickness, origin, direction, info};
+    ray_query q{point_coords(origin), point_coords(direction), thickness, origin, direction, info};
     T t0 = 0, t1 = info.hit_time;
     if constexpr (has_extent) {
         // Objects: every node is clipped against its subtree's padded extent.

@@ -246,7 +246,6 @@ public:
 
 private:
     // ---- cell geometry (octree_cells.hpp) ----
-    static coords coords_of(const point_type& p);
     static extent extent_of(const O& x);
     static void merge_into(extent& a, const extent& b);
     static bool loose_contains(const node& nd, const extent& e);

@@ -9,13 +9,6 @@
 namespace spatial {
 
 template <stored_object O, class Config>
-inline auto octree<O, Config>::coords_of(const point_type& p) -> coords {
-    coords c;
-    for (std::size_t i = 0; i < D; ++i) c[i] = p[i];
-    return c;
-}
-
-template <stored_object O, class Config>
 inline auto octree<O, Config>::extent_of(const O& x) -> extent {
     extent e;
     for (std::size_t i = 0; i < D; ++i) {
@@ -44,12 +37,7 @@ inline bool octree<O, Config>::loose_contains(const node& nd, const extent& e) {
 // Squared distance from q to the loose cell (0 inside); same arithmetic as a box object's.
 template <stored_object O, class Config>
 inline auto octree<O, Config>::cell_distance2(const node& nd, const coords& q) -> T {
-    T s = 0;
-    for (std::size_t i = 0; i < D; ++i) {
-        const T d = q[i] < nd.llo[i] ? nd.llo[i] - q[i] : (q[i] > nd.lhi[i] ? q[i] - nd.lhi[i] : T(0));
-        s += d * d;
-    }
-    return s;
+    return box_squared_distance<T, D>(q, nd.llo, nd.lhi);
 }
 
 // Sets the cell and the loose cell (the cell scaled by k about its centre).

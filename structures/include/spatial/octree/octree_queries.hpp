@@ -14,7 +14,7 @@ inline auto octree<O, Config>::find_nearest(const point_type& x, size_type k, sc
     detail::require_nonnegative(eps, site("find_nearest"), "eps");
     std::vector<iterator> out;
     if (k == 0 || slots_.size() == 0) return out;
-    const coords q = coords_of(x);
+    const coords q = point_coords(x);
     const T factor = (1 + eps) * (1 + eps);
     knn_result_set<T> best(std::min<std::size_t>(k, slots_.size()));
     using entry = std::pair<T, node_index>;
@@ -45,7 +45,7 @@ inline auto octree<O, Config>::find_in_ball(const point_type& center, scalar_typ
     detail::require_nonnegative(radius, site("find_in_ball"), "radius");
     std::vector<iterator> out;
     if (slots_.size() == 0) return out;
-    const coords q = coords_of(center);
+    const coords q = point_coords(center);
     const T r2 = radius * radius;
     std::vector<node_index> stack{root_};
     while (!stack.empty()) {

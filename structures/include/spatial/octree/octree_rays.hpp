@@ -13,7 +13,7 @@ inline auto octree<O, Config>::intersect_object(const point_type& origin, const 
     detail::require_nonzero_direction(direction, site("intersect"));
     detail::require_nonnegative(thickness, site("intersect"), "ray thickness");
     if (slots_.size() == 0) return end();
-    const coords o = coords_of(origin), v = coords_of(direction);
+    const coords o = point_coords(origin), v = point_coords(direction);
     slot_index hit = no_slot;
     struct pending {
         node_index n;
