@@ -58,6 +58,7 @@
 #include "spatial/collide/pairs.hpp"
 #include "spatial/core/container_base.hpp"
 #include "spatial/core/container_concept.hpp"
+#include "spatial/core/free_list.hpp"
 #include "spatial/core/input_checks.hpp"
 #include "spatial/core/intersect_info.hpp"
 #include "spatial/core/lazy_snapshot.hpp"

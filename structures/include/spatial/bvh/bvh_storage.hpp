@@ -38,13 +38,10 @@ inline void bvh<O, BV, Config>::swap_contents(bvh& o) {
 
 template <stored_object O, class BV, class Config>
 inline auto bvh<O, BV, Config>::alloc_block() -> node_index {
-    if (!free_blocks_.empty()) {
-        const node_index b = free_blocks_.back();
-        free_blocks_.pop_back();
-        return b;
-    }
-    items_.resize(items_.size() + leaf_size, no_slot);
-    return static_cast<node_index>(items_.size() / leaf_size - 1);
+    return detail::reuse_or_grow(free_blocks_, [this] {
+        items_.resize(items_.size() + leaf_size, no_slot);
+        return static_cast<node_index>(items_.size() / leaf_size - 1);
+    });
 }
 
 template <stored_object O, class BV, class Config>

@@ -66,6 +66,7 @@
 #include "spatial/core/object_geometry.hpp"
 #include "spatial/core/query_stats.hpp"
 #include "spatial/core/slot_storage.hpp"
+#include "spatial/core/free_list.hpp"
 #include "spatial/kdtree/kd_tree_config.hpp"
 
 namespace spatial {

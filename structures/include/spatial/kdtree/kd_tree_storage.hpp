@@ -98,14 +98,10 @@ inline void kd_tree<O, Config>::reset_to_empty() {
 
 template <stored_object O, class Config>
 inline auto kd_tree<O, Config>::new_bucket(node_index owner, const coords& lo, const coords& hi) -> node_index {
-    node_index b;
-    if (!free_buckets_.empty()) {
-        b = free_buckets_.back();
-        free_buckets_.pop_back();
-    } else {
-        b = static_cast<node_index>(buckets_.size());
+    const node_index b = detail::reuse_or_grow(free_buckets_, [this] {
         buckets_.emplace_back();
-    }
+        return static_cast<node_index>(buckets_.size() - 1);
+    });
     buckets_[b].cell_lo = lo;
     buckets_[b].cell_hi = hi;
     buckets_[b].owner = owner;
@@ -114,14 +110,11 @@ inline auto kd_tree<O, Config>::new_bucket(node_index owner, const coords& lo, c
 
 template <stored_object O, class Config>
 inline auto kd_tree<O, Config>::new_pair() -> node_index {
-    if (!free_pairs_.empty()) {
-        const node_index p = free_pairs_.back();
-        free_pairs_.pop_back();
+    return detail::reuse_or_grow(free_pairs_, [this] {
+        const node_index p = static_cast<node_index>(nodes_.size());
+        nodes_.resize(nodes_.size() + 2);
+        if constexpr (has_extent) extents_.resize(nodes_.size(), extent::empty());
         return p;
-    }
-    const node_index p = static_cast<node_index>(nodes_.size());
-    nodes_.resize(nodes_.size() + 2);
-    if constexpr (has_extent) extents_.resize(nodes_.size(), extent::empty());
-    return p;
+    });
 }
 }  // namespace spatial

@@ -3,6 +3,7 @@
 // containment, nesting of loose cells, counts) and the height.
 
 #include "spatial/octree/octree.hpp"
+#include "spatial/core/tree_height.hpp"
 
 namespace spatial {
 
@@ -41,16 +42,9 @@ inline std::string octree<O, Config>::check_invariants() const {
 template <stored_object O, class Config>
 inline std::size_t octree<O, Config>::height() const {
     if (root_ == no_node) return 0;
-    std::size_t h = 0;
-    std::vector<std::pair<node_index, std::size_t>> stack{{root_, 0}};
-    while (!stack.empty()) {
-        const auto [n, d] = stack.back();
-        stack.pop_back();
-        h = std::max(h, d);
+    return detail::tree_height(root_, [this](node_index n, auto&& push) {
         if (!nodes_[n].is_leaf())
-            for (std::size_t b = 0; b < fanout; ++b)
-                stack.push_back({nodes_[n].first_child + static_cast<node_index>(b), d + 1});
-    }
-    return h;
+            for (std::size_t b = 0; b < fanout; ++b) push(nodes_[n].first_child + static_cast<node_index>(b));
+    });
 }
 }  // namespace spatial

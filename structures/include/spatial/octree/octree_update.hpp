@@ -62,15 +62,13 @@ inline void octree<O, Config>::remove_item(node_index n, slot_index s) {
 
 template <stored_object O, class Config>
 inline auto octree<O, Config>::new_block() -> node_index {
-    if (!free_blocks_.empty()) {
-        const node_index b = free_blocks_.back();
-        free_blocks_.pop_back();
+    return detail::reuse_or_grow(free_blocks_, [this] {
+        if (nodes_.size() + fanout >= static_cast<std::size_t>(no_node))
+            throw std::length_error("octree: too many nodes");
+        const node_index b = static_cast<node_index>(nodes_.size());
+        nodes_.resize(nodes_.size() + fanout);
         return b;
-    }
-    if (nodes_.size() + fanout >= static_cast<std::size_t>(no_node)) throw std::length_error("octree: too many nodes");
-    const node_index b = static_cast<node_index>(nodes_.size());
-    nodes_.resize(nodes_.size() + fanout);
-    return b;
+    });
 }
 
 // Creates n's children; their loose cells are clipped to n's so that they nest exactly.
