@@ -21,9 +21,7 @@ namespace spatial {
 
 template <class T, std::size_t D>
 struct aabb {
-    using scalar_type = T;
-    using point_type = point<T, D>;
-    static constexpr std::size_t dimension = D;
+    SPATIAL_POINT_MEMBER_TYPES(T, D);
 
     point_type lo, hi;  // lo[i] <= hi[i] for a non-empty box
 

@@ -73,9 +73,7 @@ struct khachiyan_report {
 template <class T, std::size_t D>
 struct ellipsoid {
     static_assert(D == 2 || D == 3, "ellipsoid<T, D>: D must be 2 or 3");
-    using scalar_type = T;
-    using point_type = point<T, D>;
-    static constexpr std::size_t dimension = D;
+    SPATIAL_POINT_MEMBER_TYPES(T, D);
     using vec = std::array<double, D>;
     using frame = std::array<vec, D>;  // rows
 

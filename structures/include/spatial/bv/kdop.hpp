@@ -105,9 +105,7 @@ template <class T, std::size_t D, std::size_t K>
 struct kdop {
     static_assert(detail_kdop::supported<D, K>(),
                   "kdop<T, D, K>: supported are D = 3 with K = 6, 14, 18, 26 and D = 2 with K = 4, 8, 16");
-    using scalar_type = T;
-    using point_type = point<T, D>;
-    static constexpr std::size_t dimension = D;
+    SPATIAL_POINT_MEMBER_TYPES(T, D);
     static constexpr std::size_t axis_count = K / 2;
     using geometry = detail_kdop::geometry<D, K>;
     using vec = std::array<double, D>;

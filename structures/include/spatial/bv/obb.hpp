@@ -206,9 +206,7 @@ inline frame<3> frame_around(const vec<3>& n) {
 template <class T, std::size_t D>
 struct obb {
     static_assert(D == 2 || D == 3, "obb<T, D>: D must be 2 or 3");
-    using scalar_type = T;
-    using point_type = point<T, D>;
-    static constexpr std::size_t dimension = D;
+    SPATIAL_POINT_MEMBER_TYPES(T, D);
     static constexpr std::size_t corner_count = std::size_t(1) << D;
 
     point_type center{};

@@ -37,9 +37,7 @@ namespace spatial {
 
 template <class T, std::size_t D>
 struct sphere {
-    using scalar_type = T;
-    using point_type = point<T, D>;
-    static constexpr std::size_t dimension = D;
+    SPATIAL_POINT_MEMBER_TYPES(T, D);
 
     point_type center{};
     T radius = -1;  // negative: the empty ball

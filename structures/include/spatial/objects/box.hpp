@@ -24,9 +24,7 @@ namespace spatial::objects {
 
 template <class T, std::size_t D>
 struct box {
-    using scalar_type = T;
-    using point_type = point<T, D>;
-    static constexpr std::size_t dimension = D;
+    SPATIAL_POINT_MEMBER_TYPES(T, D);
 
     std::array<T, D> lo{}, hi{};
 
