@@ -31,38 +31,30 @@ inline auto kd_tree<O, Config>::self_pairs(pair_filter filter) const -> std::vec
     if constexpr (!has_extent) {
         return self_pairs_by_queries(*this, filter);
     } else {
-        std::vector<std::pair<iterator, iterator>> out;
-        if (slots_.size() < 2) return out;
+        if (slots_.size() < 2) return {};
         const pair_layout lay = pair_layout_of();
-        auto emit = [&](std::uint32_t i, std::uint32_t j) {
-            if (!collide::closed_boxes_overlap(lay.box[i], lay.box[j])) return;
-            slot_index s = lay.slot[i], t = lay.slot[j];
-            if (filter == pair_filter::exact && !collide::narrow_phase(slots_.value(s), slots_.value(t))) return;
-            if (s > t) std::swap(s, t);
-            out.emplace_back(make(s), make(t));
-        };
-        std::vector<node_pair> todo{{root, root}};
-        while (!todo.empty()) {
-            const node_pair p = todo.back();
-            todo.pop_back();
-            if (p.a != p.b) {
-                cross_step(*this, lay, lay, p, todo, emit);
-                continue;
+        return collide::snapshot_self_pairs(slots_, lay, filter, [&](auto& emit) {
+            std::vector<node_pair> todo{{root, root}};
+            while (!todo.empty()) {
+                const node_pair p = todo.back();
+                todo.pop_back();
+                if (p.a != p.b) {
+                    cross_step(*this, lay, lay, p, todo, emit);
+                    continue;
+                }
+                const node& nd = nodes_[p.a];
+                if (nd.is_leaf) {
+                    const std::uint32_t first = lay.first[p.a], last = first + nd.count;
+                    for (std::uint32_t i = first; i < last; ++i)
+                        for (std::uint32_t j = i + 1; j < last; ++j) emit(i, j);
+                    continue;
+                }
+                if (collide::closed_boxes_overlap(lay.subtree[nd.first], lay.subtree[nd.first + 1]))
+                    todo.push_back({nd.first, nd.first + 1});
+                todo.push_back({nd.first + 1, nd.first + 1});
+                todo.push_back({nd.first, nd.first});
             }
-            const node& nd = nodes_[p.a];
-            if (nd.is_leaf) {
-                const std::uint32_t first = lay.first[p.a], last = first + nd.count;
-                for (std::uint32_t i = first; i < last; ++i)
-                    for (std::uint32_t j = i + 1; j < last; ++j) emit(i, j);
-                continue;
-            }
-            if (collide::closed_boxes_overlap(lay.subtree[nd.first], lay.subtree[nd.first + 1]))
-                todo.push_back({nd.first, nd.first + 1});
-            todo.push_back({nd.first + 1, nd.first + 1});
-            todo.push_back({nd.first, nd.first});
-        }
-        sort_pairs(out);
-        return out;
+        });
     }
 }
 
@@ -77,25 +69,17 @@ inline auto kd_tree<O, Config>::pairs_with(const Other& other, pair_filter filte
     if constexpr (!has_extent || !std::is_same_v<Other, kd_tree>) {
         return pairs_between(*this, other, filter);
     } else {
-        std::vector<std::pair<iterator, iterator>> out;
-        if (slots_.size() == 0 || other.slots_.size() == 0) return out;
+        if (slots_.size() == 0 || other.slots_.size() == 0) return {};
         const pair_layout mine = pair_layout_of(), theirs = other.pair_layout_of();
-        auto emit = [&](std::uint32_t i, std::uint32_t j) {
-            if (!collide::closed_boxes_overlap(mine.box[i], theirs.box[j])) return;
-            const slot_index s = mine.slot[i], t = theirs.slot[j];
-            if (filter == pair_filter::exact && !collide::narrow_phase(slots_.value(s), other.slots_.value(t)))
-                return;
-            out.emplace_back(make(s), other.make(t));
-        };
-        std::vector<node_pair> todo;
-        if (collide::closed_boxes_overlap(mine.subtree[root], theirs.subtree[root])) todo.push_back({root, root});
-        while (!todo.empty()) {
-            const node_pair p = todo.back();
-            todo.pop_back();
-            cross_step(other, mine, theirs, p, todo, emit);
-        }
-        sort_pairs(out);
-        return out;
+        return collide::snapshot_pairs_between(slots_, mine, other.slots_, theirs, filter, [&](auto& emit) {
+            std::vector<node_pair> todo;
+            if (collide::closed_boxes_overlap(mine.subtree[root], theirs.subtree[root])) todo.push_back({root, root});
+            while (!todo.empty()) {
+                const node_pair p = todo.back();
+                todo.pop_back();
+                cross_step(other, mine, theirs, p, todo, emit);
+            }
+        });
     }
 }
 

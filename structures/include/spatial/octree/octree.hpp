@@ -298,6 +298,8 @@ private:
     // the loose cells (up to k times wider than what a subtree occupies).
     using pair_layout = collide::tree_pair_snapshot<T, D>;
     pair_layout pair_layout_of() const;
+    template <class Emit>
+    void self_descent(const pair_layout& lay, Emit& emit) const;
     static void push_children(const node& nd, std::vector<node_index>& stack);
     template <class Hit>
     static void walk_subtrees(const octree& tree, const pair_layout& lay, const bounds& box,

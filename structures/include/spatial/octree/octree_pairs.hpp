@@ -33,16 +33,16 @@ namespace spatial {
 // overlaps, as any method that lists the pairs.
 template <stored_object O, class Config>
 inline auto octree<O, Config>::self_pairs(pair_filter filter) const -> std::vector<std::pair<iterator, iterator>> {
-    std::vector<std::pair<iterator, iterator>> out;
-    if (slots_.size() < 2) return out;
+    if (slots_.size() < 2) return {};
     const pair_layout lay = pair_layout_of();
-    auto emit = [&](std::uint32_t i, std::uint32_t j) {
-        if (!collide::closed_boxes_overlap(lay.box[i], lay.box[j])) return;
-        slot_index s = lay.slot[i], t = lay.slot[j];
-        if (filter == pair_filter::exact && !collide::narrow_phase(slots_.value(s), slots_.value(t))) return;
-        if (s > t) std::swap(s, t);
-        out.emplace_back(make(s), make(t));
-    };
+    return collide::snapshot_self_pairs(slots_, lay, filter, [&](auto& emit) { self_descent(lay, emit); });
+}
+
+// The descent of self_pairs: self(root) as defined in self_pairs' comment above, emit(i, j)
+// for every candidate pair of layout positions.
+template <stored_object O, class Config>
+template <class Emit>
+inline void octree<O, Config>::self_descent(const pair_layout& lay, Emit& emit) const {
     pair_descent walk;
     std::vector<node_index> selves{root_};
     while (!walk.crosses.empty() || !selves.empty()) {
@@ -73,8 +73,6 @@ inline auto octree<O, Config>::self_pairs(pair_filter filter) const -> std::vect
             }
         }
     }
-    sort_pairs(out);
-    return out;
 }
 
 // Pairs (object of *this, object of other). With another octree of the same type: the two
@@ -88,26 +86,18 @@ inline auto octree<O, Config>::pairs_with(const Other& other, pair_filter filter
     if constexpr (!std::is_same_v<Other, octree>) {
         return pairs_between(*this, other, filter);
     } else {
-        std::vector<std::pair<iterator, iterator>> out;
-        if (slots_.size() == 0 || other.slots_.size() == 0) return out;
+        if (slots_.size() == 0 || other.slots_.size() == 0) return {};
         const pair_layout mine = pair_layout_of(), theirs = other.pair_layout_of();
-        auto emit = [&](std::uint32_t i, std::uint32_t j) {
-            if (!collide::closed_boxes_overlap(mine.box[i], theirs.box[j])) return;
-            const slot_index s = mine.slot[i], t = theirs.slot[j];
-            if (filter == pair_filter::exact && !collide::narrow_phase(slots_.value(s), other.slots_.value(t)))
-                return;
-            out.emplace_back(make(s), other.make(t));
-        };
-        pair_descent walk;
-        if (collide::closed_boxes_overlap(mine.subtree[root_], theirs.subtree[other.root_]))
-            walk.crosses.push_back({root_, other.root_});
-        while (!walk.crosses.empty()) {
-            const node_pair p = walk.crosses.back();
-            walk.crosses.pop_back();
-            cross_step(other, mine, theirs, p, walk, emit);
-        }
-        sort_pairs(out);
-        return out;
+        return collide::snapshot_pairs_between(slots_, mine, other.slots_, theirs, filter, [&](auto& emit) {
+            pair_descent walk;
+            if (collide::closed_boxes_overlap(mine.subtree[root_], theirs.subtree[other.root_]))
+                walk.crosses.push_back({root_, other.root_});
+            while (!walk.crosses.empty()) {
+                const node_pair p = walk.crosses.back();
+                walk.crosses.pop_back();
+                cross_step(other, mine, theirs, p, walk, emit);
+            }
+        });
     }
 }
 
