@@ -256,6 +256,7 @@ private:
     static T mid(const node& nd, std::size_t i);
     static std::size_t child_bits(const node& nd, const coords& c);
     static node geometry_of(const node& nd);
+    static void set_child_cell(node& c, const node& parent, std::size_t b);
     bool may_split(const node& nd) const;
     std::size_t target_of(const node& nd, const extent& e) const;
 

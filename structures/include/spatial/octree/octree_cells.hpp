@@ -85,19 +85,27 @@ inline bool octree<O, Config>::may_split(const node& nd) const {
            half > std::numeric_limits<T>::min();
 }
 
+// Sets c's cell to the child cell b (bit i set: the upper half along axis i) of `parent`
+// (a node or its geometry_of), and its loose cell clipped to the parent's, so that loose
+// cells nest exactly despite rounding.
+template <stored_object O, class Config>
+inline void octree<O, Config>::set_child_cell(node& c, const node& parent, std::size_t b) {
+    coords lo = parent.lo;
+    for (std::size_t i = 0; i < D; ++i)
+        if ((b >> i) & 1) lo[i] = mid(parent, i);
+    set_cell(c, lo, parent.size / 2);
+    for (std::size_t i = 0; i < D; ++i) {
+        c.llo[i] = std::max(c.llo[i], parent.llo[i]);
+        c.lhi[i] = std::min(c.lhi[i], parent.lhi[i]);
+    }
+}
+
 // The child of nd that would take the object, or fanout if it stays in nd.
 template <stored_object O, class Config>
 inline std::size_t octree<O, Config>::target_of(const node& nd, const extent& e) const {
     const std::size_t b = child_bits(nd, e.c);
     node probe;
-    coords lo = nd.lo;
-    for (std::size_t i = 0; i < D; ++i)
-        if ((b >> i) & 1) lo[i] = mid(nd, i);
-    set_cell(probe, lo, nd.size / 2);
-    for (std::size_t i = 0; i < D; ++i) {
-        probe.llo[i] = std::max(probe.llo[i], nd.llo[i]);
-        probe.lhi[i] = std::min(probe.lhi[i], nd.lhi[i]);
-    }
+    set_child_cell(probe, nd, b);
     return loose_contains(probe, e) ? b : fanout;
 }
 }  // namespace spatial

@@ -60,20 +60,12 @@ inline void octree<O, Config>::grow_once(const extent& e) {
     if (!mv.is_leaf())
         for (std::size_t b = 0; b < fanout; ++b) nodes_[mv.first_child + b].parent = moved;
     const node geo = geometry_of(nodes_[root_]);
-    const T half = geo.size / 2;
     for (std::size_t b = 0; b < fanout; ++b) {
         if (b == bit) continue;
         node& c = nodes_[first + b];
         c = node{};
         c.parent = root_;
-        coords clo = geo.lo;
-        for (std::size_t i = 0; i < D; ++i)
-            if ((b >> i) & 1) clo[i] = mid(geo, i);
-        set_cell(c, clo, half);
-        for (std::size_t i = 0; i < D; ++i) {
-            c.llo[i] = std::max(c.llo[i], geo.llo[i]);
-            c.lhi[i] = std::min(c.lhi[i], geo.lhi[i]);
-        }
+        set_child_cell(c, geo, b);
     }
 }
 

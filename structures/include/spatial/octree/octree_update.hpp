@@ -76,21 +76,13 @@ template <stored_object O, class Config>
 inline void octree<O, Config>::make_children(node_index n) {
     const node_index first = new_block();
     const node parent_copy_geometry = geometry_of(nodes_[n]);
-    const T half = parent_copy_geometry.size / 2;
     for (std::size_t b = 0; b < fanout; ++b) {
         node& c = nodes_[first + b];
         c.items.clear();
         c.first_child = no_node;
         c.parent = n;
         c.split_retry = 0;
-        coords lo = parent_copy_geometry.lo;
-        for (std::size_t i = 0; i < D; ++i)
-            if ((b >> i) & 1) lo[i] = mid(parent_copy_geometry, i);
-        set_cell(c, lo, half);
-        for (std::size_t i = 0; i < D; ++i) {
-            c.llo[i] = std::max(c.llo[i], parent_copy_geometry.llo[i]);
-            c.lhi[i] = std::min(c.lhi[i], parent_copy_geometry.lhi[i]);
-        }
+        set_child_cell(c, parent_copy_geometry, b);
     }
     nodes_[n].first_child = first;
 }
