@@ -39,6 +39,13 @@
 //  * Collision pairs of objects: the tree descended against itself, as a BVH (Gottschalk,
 //    Lin & Manocha 1996) — each object sits in one leaf and each node's subtree box bounds
 //    what is below, so node pairs whose boxes overlap are opened, the larger node first.
+//
+// Files: this header holds the class (types, the public interface with each member's
+// contract, the data); the configuration is in kd_tree_config.hpp, and the member definitions,
+// included at the end, in kd_tree_storage.hpp (keys, extents, buckets, node pairs),
+// kd_tree_update.hpp (insertion and erasure in place), kd_tree_build.hpp ((re)building and the
+// scapegoat rule), kd_tree_queries.hpp (kNN, ranges, lookup), kd_tree_rays.hpp (ray casting),
+// kd_tree_pairs.hpp (collision pairs) and kd_tree_checks.hpp (diagnostics).
 
 #include <algorithm>
 #include <array>
@@ -59,6 +66,7 @@
 #include "spatial/core/container_base.hpp"
 #include "spatial/core/container_concept.hpp"
 #include "spatial/core/distance.hpp"
+#include "spatial/core/free_list.hpp"
 #include "spatial/core/input_checks.hpp"
 #include "spatial/core/intersect_info.hpp"
 #include "spatial/core/knn_result_set.hpp"
@@ -66,10 +74,15 @@
 #include "spatial/core/object_geometry.hpp"
 #include "spatial/core/query_stats.hpp"
 #include "spatial/core/slot_storage.hpp"
-#include "spatial/core/free_list.hpp"
 #include "spatial/kdtree/kd_tree_config.hpp"
 
 namespace spatial {
+
+// Upkeep of the tree's balance, counted always (rebuilds are rare and costly).
+struct kd_tree_maintenance_stats {
+    std::size_t subtree_rebuilds = 0;  // scapegoat and leaf-split rebuilds
+    std::size_t full_rebuilds = 0;
+};
 
 template <stored_object O, class Config = kd_tree_config<>>
 class kd_tree : public container_base<kd_tree<O, Config>, O> {

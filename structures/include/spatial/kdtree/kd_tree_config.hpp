@@ -1,8 +1,7 @@
 #pragma once
 // spatial::kd_tree_config — the kd-tree's compile-time configuration (leaf capacity, splitter,
-// statistics, the scapegoat balance parameter alpha) with commented defaults, and the counts
-// of the rebuilds that keep the tree balanced. Separate so that a configuration can be named
-// without the tree.
+// statistics, the scapegoat balance parameter alpha) with commented defaults. Separate so
+// that a configuration can be named without the tree.
 
 #include <cstddef>
 
@@ -23,12 +22,6 @@ struct kd_tree_config {
     static constexpr bool collect_stats = CollectStats;
     // Weight-balance parameter alpha of the scapegoat rule, in (0.5, 1).
     static constexpr double balance_alpha = 0.75;
-};
-
-// Upkeep of the tree's balance, counted always (rebuilds are rare and costly).
-struct kd_tree_maintenance_stats {
-    std::size_t subtree_rebuilds = 0;  // scapegoat and leaf-split rebuilds
-    std::size_t full_rebuilds = 0;
 };
 
 }  // namespace spatial

@@ -37,6 +37,13 @@
 //    the parametric traversal of Revelles, Urena & Lastra 2000), a subtree skipped once the best
 //    hit so far is not later than its entry time.
 // Traversals use explicit stacks (no recursion depth limit).
+//
+// Files: this header holds the class (types, the public interface with each member's
+// contract, the data); the configuration is in octree_config.hpp, and the member definitions,
+// included at the end, in octree_cells.hpp (cell geometry), octree_update.hpp (items, blocks,
+// splits, merges), octree_root.hpp (root growth and rebuilds), octree_queries.hpp (kNN,
+// ranges, lookup), octree_rays.hpp (ray casting), octree_pairs.hpp (collision pairs) and
+// octree_checks.hpp (diagnostics).
 
 #include <algorithm>
 #include <array>
