@@ -400,11 +400,6 @@ private:
     std::size_t subtree_size(node_index n) const;
 
     // ---- queries (kd_tree_queries.hpp) ----
-    // A node a query traversal enters: counted (Config::collect_stats) and returned.
-    [[gnu::always_inline]] const node& visit(node_index n) const {
-        if constexpr (Config::collect_stats) ++query_stats_.nodes_visited;
-        return nodes_[n];
-    }
     struct knn_query {
         coords x;
         T eps_factor;  // (1 + eps)^2: prune when cell distance^2 * factor >= worst^2
@@ -417,11 +412,7 @@ private:
         knn_result_set<T>& best;
     };
     void run_knn(const P& x, scalar_type eps, knn_result_set<T>& best) const;
-    template <class Dist>
-    [[gnu::always_inline]] void knn_leaf(const node& nd, knn_result_set<T>& best, Dist&& dist) const;
     void knn(node_index n, T rd, coords& offset, knn_query& q) const;
-    template <class Keep>
-    [[gnu::always_inline]] void collect_leaf(const node& nd, std::vector<iterator>& out, Keep&& keep) const;
     void ball(node_index n, T rd, coords& offset, const coords& x, T r2, std::vector<iterator>& out) const;
     void box(node_index n, const P& lo, const P& hi, std::vector<iterator>& out) const;
     void collect_equal(node_index n, const coords& c, const O& x, std::vector<slot_index>& out,
@@ -449,7 +440,6 @@ private:
     static T pad(const ray_query& q, unsigned d, T bound);
     static void clip_below(const ray_query& q, unsigned d, T b, T& t0, T& t1);
     static void clip_above(const ray_query& q, unsigned d, T a, T& t0, T& t1);
-    [[gnu::always_inline]] void cast_leaf(const node& nd, ray_query& q) const;
     void cast(node_index n, T t0, T t1, ray_query& q) const;
     static bool clip_to_extent(const ray_query& q, const extent& ex, T& t0, T& t1);
     void cast_objects(node_index n, T t0, T t1, ray_query& q) const;

@@ -19,36 +19,20 @@ inline void kd_tree<O, Config>::run_knn(const P& x, scalar_type eps, knn_result_
     }
 }
 
-// The leaf scan of both kNN searches: every object of leaf nd whose squared distance
-// dist(object) is below the k-th best so far enters `best`.
-template <stored_object O, class Config>
-template <class Dist>
-inline void kd_tree<O, Config>::knn_leaf(const node& nd, knn_result_set<T>& best, Dist&& dist) const {
-    const bucket& b = buckets_[nd.first];
-    for (std::uint32_t i = 0; i < nd.count; ++i) {
-        const slot_index s = b.items[i];
-        if constexpr (Config::collect_stats) ++query_stats_.objects_tested;
-        const T d2 = dist(slots_.value(s));
-        if (d2 < best.worst()) best.add(d2, s);
-    }
-}
-
-// The leaf scan of the range queries: out receives every object of leaf nd that keep accepts.
-template <stored_object O, class Config>
-template <class Keep>
-inline void kd_tree<O, Config>::collect_leaf(const node& nd, std::vector<iterator>& out, Keep&& keep) const {
-    const bucket& b = buckets_[nd.first];
-    for (std::uint32_t i = 0; i < nd.count; ++i)
-        if (keep(slots_.value(b.items[i]))) out.push_back(make(b.items[i]));
-}
-
 // Arya & Mount's incremental distance: `rd` is the squared distance from x to the cell,
 // `offset[d]` the per-dimension component of it; entering the far child changes one.
 template <stored_object O, class Config>
 inline void kd_tree<O, Config>::knn(node_index n, T rd, coords& offset, knn_query& q) const {
-    const node& nd = visit(n);
+    const node& nd = nodes_[n];
+    if constexpr (Config::collect_stats) ++query_stats_.nodes_visited;
     if (nd.is_leaf) {
-        knn_leaf(nd, q.best, [&](const O& o) { return squared_distance(o, q.x); });
+        const bucket& b = buckets_[nd.first];
+        for (std::uint32_t i = 0; i < nd.count; ++i) {
+            const slot_index s = b.items[i];
+            if constexpr (Config::collect_stats) ++query_stats_.objects_tested;
+            const T d2 = squared_distance(slots_.value(s), q.x);
+            if (d2 < q.best.worst()) q.best.add(d2, s);
+        }
         return;
     }
     const unsigned d = nd.dim;
@@ -67,9 +51,12 @@ inline void kd_tree<O, Config>::knn(node_index n, T rd, coords& offset, knn_quer
 template <stored_object O, class Config>
 inline void kd_tree<O, Config>::ball(node_index n, T rd, coords& offset, const coords& x, T r2,
                                      std::vector<iterator>& out) const {
-    const node& nd = visit(n);
+    const node& nd = nodes_[n];
+    if constexpr (Config::collect_stats) ++query_stats_.nodes_visited;
     if (nd.is_leaf) {
-        collect_leaf(nd, out, [&](const O& o) { return squared_distance(o, x) <= r2; });
+        const bucket& b = buckets_[nd.first];
+        for (std::uint32_t i = 0; i < nd.count; ++i)
+            if (squared_distance(slots_.value(b.items[i]), x) <= r2) out.push_back(make(b.items[i]));
         return;
     }
     const unsigned d = nd.dim;
@@ -87,9 +74,12 @@ inline void kd_tree<O, Config>::ball(node_index n, T rd, coords& offset, const c
 
 template <stored_object O, class Config>
 inline void kd_tree<O, Config>::box(node_index n, const P& lo, const P& hi, std::vector<iterator>& out) const {
-    const node& nd = visit(n);
+    const node& nd = nodes_[n];
+    if constexpr (Config::collect_stats) ++query_stats_.nodes_visited;
     if (nd.is_leaf) {
-        collect_leaf(nd, out, [&](const O& o) { return object_overlaps_box(o, lo, hi); });
+        const bucket& b = buckets_[nd.first];
+        for (std::uint32_t i = 0; i < nd.count; ++i)
+            if (object_overlaps_box(slots_.value(b.items[i]), lo, hi)) out.push_back(make(b.items[i]));
         return;
     }
     if constexpr (has_extent) {
@@ -166,9 +156,16 @@ inline auto kd_tree<O, Config>::extent_lower_bound(node_index n, const P& x, T s
 // of cells). The objects' distances are exact, so with eps = 0 the answer is exact.
 template <stored_object O, class Config>
 inline void kd_tree<O, Config>::knn_objects(node_index n, knn_object_query& q) const {
-    const node& nd = visit(n);
+    const node& nd = nodes_[n];
+    if constexpr (Config::collect_stats) ++query_stats_.nodes_visited;
     if (nd.is_leaf) {
-        knn_leaf(nd, q.best, [&](const O& o) { return object_squared_distance(o, q.x); });
+        const bucket& b = buckets_[nd.first];
+        for (std::uint32_t i = 0; i < nd.count; ++i) {
+            const slot_index s = b.items[i];
+            if constexpr (Config::collect_stats) ++query_stats_.objects_tested;
+            const T d2 = object_squared_distance(slots_.value(s), q.x);
+            if (d2 < q.best.worst()) q.best.add(d2, s);
+        }
         return;
     }
     const T la = extent_lower_bound(nd.first, q.x, q.slack), lb = extent_lower_bound(nd.first + 1, q.x, q.slack);
@@ -183,9 +180,12 @@ inline void kd_tree<O, Config>::knn_objects(node_index n, knn_object_query& q) c
 template <stored_object O, class Config>
 inline void kd_tree<O, Config>::ball_objects(node_index n, const P& center, T reach, T r2,
                                              std::vector<iterator>& out) const {
-    const node& nd = visit(n);
+    const node& nd = nodes_[n];
+    if constexpr (Config::collect_stats) ++query_stats_.nodes_visited;
     if (nd.is_leaf) {
-        collect_leaf(nd, out, [&](const O& o) { return object_squared_distance(o, center) <= r2; });
+        const bucket& b = buckets_[nd.first];
+        for (std::uint32_t i = 0; i < nd.count; ++i)
+            if (object_squared_distance(slots_.value(b.items[i]), center) <= r2) out.push_back(make(b.items[i]));
         return;
     }
     for (node_index c = nd.first; c <= nd.first + 1; ++c) {

@@ -61,23 +61,17 @@ inline void kd_tree<O, Config>::clip_above(const ray_query& q, unsigned d, T a, 
     else t1 = std::min(t1, t + gamma * std::abs(t));
 }
 
-// The leaf scan of both casts: every object of leaf nd is tested against the thick ray;
-// the last one to report a hit (each reports only hits earlier than q.info.hit_time) wins.
-template <stored_object O, class Config>
-inline void kd_tree<O, Config>::cast_leaf(const node& nd, ray_query& q) const {
-    const bucket& b = buckets_[nd.first];
-    for (std::uint32_t i = 0; i < nd.count; ++i) {
-        if constexpr (Config::collect_stats) ++query_stats_.objects_tested;
-        if (slots_.value(b.items[i]).intersect(q.origin, q.direction, q.r, q.info)) q.hit = b.items[i];
-    }
-}
-
 template <stored_object O, class Config>
 inline void kd_tree<O, Config>::cast(node_index n, T t0, T t1, ray_query& q) const {
     if (!(t0 < q.info.hit_time) || t0 > t1) return;
-    const node& nd = visit(n);
+    const node& nd = nodes_[n];
+    if constexpr (Config::collect_stats) ++query_stats_.nodes_visited;
     if (nd.is_leaf) {
-        cast_leaf(nd, q);
+        const bucket& b = buckets_[nd.first];
+        for (std::uint32_t i = 0; i < nd.count; ++i) {
+            if constexpr (Config::collect_stats) ++query_stats_.objects_tested;
+            if (slots_.value(b.items[i]).intersect(q.origin, q.direction, q.r, q.info)) q.hit = b.items[i];
+        }
         return;
     }
     const unsigned d = nd.dim;
@@ -114,9 +108,14 @@ inline bool kd_tree<O, Config>::clip_to_extent(const ray_query& q, const extent&
 template <stored_object O, class Config>
 inline void kd_tree<O, Config>::cast_objects(node_index n, T t0, T t1, ray_query& q) const {
     if (!(t0 < q.info.hit_time)) return;
-    const node& nd = visit(n);
+    const node& nd = nodes_[n];
+    if constexpr (Config::collect_stats) ++query_stats_.nodes_visited;
     if (nd.is_leaf) {
-        cast_leaf(nd, q);
+        const bucket& b = buckets_[nd.first];
+        for (std::uint32_t i = 0; i < nd.count; ++i) {
+            if constexpr (Config::collect_stats) ++query_stats_.objects_tested;
+            if (slots_.value(b.items[i]).intersect(q.origin, q.direction, q.r, q.info)) q.hit = b.items[i];
+        }
         return;
     }
     T a0 = t0, a1 = t1, b0 = t0, b1 = t1;
