@@ -163,15 +163,10 @@ public:
         return true;
     }
 
-    // The line o + t d within the hull thickened by its tolerance().
+    // Cyrus-Beck: intersect the parameter intervals of the line o + t d in every thickened
+    // half-space. A component of n . d that is (negative) zero means the line is parallel
+    // to that plane: inside it for all t or for none; no division happens then.
     bool ray_interval(const point_type& o, const point_type& d, T& t0, T& t1) const {
-        return clip_line(o, d, tol_, t0, t1);
-    }
-    // Cyrus-Beck: intersect the parameter intervals of the line o + t d in every half-space
-    // pushed out by `push` (normal . (x - reference()) <= offset + push). A component of
-    // n . d that is (negative) zero means the line is parallel to that plane: inside it for
-    // all t or for none; no division happens then. False when the interval is empty.
-    bool clip_line(const point_type& o, const point_type& d, T push, T& t0, T& t1) const {
         if (is_empty()) return false;
         T lo = -std::numeric_limits<T>::infinity(), hi = std::numeric_limits<T>::infinity();
         std::array<T, D> q;
@@ -179,7 +174,7 @@ public:
         for (const plane& h : planes_) {
             T nq = 0, nd = 0;
             for (std::size_t i = 0; i < D; ++i) nq += h.normal[i] * q[i], nd += h.normal[i] * d[i];
-            const T room = h.offset + push - nq;  // >= 0 iff o is inside this half-space
+            const T room = h.offset + tol_ - nq;  // >= 0 iff o is inside this half-space
             if (nd == 0) {
                 if (room < 0) return false;
                 continue;
