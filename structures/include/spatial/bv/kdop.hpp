@@ -206,7 +206,7 @@ struct kdop {
         // by <= 4 eps sum w |b|: only a certificate beyond that error bound decides.
         const double eps = std::numeric_limits<double>::epsilon();
         for (std::size_t k = 0; k < geometry::circuits.count; ++k) {
-            const auto& ci = geometry::circuits.c[k];
+            const auto& ci = geometry::circuits.item[k];
             double sum = 0, mag = 0, wsum = 0;
             for (std::size_t i = 0; i < ci.size; ++i) {
                 const double b = ci.coef[i] > 0 ? c.h[ci.dir[i]] : -c.l[ci.dir[i]];

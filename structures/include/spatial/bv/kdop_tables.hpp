@@ -69,6 +69,15 @@ constexpr std::size_t choose(std::size_t n, std::size_t k) {
     return r;
 }
 
+// A list of at most N entries built at compile time: item[0, count). The form of the basis
+// and circuit tables below.
+template <class Entry, std::size_t N>
+struct fixed_table {
+    std::array<Entry, N> item{};
+    std::size_t count = 0;
+    constexpr void push(const Entry& e) { item[count++] = e; }
+};
+
 // D planes with linearly independent integer normals n_idx[0..D-1] meet at
 //   x = (sum_k b_k col[k]) / det,
 // where col[k] are the columns of the integer adjugate of the normal matrix.
@@ -80,16 +89,10 @@ struct basis {
 };
 
 template <std::size_t D, std::size_t K>
-struct basis_table {
-    std::array<basis<D>, choose(K / 2, D)> b{};
-    std::size_t count = 0;
-};
-
-template <std::size_t D, std::size_t K>
-constexpr basis_table<D, K> make_bases() {
+constexpr auto make_bases() {
     constexpr std::size_t A = K / 2;
     constexpr auto dirs = direction_table<D, K>();
-    basis_table<D, K> t{};
+    fixed_table<basis<D>, choose(A, D)> t{};
     if constexpr (D == 2) {
         for (std::size_t i = 0; i < A; ++i)
             for (std::size_t j = i + 1; j < A; ++j) {
@@ -101,7 +104,7 @@ constexpr basis_table<D, K> make_bases() {
                 s.col[0] = {q[1], -q[0]};
                 s.col[1] = {-p[1], p[0]};
                 s.det = det;
-                t.b[t.count++] = s;
+                t.push(s);
             }
     } else {
         auto cross = [](const std::array<int, 3>& a, const std::array<int, 3>& c) {
@@ -119,7 +122,7 @@ constexpr basis_table<D, K> make_bases() {
                     s.col[1] = cross(dirs[k], dirs[i]);
                     s.col[2] = cross(dirs[i], dirs[j]);
                     s.det = det;
-                    t.b[t.count++] = s;
+                    t.push(s);
                 }
     }
     return t;
@@ -135,8 +138,8 @@ constexpr double make_growth() {
         for (std::size_t i = 0; i < D; ++i) {
             int sum = 0;
             for (std::size_t k = 0; k < D; ++k)
-                sum += bases.b[s].col[k][i] < 0 ? -bases.b[s].col[k][i] : bases.b[s].col[k][i];
-            const int det = bases.b[s].det < 0 ? -bases.b[s].det : bases.b[s].det;
+                sum += bases.item[s].col[k][i] < 0 ? -bases.item[s].col[k][i] : bases.item[s].col[k][i];
+            const int det = bases.item[s].det < 0 ? -bases.item[s].det : bases.item[s].det;
             g = std::max(g, static_cast<double>(sum) / static_cast<double>(det));
         }
     return g;
@@ -171,21 +174,16 @@ struct circuit {
     std::size_t size = 0;
 };
 template <std::size_t D, std::size_t K>
-struct circuit_table {
-    std::array<circuit<D>, 2 * (choose(K / 2, D + 1) + choose(K / 2, D))> c{};
-    std::size_t count = 0;
-};
-template <std::size_t D, std::size_t K>
-constexpr circuit_table<D, K> make_circuits() {
+constexpr auto make_circuits() {
     constexpr std::size_t A = K / 2;
     constexpr auto n = direction_table<D, K>();
-    circuit_table<D, K> t{};
+    fixed_table<circuit<D>, 2 * (choose(A, D + 1) + choose(A, D))> t{};
     auto add = [&](const std::array<std::size_t, D + 1>& idx, const std::array<int, D + 1>& lam, std::size_t size) {
         for (int sgn : {1, -1}) {
             circuit<D> c;
             c.size = size;
             for (std::size_t i = 0; i < size; ++i) c.dir[i] = idx[i], c.coef[i] = sgn * lam[i];
-            t.c[t.count++] = c;
+            t.push(c);
         }
     };
     if constexpr (D == 2) {
@@ -227,11 +225,11 @@ template <std::size_t D, std::size_t K>
 struct geometry {
     static constexpr std::size_t A = K / 2;
     static constexpr auto dirs = direction_table<D, K>();
-    static constexpr basis_table<D, K> bases = make_bases<D, K>();
+    static constexpr auto bases = make_bases<D, K>();
     static constexpr double growth = make_growth<D, K>();
     static constexpr std::array<double, A> l1 = make_l1<D, K>();
     static constexpr std::array<int, A> nnz = make_nnz<D, K>();
-    static constexpr circuit_table<D, K> circuits = make_circuits<D, K>();
+    static constexpr auto circuits = make_circuits<D, K>();
 
     static double l2(std::size_t j) {
         double s = 0;
@@ -254,7 +252,7 @@ struct geometry {
         std::array<double, A> tau;
         for (std::size_t j = 0; j < A; ++j) tau[j] = tau_unit * l1[j];
         for (std::size_t s = 0; s < bases.count; ++s) {
-            const basis<D>& bs = bases.b[s];
+            const basis<D>& bs = bases.item[s];
             // Per plane pair of the basis: the two contributions b_k col_k / det.
             std::array<std::array<std::array<double, D>, 2>, D> part;
             for (std::size_t k = 0; k < D; ++k)
