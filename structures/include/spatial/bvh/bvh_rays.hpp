@@ -70,7 +70,10 @@ inline auto bvh<O, BV, Config>::cast_ray(const point_type& origin, const point_t
         if (reciprocals_finite(direction)) return intersect_boxes(origin, direction, thickness, grow, info, st);
     const bv_point o = to_bv(origin), d = to_bv(direction);
     slot_index hit = no_slot;
-    using entry = timed_node<node_index, T>;
+    struct entry {
+        node_index n;
+        T t;
+    };
     bvh_detail::traversal_stack<entry> stack;
     T t0 = 0, t1 = 0;
     if (!enter(root, o, d, grow, info.hit_time, t0, t1)) return none;
@@ -192,7 +195,10 @@ inline auto bvh<O, BV, Config>::intersect_boxes(const point_type& origin, const 
         tested += nd.count;
     };
     auto traverse = [&](const auto& ray) {
-        using entry = timed_node<node_index, T>;
+        struct entry {
+            node_index n;
+            T t;
+        };
         bvh_detail::traversal_stack<entry> stack;
         T t_root;
         if (!slab_entry(nodes_[root].volume, r, info.hit_time, t_root)) return;

@@ -26,15 +26,6 @@ struct ray {
     }
 };
 
-// A tree node reached by a ray and the ray parameter t at which the ray enters it: the entry
-// of the front-to-back traversal stacks (bvh, octree), which skip a node once a hit at or
-// before t is known.
-template <class NodeIndex, class T>
-struct timed_node {
-    NodeIndex n;
-    T t;
-};
-
 // Nearest object of `c` hit by `r` before info.hit_time, or c.end().
 template <class Container, class P>
 auto cast(const Container& c, const ray<P>& r, intersect_info<P>& info) {

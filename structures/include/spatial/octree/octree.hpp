@@ -69,7 +69,6 @@
 #include "spatial/core/knn_result_set.hpp"
 #include "spatial/core/object_concepts.hpp"
 #include "spatial/core/object_geometry.hpp"
-#include "spatial/core/ray.hpp"
 #include "spatial/core/slot_storage.hpp"
 #include "spatial/octree/octree_config.hpp"
 #include "spatial/octree/ray_cell_clip.hpp"

@@ -15,7 +15,10 @@ inline auto octree<O, Config>::intersect_object(const point_type& origin, const 
     if (slots_.size() == 0) return end();
     const coords o = point_coords(origin), v = point_coords(direction);
     slot_index hit = no_slot;
-    using pending = timed_node<node_index, T>;  // t: the entry parameter
+    struct pending {
+        node_index n;
+        T t_enter;
+    };
     std::vector<pending> stack;
     {
         T t0 = 0, t1 = info.hit_time;
@@ -27,7 +30,7 @@ inline auto octree<O, Config>::intersect_object(const point_type& origin, const 
     while (!stack.empty()) {
         const pending p = stack.back();
         stack.pop_back();
-        if (!(p.t < info.hit_time)) continue;
+        if (!(p.t_enter < info.hit_time)) continue;
         const node& nd = nodes_[p.n];
         for (slot_index s : nd.items)
             if (slots_.value(s).intersect(origin, direction, thickness, info)) hit = s;
@@ -44,7 +47,7 @@ inline auto octree<O, Config>::intersect_object(const point_type& origin, const 
         // Insertion sort (at most 2^D entries) by decreasing entry time, then push: the
         // earliest entry ends on top of the stack and is visited first.
         for (std::size_t i = 1; i < m; ++i)
-            for (std::size_t j = i; j > 0 && kids[j - 1].t < kids[j].t; --j)
+            for (std::size_t j = i; j > 0 && kids[j - 1].t_enter < kids[j].t_enter; --j)
                 std::swap(kids[j - 1], kids[j]);
         for (std::size_t i = 0; i < m; ++i) stack.push_back(kids[i]);
     }
