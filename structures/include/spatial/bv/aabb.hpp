@@ -13,6 +13,7 @@
 #include <stdexcept>
 
 #include "spatial/bv/bounding_volume.hpp"
+#include "spatial/core/distance.hpp"
 #include "spatial/core/point.hpp"
 #include "spatial/core/rigid_transform.hpp"
 
@@ -20,9 +21,7 @@ namespace spatial {
 
 template <class T, std::size_t D>
 struct aabb {
-    using scalar_type = T;
-    using point_type = point<T, D>;
-    static constexpr std::size_t dimension = D;
+    SPATIAL_POINT_MEMBER_TYPES(T, D);
 
     point_type lo, hi;  // lo[i] <= hi[i] for a non-empty box
 
@@ -78,12 +77,7 @@ struct aabb {
         return !is_empty();
     }
     T distance_lower_bound(const point_type& p) const {  // exact Euclidean distance to the box
-        T s = 0;
-        for (std::size_t i = 0; i < D; ++i) {
-            const T e = p[i] < lo[i] ? lo[i] - p[i] : (p[i] > hi[i] ? p[i] - hi[i] : T(0));
-            s += e * e;
-        }
-        return std::sqrt(s);
+        return std::sqrt(box_squared_distance<T, D>(p, lo, hi));
     }
     aabb merged(const aabb& o) const {
         aabb b;

@@ -89,9 +89,7 @@ class convex_hull {
     static_assert(D == 2 || D == 3, "convex_hull<T, D>: D must be 2 or 3");
 
 public:
-    using scalar_type = T;
-    using point_type = point<T, D>;
-    static constexpr std::size_t dimension = D;
+    SPATIAL_POINT_MEMBER_TYPES(T, D);
     using index_type = std::uint32_t;
     using triangle = std::array<index_type, 3>;
     // Half-space normal . (x - reference()) <= offset (+ tolerance()); |normal| = 1 up to

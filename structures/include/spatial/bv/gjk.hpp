@@ -37,6 +37,8 @@
 #include <limits>
 #include <utility>
 
+#include "spatial/bv/gauss_jordan.hpp"
+
 namespace spatial {
 
 namespace detail {
@@ -80,23 +82,8 @@ bool gjk_closest(std::array<std::array<double, D>, D + 1>& s, std::size_t& k, st
                 for (std::size_t j = 0; j < r; ++j) g[i][j] = gjk_dot(e[i], e[j]);
                 g[i][r] = -gjk_dot(e[i], s0);
             }
-            bool singular = !(scale > 0);
-            for (std::size_t c = 0; c < r && !singular; ++c) {
-                std::size_t piv = c;
-                for (std::size_t i = c + 1; i < r; ++i)
-                    if (std::abs(g[i][c]) > std::abs(g[piv][c])) piv = i;
-                if (!(std::abs(g[piv][c]) > 1e-13 * scale)) {
-                    singular = true;
-                    break;
-                }
-                if (piv != c)
-                    for (std::size_t j = 0; j <= r; ++j) std::swap(g[c][j], g[piv][j]);
-                for (std::size_t i = 0; i < r; ++i) {
-                    if (i == c) continue;
-                    const double f = g[i][c] / g[c][c];
-                    for (std::size_t j = c; j <= r; ++j) g[i][j] -= f * g[c][j];
-                }
-            }
+            const bool singular =
+                !(scale > 0) || !gauss_jordan(g, r, [&](double pivot) { return std::abs(pivot) > 1e-13 * scale; });
             if (singular) continue;
             double mu_sum = 0;
             bool inside = true;

@@ -201,14 +201,26 @@ inline frame<3> frame_around(const vec<3>& n) {
     return {x, y, n};
 }
 
+// The right-handed frame (x, y, a) of a plane fit: rect.axis = (c, s) is the rectangle's
+// first axis in the plane's coordinates along u and v, so x = c u + s v, y = -s u + c v,
+// and x cross y = (c^2 + s^2) u cross v = a when (u, v, a) is right-handed.
+inline frame<3> frame_in_plane(const rectangle_2d& rect, const vec<3>& u, const vec<3>& v, const vec<3>& a) {
+    const double c = rect.axis[0], s = rect.axis[1];
+    frame<3> f;
+    for (std::size_t d = 0; d < 3; ++d) {
+        f[0][d] = c * u[d] + s * v[d];
+        f[1][d] = -s * u[d] + c * v[d];
+        f[2][d] = a[d];
+    }
+    return f;
+}
+
 }  // namespace detail_obb
 
 template <class T, std::size_t D>
 struct obb {
     static_assert(D == 2 || D == 3, "obb<T, D>: D must be 2 or 3");
-    using scalar_type = T;
-    using point_type = point<T, D>;
-    static constexpr std::size_t dimension = D;
+    SPATIAL_POINT_MEMBER_TYPES(T, D);
     static constexpr std::size_t corner_count = std::size_t(1) << D;
 
     point_type center{};
@@ -267,13 +279,7 @@ struct obb {
                     lo = std::min(lo, s), hi = std::max(hi, s);
                 }
                 const rectangle_2d rect = min_area_rectangle(std::span<const point<double, 2>>(q));
-                const double c = rect.axis[0], s = rect.axis[1];
-                frame<3> f;
-                for (std::size_t d = 0; d < 3; ++d) {
-                    f[0][d] = c * u[d] + s * v[d];
-                    f[1][d] = -s * u[d] + c * v[d];
-                    f[2][d] = a[d];  // x cross y = (c^2 + s^2) u cross v = a: right-handed
-                }
+                const frame<3> f = frame_in_plane(rect, u, v, a);
                 const double ext = hi - lo;
                 const quality<3> cand{rect.area() * ext, 2 * (rect.area() + ext * (rect.perimeter() / 2))};
                 if (cand.better_than(best)) best = cand, best_frame = f;
@@ -648,13 +654,7 @@ private:
                 for (std::size_t slot = 0; slot < per; ++slot)
                     add(arg_lo[3 + per * k + slot]), add(arg_hi[3 + per * k + slot]);
                 const rectangle_2d rect = min_area_rectangle(std::span<const point<double, 2>>(q));
-                const double c = rect.axis[0], s = rect.axis[1];
-                frame<3> g;
-                for (std::size_t d = 0; d < 3; ++d) {
-                    g[0][d] = c * u[d] + s * v[d];
-                    g[1][d] = -s * u[d] + c * v[d];
-                    g[2][d] = f[k][d];  // (u, v, f_k) is cyclic, so g is right-handed
-                }
+                const frame<3> g = frame_in_plane(rect, u, v, f[k]);  // (u, v, f_k) is cyclic
                 extents<3> ge;
                 for (const auto& r : support) ge.add(r, g);
                 const quality<3> gq = quality_of(ge);

@@ -55,6 +55,7 @@
 
 #include "spatial/bv/hull_2d.hpp"
 #include "spatial/bv/predicates.hpp"
+#include "spatial/core/free_list.hpp"
 
 namespace spatial {
 
@@ -245,14 +246,10 @@ private:
     }
 
     u32 make_facet(u32 a, u32 b, u32 c) {
-        u32 id;
-        if (!free_facets_.empty()) {
-            id = free_facets_.back();
-            free_facets_.pop_back();
-        } else {
-            id = static_cast<u32>(facets_.size());
+        const u32 id = detail::reuse_or_grow(free_facets_, [this] {
             facets_.emplace_back();
-        }
+            return static_cast<u32>(facets_.size() - 1);
+        });
         facet& f = facets_[id];
         f.v[0] = a, f.v[1] = b, f.v[2] = c;
         f.nb[0] = f.nb[1] = f.nb[2] = none;
@@ -280,13 +277,10 @@ private:
     void add_conflict(u32 fid, const conflict& c, double det) {
         facet& f = facets_[fid];
         if (f.list == none) {
-            if (!free_lists_.empty()) {
-                f.list = free_lists_.back();
-                free_lists_.pop_back();
-            } else {
-                f.list = static_cast<u32>(lists_.size());
+            f.list = detail::reuse_or_grow(free_lists_, [this] {
                 lists_.emplace_back();
-            }
+                return static_cast<u32>(lists_.size() - 1);
+            });
             pending_.push_back(fid);
         }
         auto& l = lists_[f.list];

@@ -29,6 +29,7 @@
 #include <vector>
 
 #include "spatial/bv/bounding_volume.hpp"
+#include "spatial/bv/gauss_jordan.hpp"
 #include "spatial/core/distance.hpp"
 #include "spatial/core/point.hpp"
 #include "spatial/core/rigid_transform.hpp"
@@ -37,9 +38,7 @@ namespace spatial {
 
 template <class T, std::size_t D>
 struct sphere {
-    using scalar_type = T;
-    using point_type = point<T, D>;
-    static constexpr std::size_t dimension = D;
+    SPATIAL_POINT_MEMBER_TYPES(T, D);
 
     point_type center{};
     T radius = -1;  // negative: the empty ball
@@ -219,19 +218,8 @@ private:
             }
             // Gaussian elimination with partial pivoting; a tiny pivot means the support is
             // affinely dependent.
-            for (std::size_t col = 0; col < k; ++col) {
-                std::size_t piv = col;
-                for (std::size_t r = col + 1; r < k; ++r)
-                    if (std::abs(a[r][col]) > std::abs(a[piv][col])) piv = r;
-                if (std::abs(a[piv][col]) <= 1e-12 * scale) return false;
-                if (piv != col)
-                    for (std::size_t j = 0; j <= k; ++j) std::swap(a[col][j], a[piv][j]);
-                for (std::size_t r = 0; r < k; ++r) {
-                    if (r == col) continue;
-                    const double f = a[r][col] / a[col][col];
-                    for (std::size_t j = col; j <= k; ++j) a[r][j] -= f * a[col][j];
-                }
-            }
+            if (!detail::gauss_jordan(a, k, [&](double pivot) { return !(std::abs(pivot) <= 1e-12 * scale); }))
+                return false;
             c = s0;
             for (std::size_t i = 0; i < k; ++i) {
                 const double l = a[i][k] / a[i][i];

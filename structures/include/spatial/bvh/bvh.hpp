@@ -58,6 +58,7 @@
 #include "spatial/collide/pairs.hpp"
 #include "spatial/core/container_base.hpp"
 #include "spatial/core/container_concept.hpp"
+#include "spatial/core/free_list.hpp"
 #include "spatial/core/input_checks.hpp"
 #include "spatial/core/intersect_info.hpp"
 #include "spatial/core/lazy_snapshot.hpp"
@@ -131,13 +132,7 @@ public:
     bvh& operator=(const bvh&) = default;
     // A moved-from tree is empty and usable; iterators into the source are invalidated.
     bvh(bvh&& o) noexcept(false) : bvh() { swap_contents(o); }
-    bvh& operator=(bvh&& o) noexcept(false) {
-        if (this != &o) {
-            clear();
-            swap_contents(o);
-        }
-        return *this;
-    }
+    bvh& operator=(bvh&& o) noexcept(false) { return this->move_assign_from(o); }
 
     // ---- insertion -------------------------------------------------------------------
     // O(depth + leaf_size fits) plus amortised rebuilds (see bvh_motion.hpp).

@@ -3,6 +3,7 @@
 // MacDonald & Booth 1990), height, memory, and the structural invariant check the tests run.
 
 #include "spatial/bvh/bvh.hpp"
+#include "spatial/core/tree_height.hpp"
 
 namespace spatial {
 
@@ -27,15 +28,9 @@ inline auto bvh<O, BV, Config>::node_surface_areas() const -> std::pair<double, 
 
 template <stored_object O, class BV, class Config>
 inline std::size_t bvh<O, BV, Config>::height() const {
-    std::size_t h = 0;
-    std::vector<std::pair<node_index, std::size_t>> st{{root, 0}};
-    while (!st.empty()) {
-        const auto [n, d] = st.back();
-        st.pop_back();
-        h = std::max(h, d);
-        if (!nodes_[n].leaf) st.push_back({nodes_[n].first, d + 1}), st.push_back({nodes_[n].first + 1, d + 1});
-    }
-    return h;
+    return detail::tree_height(root, [this](node_index n, auto&& push) {
+        if (!nodes_[n].leaf) push(nodes_[n].first), push(nodes_[n].first + 1);
+    });
 }
 
 template <stored_object O, class BV, class Config>

@@ -31,28 +31,17 @@ inline void bvh<O, BV, Config>::reset_to_empty() {
 
 template <stored_object O, class BV, class Config>
 inline void bvh<O, BV, Config>::swap_contents(bvh& o) {
-    this->swap_base(o);
-    std::swap(nodes_, o.nodes_);
-    std::swap(items_, o.items_);
-    std::swap(free_pairs_, o.free_pairs_);
-    std::swap(free_blocks_, o.free_blocks_);
-    std::swap(size_at_build_, o.size_at_build_);
-    std::swap(updates_since_build_, o.updates_since_build_);
-    std::swap(full_rebuilds_, o.full_rebuilds_);
-    std::swap(stale_, o.stale_);
-    std::swap(quality_at_build_, o.quality_at_build_);
+    this->swap_with(o, &bvh::nodes_, &bvh::items_, &bvh::free_pairs_, &bvh::free_blocks_, &bvh::size_at_build_,
+                    &bvh::updates_since_build_, &bvh::full_rebuilds_, &bvh::stale_, &bvh::quality_at_build_);
     if constexpr (wide_rays) wide_.swap(o.wide_);
 }
 
 template <stored_object O, class BV, class Config>
 inline auto bvh<O, BV, Config>::alloc_block() -> node_index {
-    if (!free_blocks_.empty()) {
-        const node_index b = free_blocks_.back();
-        free_blocks_.pop_back();
-        return b;
-    }
-    items_.resize(items_.size() + leaf_size, no_slot);
-    return static_cast<node_index>(items_.size() / leaf_size - 1);
+    return detail::reuse_or_grow(free_blocks_, [this] {
+        items_.resize(items_.size() + leaf_size, no_slot);
+        return static_cast<node_index>(items_.size() / leaf_size - 1);
+    });
 }
 
 template <stored_object O, class BV, class Config>

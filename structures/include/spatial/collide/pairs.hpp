@@ -32,10 +32,16 @@ void sort_pairs(std::vector<std::pair<ItA, ItB>>& pairs) {
 }
 
 namespace detail {
-// The corners of an object's bounding box as points of container C.
-template <class C, class Obj>
-void object_box_corners(const Obj& x, typename C::point_type& lo, typename C::point_type& hi) {
-    for (std::size_t i = 0; i < C::dimension; ++i) lo[i] = object_lower(x, i), hi[i] = object_upper(x, i);
+// f(it, hit) for every object `it` of b and every iterator `hit` of a that a's box query over
+// it's bounding box reports (find_in_box: the object overlaps the box).
+template <class A, class B, class F>
+void for_each_box_query_hit(const A& a, const B& b, F&& f) {
+    using PA = typename A::point_type;
+    for (auto it = b.begin(); it != b.end(); ++it) {
+        PA lo, hi;
+        for (std::size_t i = 0; i < A::dimension; ++i) lo[i] = object_lower(*it, i), hi[i] = object_upper(*it, i);
+        for (const auto& hit : a.find_in_box(lo, hi)) f(it, hit);
+    }
 }
 }  // namespace detail
 
@@ -47,13 +53,9 @@ template <class A, class B>
 std::vector<std::pair<typename A::iterator, typename B::iterator>> pairs_between(const A& a, const B& b,
                                                                                  pair_filter filter) {
     std::vector<std::pair<typename A::iterator, typename B::iterator>> out;
-    using PA = typename A::point_type;
-    for (auto it = b.begin(); it != b.end(); ++it) {
-        PA lo, hi;
-        detail::object_box_corners<A>(*it, lo, hi);
-        for (const auto& ia : a.find_in_box(lo, hi))
-            if (filter == pair_filter::candidates || collide::narrow_phase(*ia, *it)) out.emplace_back(ia, it);
-    }
+    detail::for_each_box_query_hit(a, b, [&](const auto& it, const auto& ia) {
+        if (filter == pair_filter::candidates || collide::narrow_phase(*ia, *it)) out.emplace_back(ia, it);
+    });
     sort_pairs(out);
     return out;
 }
@@ -66,14 +68,10 @@ template <class C>
 std::vector<std::pair<typename C::iterator, typename C::iterator>> self_pairs_by_queries(const C& c,
                                                                                          pair_filter filter) {
     std::vector<std::pair<typename C::iterator, typename C::iterator>> out;
-    using P = typename C::point_type;
-    for (auto it = c.begin(); it != c.end(); ++it) {
-        P lo, hi;
-        detail::object_box_corners<C>(*it, lo, hi);
-        for (const auto& other : c.find_in_box(lo, hi))
-            if (other.slot() > it.slot() && (filter == pair_filter::candidates || collide::narrow_phase(*it, *other)))
-                out.emplace_back(it, other);
-    }
+    detail::for_each_box_query_hit(c, c, [&](const auto& it, const auto& other) {
+        if (other.slot() > it.slot() && (filter == pair_filter::candidates || collide::narrow_phase(*it, *other)))
+            out.emplace_back(it, other);
+    });
     sort_pairs(out);
     return out;
 }

@@ -12,12 +12,18 @@
 //    after erasure), so pruning node pairs by it tests fewer pairs and never loses one:
 //    every object's box lies inside the subtree boxes of its node and its ancestors.
 // Built in O(objects + nodes) time and memory per query.
+//
+// snapshot_self_pairs / snapshot_pairs_between turn a descent over snapshots into the pair
+// list both trees return: the descent proposes positions, these keep the pairs whose boxes
+// overlap (and, for pair_filter::exact, that the narrow phase confirms) and sort them.
 
 #include <cstddef>
 #include <cstdint>
+#include <utility>
 #include <vector>
 
 #include "spatial/collide/box_bounds.hpp"
+#include "spatial/collide/pairs.hpp"
 #include "spatial/core/object_geometry.hpp"
 #include "spatial/core/slot_storage.hpp"
 
@@ -56,5 +62,43 @@ struct tree_pair_snapshot {
             subtree[parent(preorder[k])].grow(subtree[preorder[k]]);
     }
 };
+
+// Self pairs of one tree: descend(emit) calls emit(i, j) for positions i != j of `lay`, each
+// pair of objects at most once. Returns (lower slot, higher slot), sorted by slots.
+template <class O, class T, std::size_t D, class Descend>
+std::vector<std::pair<slot_iterator<O>, slot_iterator<O>>> snapshot_self_pairs(const slot_storage<O>& slots,
+                                                                                const tree_pair_snapshot<T, D>& lay,
+                                                                                pair_filter filter, Descend&& descend) {
+    std::vector<std::pair<slot_iterator<O>, slot_iterator<O>>> out;
+    auto emit = [&](std::uint32_t i, std::uint32_t j) {
+        if (!closed_boxes_overlap(lay.box[i], lay.box[j])) return;
+        slot_index s = lay.slot[i], t = lay.slot[j];
+        if (filter == pair_filter::exact && !narrow_phase(slots.value(s), slots.value(t))) return;
+        if (s > t) std::swap(s, t);
+        out.emplace_back(slot_iterator<O>(&slots, s), slot_iterator<O>(&slots, t));
+    };
+    descend(emit);
+    sort_pairs(out);
+    return out;
+}
+
+// Pairs between two trees of one type: descend(emit) calls emit(i, j) for position i of
+// `mine` and j of `theirs`, each pair at most once. Returns (object of mine, object of
+// theirs), sorted by slots.
+template <class O, class T, std::size_t D, class Descend>
+std::vector<std::pair<slot_iterator<O>, slot_iterator<O>>> snapshot_pairs_between(
+    const slot_storage<O>& my_slots, const tree_pair_snapshot<T, D>& mine, const slot_storage<O>& their_slots,
+    const tree_pair_snapshot<T, D>& theirs, pair_filter filter, Descend&& descend) {
+    std::vector<std::pair<slot_iterator<O>, slot_iterator<O>>> out;
+    auto emit = [&](std::uint32_t i, std::uint32_t j) {
+        if (!closed_boxes_overlap(mine.box[i], theirs.box[j])) return;
+        const slot_index s = mine.slot[i], t = theirs.slot[j];
+        if (filter == pair_filter::exact && !narrow_phase(my_slots.value(s), their_slots.value(t))) return;
+        out.emplace_back(slot_iterator<O>(&my_slots, s), slot_iterator<O>(&their_slots, t));
+    };
+    descend(emit);
+    sort_pairs(out);
+    return out;
+}
 
 }  // namespace spatial::collide

@@ -25,6 +25,7 @@
 
 #include <cstddef>
 #include <span>
+#include <utility>
 #include <vector>
 
 #include "spatial/core/input_checks.hpp"
@@ -97,6 +98,22 @@ protected:
     void swap_base(container_base& o) noexcept {
         std::swap(slots_, o.slots_);
         std::swap(ray_thickness_, o.ray_thickness_);
+    }
+    // A structure's swap_contents in one line: the base's state and the listed members of
+    // Derived (pointers to members: &Derived::nodes_, ...) are swapped with o's.
+    template <class... Member>
+    void swap_with(Derived& o, Member Derived::*... members) {
+        swap_base(o);
+        (std::swap(self().*members, o.*members), ...);
+    }
+    // A structure's move assignment: *this is cleared, then takes o's contents by
+    // Derived::swap_contents, so o is left empty and usable (self-assignment does nothing).
+    Derived& move_assign_from(Derived& o) {
+        if (&self() != &o) {
+            self().clear();
+            self().swap_contents(o);
+        }
+        return self();
     }
 
     slot_storage<O> slots_;

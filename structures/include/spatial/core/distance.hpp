@@ -2,6 +2,7 @@
 // Squared Euclidean distance and box tests on any point_object. One definition, used by
 // every container and by the brute-force oracle, so exact answers compare bit-for-bit.
 
+#include <array>
 #include <cstddef>
 
 namespace spatial {
@@ -21,6 +22,30 @@ constexpr bool in_closed_box(const P& p, const P& lo, const P& hi) {
     for (std::size_t i = 0; i < P::dimension; ++i)
         if (p[i] < lo[i] || p[i] > hi[i]) return false;
     return true;
+}
+
+// Squared distance from x to the closed box [lo, hi] (0 inside; +inf for an empty box with
+// lo = +inf, hi = -inf). The one arithmetic of every axis-aligned box: the box object, the
+// aabb, kd_tree node extents and octree loose cells, so their bounds agree bit for bit.
+// x, lo and hi are anything indexable by 0 .. D-1 (points, std::arrays). Not forced inline:
+// [[gnu::always_inline]] here changed how GCC 12 compiles kd_tree's object kNN and ray cast
+// (measured on the assembly); left to the inliner, they compile exactly as before.
+template <class T, std::size_t D, class X, class Lo, class Hi>
+constexpr T box_squared_distance(const X& x, const Lo& lo, const Hi& hi) {
+    T s = 0;
+    for (std::size_t i = 0; i < D; ++i) {
+        const T d = x[i] < lo[i] ? lo[i] - x[i] : (x[i] > hi[i] ? x[i] - hi[i] : T(0));
+        s += d * d;
+    }
+    return s;
+}
+
+// A point's coordinates as a std::array (the trees keep keys and queries in this form).
+template <class P>
+constexpr std::array<typename P::scalar_type, P::dimension> point_coords(const P& p) {
+    std::array<typename P::scalar_type, P::dimension> c;
+    for (std::size_t i = 0; i < P::dimension; ++i) c[i] = p[i];
+    return c;
 }
 
 }  // namespace spatial

@@ -14,6 +14,14 @@
 
 #include "spatial/core/intersect_info.hpp"
 
+// The member types of every geometric type over point<T, D> (bounding volumes, ready-made
+// objects, rigid transforms), written once: scalar_type, point_type and dimension, as the
+// concepts (object_concepts.hpp, bv/bounding_volume.hpp) read them.
+#define SPATIAL_POINT_MEMBER_TYPES(T, D)           \
+    using scalar_type = T;                         \
+    using point_type = ::spatial::point<T, D>;     \
+    static constexpr std::size_t dimension = D
+
 namespace spatial {
 
 template <class T, std::size_t D>

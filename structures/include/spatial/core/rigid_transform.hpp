@@ -15,9 +15,7 @@ namespace spatial {
 
 template <class T, std::size_t D>
 struct rigid_transform {
-    using scalar_type = T;
-    using point_type = point<T, D>;
-    static constexpr std::size_t dimension = D;
+    SPATIAL_POINT_MEMBER_TYPES(T, D);
 
     std::array<std::array<T, D>, D> rotation{};  // row-major
     point_type translation{};

@@ -16,6 +16,7 @@
 #include <cstddef>
 #include <limits>
 
+#include "spatial/core/distance.hpp"
 #include "spatial/core/point.hpp"
 #include "spatial/objects/thick_ray.hpp"
 
@@ -23,9 +24,7 @@ namespace spatial::objects {
 
 template <class T, std::size_t D>
 struct box {
-    using scalar_type = T;
-    using point_type = point<T, D>;
-    static constexpr std::size_t dimension = D;
+    SPATIAL_POINT_MEMBER_TYPES(T, D);
 
     std::array<T, D> lo{}, hi{};
 
@@ -60,12 +59,7 @@ struct box {
     }
 
     T squared_distance(const point_type& p) const {
-        T s = 0;
-        for (std::size_t i = 0; i < D; ++i) {
-            const T d = p[i] < lo[i] ? lo[i] - p[i] : (p[i] > hi[i] ? p[i] - hi[i] : T(0));
-            s += d * d;
-        }
-        return s;
+        return box_squared_distance<T, D>(p, lo, hi);
     }
     bool overlaps_box(const point_type& a, const point_type& b) const {
         for (std::size_t i = 0; i < D; ++i)

@@ -27,9 +27,7 @@ namespace spatial::objects {
 template <class T, std::size_t D>
 class sphere {
 public:
-    using scalar_type = T;
-    using point_type = point<T, D>;
-    static constexpr std::size_t dimension = D;
+    SPATIAL_POINT_MEMBER_TYPES(T, D);
 
     sphere() { update_bounds(); }
     // Throws std::invalid_argument for a negative or NaN radius (a NaN centre is reported by

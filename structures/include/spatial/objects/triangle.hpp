@@ -37,9 +37,7 @@ class triangle {
     static_assert(D == 2 || D == 3, "objects::triangle: D must be 2 or 3");
 
 public:
-    using scalar_type = T;
-    using point_type = point<T, D>;
-    static constexpr std::size_t dimension = D;
+    SPATIAL_POINT_MEMBER_TYPES(T, D);
 
     triangle() = default;
     triangle(const point_type& a, const point_type& b, const point_type& c) : v_{a, b, c} {

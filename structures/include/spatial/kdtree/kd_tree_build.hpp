@@ -1,0 +1,203 @@
+#pragma once
+// spatial::kd_tree — (re)building: the median build of a subtree over copied-out entries
+// (build_node, splits chosen by Config::splitter), the bulk build into an empty tree that lays
+// the points out in leaf order, the full rebuild from the live slots, and the scapegoat rule
+// (Galperin & Rivest 1993) that picks which subtree to rebuild when a leaf gets too deep.
+
+#include "spatial/kdtree/kd_tree.hpp"
+
+namespace spatial {
+
+template <stored_object O, class Config>
+inline std::uint16_t kd_tree<O, Config>::depth_limit() const {
+    const double n = std::max<double>(static_cast<double>(slots_.size()), leaf_capacity);
+    return static_cast<std::uint16_t>(
+        std::ceil(std::log(n / leaf_capacity) / std::log(1.0 / Config::balance_alpha)) + 2);
+}
+
+// Collect the points below n as build entries and free every node and bucket below n
+// (n itself is kept).
+template <stored_object O, class Config>
+inline void kd_tree<O, Config>::gather(node_index n, std::vector<entry>& es) {
+    node& nd = nodes_[n];
+    if (nd.is_leaf) {
+        const bucket& b = buckets_[nd.first];
+        for (std::uint32_t i = 0; i < nd.count; ++i) es.push_back(make_entry(slots_.value(b.items[i]), b.items[i]));
+        free_buckets_.push_back(nd.first);
+        --leaves_;
+        return;
+    }
+    const node_index first = nd.first;
+    gather(first, es);
+    gather(first + 1, es);
+    free_pairs_.push_back(first);
+}
+
+// Rebuild the subtree rooted at n over `es`; returns the deepest leaf depth.
+template <stored_object O, class Config>
+inline std::uint16_t kd_tree<O, Config>::rebuild_subtree(node_index n, std::vector<entry>& es) {
+    coords lo, hi;
+    // n's cell: it is intact in n's ancestors (restores) but its own bucket may be
+    // freed already, so recompute from the parent chain.
+    cell_from_ancestors(n, lo, hi);
+    ++maintenance_.subtree_rebuilds;
+    return build_node(n, es.data(), es.size(), lo, hi, nodes_[n].depth, false, 0);
+}
+
+// The cell of n from the root down (O(depth)), valid even when n's subtree is gone.
+template <stored_object O, class Config>
+inline void kd_tree<O, Config>::cell_from_ancestors(node_index n, coords& lo, coords& hi) const {
+    lo.fill(-std::numeric_limits<T>::infinity());
+    hi.fill(std::numeric_limits<T>::infinity());
+    std::vector<node_index> path;
+    for (node_index c = n; c != root; c = nodes_[c].parent) path.push_back(c);
+    for (auto it = path.rbegin(); it != path.rend(); ++it) {
+        const node_index p = nodes_[*it].parent;
+        const unsigned d = nodes_[p].dim;
+        if (*it == nodes_[p].first) hi[d] = nodes_[p].split;
+        else lo[d] = nodes_[p].split;
+    }
+}
+
+// Build over entries e[0, n) into node index `at` (already allocated) with cell [lo, hi].
+// fresh: slot ids are positions (base + index into e), used by build_fresh to lay points
+// out in leaf order. Returns the deepest leaf depth.
+template <stored_object O, class Config>
+inline std::uint16_t kd_tree<O, Config>::build_node(node_index at, entry* e, std::size_t n, const coords& lo,
+                                                    const coords& hi, std::uint16_t depth, bool fresh,
+                                                    std::size_t base) {
+    nodes_[at].depth = depth;
+    if (n <= leaf_capacity) {
+        const node_index b = new_bucket(at, lo, hi);
+        node& L = nodes_[at];
+        L.is_leaf = 1;
+        L.first = b;
+        L.count = static_cast<std::uint32_t>(n);
+        for (std::size_t i = 0; i < n; ++i) {
+            const slot_index s = fresh ? static_cast<slot_index>(base + i) : e[i].slot;
+            buckets_[b].items[i] = s;
+            if (fresh) e[i].bucket = b;  // build_fresh sets the slot metadata afterwards
+            else slots_.set_meta(s, b);
+        }
+        if constexpr (has_extent) {
+            extent ex = extent::empty();
+            for (std::size_t i = 0; i < n; ++i) ex.grow(e[i].bounds);
+            extents_[at] = ex;
+        }
+        ++leaves_;
+        return depth;
+    }
+    const split_choice<T> sc = typename Config::splitter{}(e, n, leaf_capacity);
+    const node_index first = new_pair();
+    {
+        node& nd = nodes_[at];
+        nd.is_leaf = 0;
+        nd.dim = static_cast<std::uint8_t>(sc.dim);
+        nd.split = sc.value;
+        nd.first = first;
+        nd.count = 0;
+    }
+    nodes_[first] = node{};
+    nodes_[first + 1] = node{};
+    nodes_[first].parent = nodes_[first + 1].parent = at;
+    nodes_[first].restore = hi[sc.dim];
+    nodes_[first + 1].restore = lo[sc.dim];
+    coords lhi = hi, rlo = lo;
+    lhi[sc.dim] = sc.value;
+    rlo[sc.dim] = sc.value;
+    const auto d1 = build_node(first, e, sc.left, lo, lhi, static_cast<std::uint16_t>(depth + 1), fresh, base);
+    const auto d2 = build_node(first + 1, e + sc.left, n - sc.left, rlo, hi,
+                               static_cast<std::uint16_t>(depth + 1), fresh, base + sc.left);
+    if constexpr (has_extent) {
+        extents_[at] = extents_[first];
+        extents_[at].grow(extents_[first + 1]);
+    }
+    return std::max(d1, d2);
+}
+
+// Bulk build into an empty tree. Slots are assigned in leaf order, so each leaf's points
+// are contiguous in memory (sequential access when a query scans a leaf).
+template <stored_object O, class Config>
+template <class RandomIt>
+inline void kd_tree<O, Config>::build_fresh(RandomIt batch, std::size_t count) {
+    reset_to_empty();
+    free_buckets_.push_back(nodes_[root].first);
+    leaves_ = 0;
+    std::vector<entry> es(count);
+    for (std::size_t i = 0; i < count; ++i) {
+        es[i] = make_entry(batch[i], static_cast<slot_index>(i));
+        grow_bounds(es[i].c);
+    }
+    coords lo, hi;
+    lo.fill(-std::numeric_limits<T>::infinity());
+    hi.fill(std::numeric_limits<T>::infinity());
+    build_node(root, es.data(), es.size(), lo, hi, 0, true, 0);
+    // After partitioning, position i of `es` is the i-th point in leaf order.
+    std::vector<O> ordered;
+    ordered.reserve(count);
+    for (const entry& e : es) ordered.push_back(batch[e.slot]);
+    slots_.assign(std::move(ordered), 0);
+    for (std::size_t i = 0; i < es.size(); ++i) slots_.set_meta(static_cast<slot_index>(i), es[i].bucket);
+    size_at_rebuild_ = slots_.size();
+    ++maintenance_.full_rebuilds;
+    nodes_.shrink_to_fit();
+    buckets_.shrink_to_fit();
+}
+
+// Rebuild everything from the live slots (slots keep their ids).
+template <stored_object O, class Config>
+inline void kd_tree<O, Config>::rebuild_all() {
+    std::vector<entry> es;
+    es.reserve(slots_.size());
+    bounds_lo_.fill(std::numeric_limits<T>::infinity());
+    bounds_hi_.fill(-std::numeric_limits<T>::infinity());
+    for (slot_index s = slots_.next_occupied(0); s < slots_.capacity(); s = slots_.next_occupied(s + 1)) {
+        es.push_back(make_entry(slots_.value(s), s));
+        grow_bounds(es.back().c);
+    }
+    nodes_.assign(1, node{});
+    if constexpr (has_extent) extents_.assign(1, extent::empty());
+    buckets_.clear();
+    free_pairs_.clear();
+    free_buckets_.clear();
+    leaves_ = 0;
+    coords lo, hi;
+    lo.fill(-std::numeric_limits<T>::infinity());
+    hi.fill(std::numeric_limits<T>::infinity());
+    build_node(root, es.data(), es.size(), lo, hi, 0, false, 0);
+    size_at_rebuild_ = slots_.size();
+    ++maintenance_.full_rebuilds;
+}
+
+// Scapegoat search from a too-deep leaf: climb while the subtree is weight-balanced.
+template <stored_object O, class Config>
+inline void kd_tree<O, Config>::rebalance_from(node_index n) {
+    // n was just rebuilt; find its deepest leaf's ancestor chain from n upward.
+    std::size_t size_child = subtree_size(n);
+    node_index child = n;
+    while (child != root) {
+        const node_index p = nodes_[child].parent;
+        const node_index first = nodes_[p].first;
+        const node_index sib = child == first ? first + 1 : first;
+        const std::size_t size_p = size_child + subtree_size(sib);
+        const std::size_t heavy = std::max(size_child, size_p - size_child);
+        if (static_cast<double>(heavy) > Config::balance_alpha * static_cast<double>(size_p) &&
+            size_p > 2 * leaf_capacity) {
+            std::vector<entry> es;
+            es.reserve(size_p);
+            gather(p, es);
+            rebuild_subtree(p, es);
+            return;
+        }
+        size_child = size_p;
+        child = p;
+    }
+    rebuild_all();
+}
+
+template <stored_object O, class Config>
+inline std::size_t kd_tree<O, Config>::subtree_size(node_index n) const {
+    if (nodes_[n].is_leaf) return nodes_[n].count;
+    return subtree_size(nodes_[n].first) + subtree_size(nodes_[n].first + 1);
+}
+}  // namespace spatial

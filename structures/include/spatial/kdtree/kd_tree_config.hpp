@@ -1,0 +1,27 @@
+#pragma once
+// spatial::kd_tree_config — the kd-tree's compile-time configuration (leaf capacity, splitter,
+// statistics, the scapegoat balance parameter alpha) with commented defaults. Separate so
+// that a configuration can be named without the tree.
+
+#include <cstddef>
+
+#include "spatial/kdtree/splitters.hpp"
+
+namespace spatial {
+
+// Compile-time configuration with commented defaults.
+template <std::size_t LeafCapacity = 16, class Splitter = median_of_widest_spread,
+          bool CollectStats = false>
+struct kd_tree_config {
+    // Points per leaf bucket. 16 keeps a leaf's slot list in one cache line and makes a
+    // leaf scan cheaper than descending further.
+    static constexpr std::size_t leaf_capacity = LeafCapacity;
+    // How a node's points are divided (see splitters.hpp).
+    using splitter = Splitter;
+    // When true, queries count visited nodes and tested objects (kd_tree::last_query_stats()).
+    static constexpr bool collect_stats = CollectStats;
+    // Weight-balance parameter alpha of the scapegoat rule, in (0.5, 1).
+    static constexpr double balance_alpha = 0.75;
+};
+
+}  // namespace spatial

@@ -1,0 +1,207 @@
+#pragma once
+// spatial::kd_tree — changing the tree in place: descending to a leaf, inserting into it (a
+// full leaf is rebuilt as a small subtree), distributing a bulk batch down the tree, removing
+// slots from their leaves, merging a leaf emptied by erasure with its sibling, and the rules
+// that trigger a full rebuild after erasures.
+
+#include "spatial/kdtree/kd_tree.hpp"
+
+namespace spatial {
+
+template <stored_object O, class Config>
+template <class InputIt>
+inline void kd_tree<O, Config>::insert(InputIt first, InputIt last) {
+    if constexpr (!std::random_access_iterator<InputIt>) {
+        // Single-pass or list-like input: copy once so it can be validated first.
+        const std::vector<O> batch(first, last);
+        insert(batch.begin(), batch.end());
+    } else {
+        for (auto it = first; it != last; ++it) detail::require_finite_object(*it, site("insert(first, last)"));
+        const auto m = static_cast<std::size_t>(last - first);
+        if (m == 0) return;
+        slots_.require_room_for(m, site("insert(first, last)"));
+        if (slots_.size() == 0) {
+            build_fresh(first, m);
+            return;
+        }
+        const std::size_t old_size = slots_.size();
+        slots_.reserve(slots_.capacity() + m);  // no reallocation failure half-way
+        std::vector<entry> fresh;
+        fresh.reserve(m);
+        for (auto it = first; it != last; ++it) {
+            fresh.push_back(make_entry(*it, slots_.allocate(*it, 0)));
+            grow_bounds(fresh.back().c);
+        }
+        if (m * 2 >= old_size) {
+            rebuild_all();
+            return;
+        }
+        std::uint16_t max_depth = 0;
+        distribute(root, fresh.data(), fresh.size(), max_depth);
+        if (max_depth > depth_limit() || needs_full_rebuild()) rebuild_all();
+    }
+}
+
+template <stored_object O, class Config>
+inline void kd_tree<O, Config>::erase_slots(std::span<const slot_index> doomed) {
+    std::vector<node_index> touched;
+    std::vector<char> marked(buckets_.size(), 0);  // O(buckets) bytes, cheaper than sorting
+    for (slot_index s : doomed) {
+        const node_index b = slots_.meta(s);
+        if (!marked[b]) {
+            marked[b] = 1;
+            touched.push_back(b);
+        }
+        slots_.release(s);
+    }
+    for (node_index b : touched) {
+        node& L = nodes_[buckets_[b].owner];
+        auto& items = buckets_[b].items;
+        std::uint32_t kept = 0;
+        for (std::uint32_t i = 0; i < L.count; ++i)
+            if (slots_.occupied(items[i])) items[kept++] = items[i];
+        L.count = kept;
+        if constexpr (has_extent) refit_leaf(buckets_[b].owner);
+    }
+    for (node_index b : touched) {  // merging may free buckets later in the list
+        const node_index leaf = buckets_[b].owner;
+        if (leaf == no_node || !nodes_[leaf].is_leaf || nodes_[leaf].first != b) continue;
+        if (nodes_[leaf].count == 0 && leaf != root) merge_empty_leaf(leaf);
+    }
+    after_erase();
+}
+
+// ================= insertion ===========================================================
+template <stored_object O, class Config>
+inline auto kd_tree<O, Config>::descend(node_index n, const coords& c) const -> node_index {
+    while (!nodes_[n].is_leaf) {
+        if constexpr (Config::collect_stats) ++query_stats_.nodes_visited;
+        const node& nd = nodes_[n];
+        n = c[nd.dim] <= nd.split ? nd.first : nd.first + 1;
+    }
+    return n;
+}
+
+template <stored_object O, class Config>
+inline auto kd_tree<O, Config>::insert_at(node_index leaf, const O& x, const coords& c) -> slot_index {
+    // Allocate the slot first: if it throws (capacity), nothing else has changed. (A
+    // std::bad_alloc in the split below would leave the slot unlinked.)
+    const slot_index s = slots_.allocate(x, nodes_[leaf].first);
+    grow_bounds(c);
+    if constexpr (has_extent) grow_extents_upward(leaf, extent_of(x));
+    node& L = nodes_[leaf];
+    if (L.count < leaf_capacity) {
+        buckets_[L.first].items[L.count++] = s;
+        return s;
+    }
+    // Full leaf: rebuild it as a small subtree over its points plus the new one. Its
+    // cell is in its bucket (no walk from the root, which would cost a descent).
+    const coords lo = buckets_[L.first].cell_lo, hi = buckets_[L.first].cell_hi;
+    entry_buffer_.clear();
+    gather(leaf, entry_buffer_);
+    if constexpr (has_extent) entry_buffer_.push_back(make_entry(x, s));
+    else entry_buffer_.push_back({c, s});
+    ++maintenance_.subtree_rebuilds;
+    const std::uint16_t deepest =
+        build_node(leaf, entry_buffer_.data(), entry_buffer_.size(), lo, hi, nodes_[leaf].depth, false, 0);
+    if (deepest > depth_limit()) rebalance_from(leaf);
+    return s;
+}
+
+// Batch distribution for bulk insert: partition [e, e+n) by each split on the way down.
+template <stored_object O, class Config>
+inline void kd_tree<O, Config>::distribute(node_index n, entry* e, std::size_t count, std::uint16_t& max_depth) {
+    if (count == 0) return;
+    if constexpr (has_extent) {
+        // Every node on the batch's paths grows by the objects passing through it; a leaf
+        // rebuilt below recomputes its own extent exactly.
+        for (std::size_t i = 0; i < count; ++i) extents_[n].grow(e[i].bounds);
+    }
+    if (nodes_[n].is_leaf) {
+        node& L = nodes_[n];
+        if (L.count + count <= leaf_capacity) {
+            bucket& b = buckets_[L.first];
+            for (std::size_t i = 0; i < count; ++i) {
+                b.items[L.count++] = e[i].slot;
+                slots_.set_meta(e[i].slot, L.first);
+            }
+            max_depth = std::max(max_depth, L.depth);
+            return;
+        }
+        const coords lo = buckets_[L.first].cell_lo, hi = buckets_[L.first].cell_hi;
+        std::vector<entry> es;
+        es.reserve(L.count + count);
+        gather(n, es);
+        es.insert(es.end(), e, e + count);
+        ++maintenance_.subtree_rebuilds;
+        max_depth = std::max(max_depth, build_node(n, es.data(), es.size(), lo, hi, nodes_[n].depth, false, 0));
+        return;
+    }
+    const unsigned d = nodes_[n].dim;
+    const T s = nodes_[n].split;
+    entry* mid = std::partition(e, e + count, [d, s](const entry& a) { return a.c[d] <= s; });
+    const node_index first = nodes_[n].first;
+    const std::size_t left = static_cast<std::size_t>(mid - e);
+    distribute(first, e, left, max_depth);
+    distribute(first + 1, mid, count - left, max_depth);
+}
+
+// ================= erasure =============================================================
+template <stored_object O, class Config>
+inline void kd_tree<O, Config>::remove_slot(slot_index s, bool allow_merge) {
+    const node_index b = slots_.meta(s);
+    const node_index leaf = buckets_[b].owner;
+    node& L = nodes_[leaf];
+    auto& items = buckets_[b].items;
+    for (std::uint32_t i = 0; i < L.count; ++i)
+        if (items[i] == s) {
+            items[i] = items[--L.count];
+            break;
+        }
+    slots_.release(s);
+    if constexpr (has_extent) refit_leaf(leaf);
+    if (allow_merge && L.count == 0 && leaf != root) merge_empty_leaf(leaf);
+}
+
+// An empty leaf whose sibling is a leaf: the parent becomes a leaf holding the sibling's
+// bucket, whose cell widens to the parent's cell (the union of the two children's cells).
+template <stored_object O, class Config>
+inline void kd_tree<O, Config>::merge_empty_leaf(node_index leaf) {
+    const node_index p = nodes_[leaf].parent;
+    const node_index first = nodes_[p].first;
+    const node_index sib = leaf == first ? first + 1 : first;
+    if (!nodes_[sib].is_leaf) return;
+    const unsigned d = nodes_[p].dim;
+    const node_index eb = nodes_[leaf].first, sb = nodes_[sib].first;
+    bucket& keep = buckets_[sb];
+    keep.cell_lo[d] = std::min(keep.cell_lo[d], buckets_[eb].cell_lo[d]);
+    keep.cell_hi[d] = std::max(keep.cell_hi[d], buckets_[eb].cell_hi[d]);
+    keep.owner = p;
+    node& P_ = nodes_[p];
+    P_.is_leaf = 1;
+    P_.first = sb;
+    P_.count = nodes_[sib].count;
+    if constexpr (has_extent) extents_[p] = extents_[sib];  // the empty leaf held nothing
+    buckets_[eb].owner = no_node;
+    free_buckets_.push_back(eb);
+    free_pairs_.push_back(first);
+    --leaves_;
+}
+
+template <stored_object O, class Config>
+inline void kd_tree<O, Config>::after_erase() {
+    if (needs_full_rebuild()) rebuild_all();
+}
+
+// Galperin & Rivest's deletion rule, plus a leaf-occupancy rule that bounds the garbage
+// left by splits and erasures under long churn.
+template <stored_object O, class Config>
+inline bool kd_tree<O, Config>::needs_full_rebuild() const {
+    const std::size_t n = slots_.size();
+    if (n == 0) return leaves_ > 1;
+    if (static_cast<double>(n) < Config::balance_alpha * static_cast<double>(size_at_rebuild_) &&
+        size_at_rebuild_ > 4 * leaf_capacity)
+        return true;
+    return leaves_ > 16 && leaves_ * leaf_capacity > 4 * n + 4 * leaf_capacity;
+}
+}  // namespace spatial
