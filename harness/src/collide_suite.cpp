@@ -41,6 +41,7 @@
 #include "harness/validation.hpp"
 #include "spatial/brute/brute_force.hpp"
 #include "spatial/collide/pair_changes.hpp"
+#include "spatial/core/object_geometry.hpp"
 #include "spatial/objects/triangle.hpp"
 
 namespace harness {
@@ -107,6 +108,39 @@ struct row_sink {
 
 // ---- validation --------------------------------------------------------------------------
 
+// The sampled oracle: `draws` seeded draws of an element among n (repeats dropped); for each
+// element drawn, its partners in `pairs` must be exactly the j != i with meets(i, j), found
+// by a linear scan. `element` and `oracle` name them in the message ("box", "a linear scan
+// finds"). Returns how many elements were checked.
+template <class Meets>
+std::size_t check_sampled_partners(std::size_t n, const std::vector<index_pair>& pairs, std::size_t draws,
+                                   std::uint64_t seed, Meets&& meets, const std::string& where,
+                                   const std::string& element, const std::string& oracle) {
+    datasets::random_stream rng(seed);
+    std::vector<char> sampled(n, 0);
+    std::vector<std::uint32_t> sample;
+    for (std::size_t k = 0; k < draws; ++k) {
+        const auto i = static_cast<std::uint32_t>(rng.uniform_index(n));
+        if (!sampled[i]) sampled[i] = 1, sample.push_back(i);
+    }
+    std::vector<std::vector<std::uint32_t>> got(n);
+    for (const auto& [a, b] : pairs) {
+        if (sampled[a]) got[a].push_back(b);
+        if (sampled[b]) got[b].push_back(a);
+    }
+    for (std::uint32_t i : sample) {
+        std::vector<std::uint32_t> want;
+        for (std::uint32_t j = 0; j < n; ++j)
+            if (j != i && meets(i, j)) want.push_back(j);
+        std::sort(got[i].begin(), got[i].end());
+        if (got[i] != want)
+            throw validation_error(where + ": " + element + " " + std::to_string(i) + " has " +
+                                   std::to_string(got[i].size()) + " partners, " + oracle + " " +
+                                   std::to_string(want.size()));
+    }
+    return sample.size();
+}
+
 // Checks `pairs` (sorted, i < j) against brute force: all pairs when n <= brute_max_n, else
 // every pair of each sampled box (a linear scan per sampled box, both directions). Returns
 // what checked them.
@@ -127,29 +161,12 @@ std::string validate_pairs(const context& ctx, const std::vector<collide_box>& b
                                    std::to_string(want.size()) + " (or different ones)");
         return check::oracle_all;
     }
-    datasets::random_stream rng(sample_seed);
-    std::vector<char> sampled(n, 0);
-    std::vector<std::uint32_t> sample;
-    for (std::size_t k = 0; k < ctx.cfg.oracle_sample; ++k) {
-        const auto i = static_cast<std::uint32_t>(rng.uniform_index(n));
-        if (!sampled[i]) sampled[i] = 1, sample.push_back(i);
-    }
-    std::vector<std::vector<std::uint32_t>> got(n);
-    for (const auto& [a, b] : pairs) {
+    for (const auto& [a, b] : pairs)
         if (a >= b || b >= n) throw validation_error(where + ": malformed pair");
-        if (sampled[a]) got[a].push_back(b);
-        if (sampled[b]) got[b].push_back(a);
-    }
-    for (std::uint32_t i : sample) {
-        std::vector<std::uint32_t> want;
-        for (std::uint32_t j = 0; j < n; ++j)
-            if (j != i && closed_boxes_overlap(boxes[i], boxes[j])) want.push_back(j);
-        std::sort(got[i].begin(), got[i].end());
-        if (got[i] != want)
-            throw validation_error(where + ": box " + std::to_string(i) + " has " + std::to_string(got[i].size()) +
-                                   " partners, a linear scan finds " + std::to_string(want.size()));
-    }
-    return check::oracle_sample(sample.size());
+    return check::oracle_sample(check_sampled_partners(
+        n, pairs, ctx.cfg.oracle_sample, sample_seed,
+        [&](std::uint32_t i, std::uint32_t j) { return closed_boxes_overlap(boxes[i], boxes[j]); }, where, "box",
+        "a linear scan finds"));
 }
 
 // ---- participants -----------------------------------------------------------------------
@@ -415,39 +432,12 @@ std::string validate_triangle_pairs_with_cgal(const std::vector<triangle3>& tris
             for (std::size_t k = 0; k < 3; ++k) c[3 * v + k] = tris[i].vertex(v)[k];
         return c;
     };
-    // The triangle's closed bounding box: disjoint boxes are an exact "no".
-    auto box_of = [&](std::size_t i) {
-        collide_box b;
-        for (std::size_t k = 0; k < 3; ++k) {
-            b.lo[k] = std::min({tris[i].vertex(0)[k], tris[i].vertex(1)[k], tris[i].vertex(2)[k]});
-            b.hi[k] = std::max({tris[i].vertex(0)[k], tris[i].vertex(1)[k], tris[i].vertex(2)[k]});
-        }
-        return b;
+    // Disjoint bounding boxes (closed) are an exact "no" before CGAL is asked.
+    auto meets = [&](std::uint32_t i, std::uint32_t j) {
+        return spatial::object_boxes_overlap(tris[i], tris[j]) && cgal_triangles_intersect(coords(i), coords(j));
     };
-    datasets::random_stream rng(seed);
-    std::vector<char> sampled(n, 0);
-    std::vector<std::uint32_t> chosen;
-    for (std::size_t k = 0; k < std::min(sample, n); ++k) {
-        const auto i = static_cast<std::uint32_t>(rng.uniform_index(n));
-        if (!sampled[i]) sampled[i] = 1, chosen.push_back(i);
-    }
-    std::vector<std::vector<std::uint32_t>> got(n);
-    for (const auto& [a, b] : pairs) {
-        if (sampled[a]) got[a].push_back(b);
-        if (sampled[b]) got[b].push_back(a);
-    }
-    for (std::uint32_t i : chosen) {
-        const auto bi = box_of(i);
-        const auto ci = coords(i);
-        std::vector<std::uint32_t> want;
-        for (std::uint32_t j = 0; j < n; ++j)
-            if (j != i && closed_boxes_overlap(bi, box_of(j)) && cgal_triangles_intersect(ci, coords(j))) want.push_back(j);
-        std::sort(got[i].begin(), got[i].end());
-        if (got[i] != want)
-            throw validation_error(where + ": triangle " + std::to_string(i) + " has " + std::to_string(got[i].size()) +
-                                   " partners, CGAL's exact predicates find " + std::to_string(want.size()));
-    }
-    return check::cgal_sample(chosen.size());
+    return check::cgal_sample(check_sampled_partners(n, pairs, std::min(sample, n), seed, meets, where, "triangle",
+                                                     "CGAL's exact predicates find"));
 }
 #endif
 

@@ -495,7 +495,6 @@ private:
         if (s.size() != expected.size())
             throw validation_error(what + ": size " + std::to_string(s.size()) + ", expected " + std::to_string(expected.size()));
         std::vector<point_type> sorted = expected;
-        auto by_coords = [](const point_type& a, const point_type& b) { return a.coords < b.coords; };
         std::sort(sorted.begin(), sorted.end(), by_coords);
         std::vector<neighbor<T>> out;
         for (auto first = sorted.begin(); first != sorted.end();) {
@@ -516,6 +515,9 @@ private:
                                 oracle_knn(expected, wc_.queries[i], 10), query + " vs brute-force oracle");
         }
     }
+    // The order the contents checks sort points in (any strict order of coordinates).
+    static bool by_coords(const point_type& a, const point_type& b) { return a.coords < b.coords; }
+
     // What validate_contents checks, for the rows of the work it validated.
     std::string contents_check() const {
         return check::all_of({check::size, check::contents_all,
@@ -734,7 +736,6 @@ private:
                         if (t.size() != expected.size()) throw validation_error(where("kd_tree", op) + ": wrong size");
                         // In full: the survivors, as a multiset, are exactly the elements outside the range.
                         std::vector<point_type> stored(t.begin(), t.end()), want = expected;
-                        auto by_coords = [](const point_type& a, const point_type& b) { return a.coords < b.coords; };
                         std::sort(stored.begin(), stored.end(), by_coords);
                         std::sort(want.begin(), want.end(), by_coords);
                         if (stored != want) throw validation_error(where("kd_tree", op) + ": the survivors differ from the elements outside the erased range");

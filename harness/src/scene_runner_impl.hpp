@@ -356,9 +356,10 @@ public:
     std::vector<std::vector<pair32>> pair_log;
 
     // What checked the answers behind a stage's or a count's rows (check.hpp): the pair stages
-    // by the pair check, each query stage by its own, and the stages every query depends on
-    // (build, motion, churn, update, the whole step) by all the checks the scene ran.
-    std::string check_of(const std::string& what) const {
+    // by the pair check (plus `pairs_cross`, when they also equal another structure's), each
+    // query stage by its own, and the stages every query depends on (build, motion, churn,
+    // update, the whole step) by all the checks the scene ran.
+    std::string check_of(const std::string& what, const std::string& pairs_cross) const {
         auto word = [&](const std::string& kind) {
             const auto it = checked_.find(kind);
             if (it == checked_.end() || it->second.checked == 0) return check::none;
@@ -366,7 +367,7 @@ public:
             return it->second.checked == it->second.total ? name + ":all"
                                                           : name + ":sample=" + std::to_string(it->second.checked);
         };
-        const std::string pairs = check::all_of({word("pairs"), word("candidate_pairs")});
+        const std::string pairs = check::all_of({word("pairs"), word("candidate_pairs"), pairs_cross});
         if (what.rfind("collide_", 0) == 0 || what == "pairs" || what == "pairs_changed") return pairs;
         if (what == "raycast" || what == "ray_hits") return word("rays");
         if (what == "nearest") return word("nearest");
@@ -710,11 +711,7 @@ std::vector<result_row> run_typed(const datasets::scene_description& scene, cons
                               std::is_same_v<T, float> ? "float" : "double"};
         // Exact pairs equal to the first structure's at every step: cross-checked as well.
         const std::string cross = exact && name != reference_name ? check::cross_all : check::none;
-        auto checked = [&](const std::string& what) {
-            const bool queries_only = what == "raycast" || what == "ray_hits" || what == "nearest" || what == "range" ||
-                                      what == "range_results";
-            return scope.with_check(check::all_of({run.check_of(what), queries_only ? check::none : cross}));
-        };
+        auto checked = [&](const std::string& what) { return scope.with_check(run.check_of(what, cross)); };
         for (const auto& [stage, secs] : run.times.seconds)
             rows.push_back(checked(stage).timed(name, bv, stage, params, "time", summarize(secs), "s"));
         for (const auto& [what, counts] : run.times.counts)

@@ -16,6 +16,7 @@
 #include <vector>
 
 #include "harness/point_index.hpp"
+#include "spatial/core/distance.hpp"
 
 namespace harness {
 
@@ -58,8 +59,7 @@ std::vector<T> checked_distances(point_index<T, D>& s, const spatial::point<T, D
     for (const auto& x : answer) {
         const auto p = s.point_of(x.id);
         if (!p) throw validation_error(what + ": reported id " + std::to_string(x.id) + ", which holds no live point");
-        T recomputed = 0;
-        for (std::size_t i = 0; i < D; ++i) recomputed += ((*p)[i] - q[i]) * ((*p)[i] - q[i]);
+        const T recomputed = spatial::squared_distance(*p, q);
         if (!same_distance(recomputed, x.distance_squared)) {
             std::ostringstream os;
             os.precision(17);
