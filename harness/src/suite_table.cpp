@@ -91,6 +91,7 @@ nlohmann::ordered_json structure_json(const structure_info& s) {
     j["max_n"] = s.max_n;
     j["settings"] = pairs_object(s.settings);
     j["complexity"] = pairs_object(s.complexity);
+    if (!s.capabilities.empty()) j["capabilities"] = s.capabilities;
     return j;
 }
 

@@ -3,8 +3,9 @@
 // against, with their name, library, suites, configuration and size limit. Their construction
 // lives in their adapters (harness/adapters/<peer>/, each behind its own CMake option); the
 // suites take the adapters' factories and look each peer's limits and settings up here, so no
-// suite names a peer. Adding a peer: its adapter, its CMake block, one line here, its test,
-// docs (docs/adding-a-structure.md, "A peer").
+// suite names a peer. Adding a peer: its adapter, its CMake block, its factory (adapters.hpp for
+// point peers), one line here, docs (docs/adding-a-structure.md, "A peer"); tests/adapters_test
+// then runs it against brute force and checks it reports the capabilities its line lists.
 //
 // The bv suite's two "structures" (our fits and CGAL's) are listed here too, so that every
 // value of the CSV `structure` column has one description.
@@ -22,11 +23,11 @@ inline const std::vector<structure_info>& registered_peers() {
     const auto slow = size_class::slow;
     const auto peer_tree = complexity_of::tree();
     static const std::vector<structure_info> peers{
-        {"nanoflann", "nanoflann", "", "peer", "nanoflann 1.4.3", "static kd-tree (KDTreeSingleIndexAdaptor)", any, 0, motion_strategy::automatic, {{"leaf_max_size", "10"}}, peer_tree, in::knn | in::structures},
-        {"nanoflann_dynamic", "nanoflann", "", "peer", "nanoflann 1.4.3", "dynamic kd-tree forest (KDTreeSingleIndexDynamicAdaptor), dynamic workloads", any, 0, motion_strategy::automatic, {{"leaf_max_size", "10"}}, peer_tree, in::knn},
-        {"cgal_kd_tree", "cgal_kd_tree", "", "peer", "CGAL 5.5", "Kd_tree, sliding midpoint", any, 0, motion_strategy::automatic, {{"bucket_size", "10"}}, peer_tree, in::knn | in::structures},
-        {"boost_rtree", "boost_rtree", "", "peer", "Boost.Geometry 1.74", "R*-tree, bulk-loaded (packing constructor)", any, 0, motion_strategy::automatic, {{"params", "rstar<16>"}, {"build", "packed"}}, peer_tree, in::knn | in::structures},
-        {"boost_rtree_quadratic", "boost_rtree", "", "peer", "Boost.Geometry 1.74", "quadratic R-tree built by insertion, dynamic workloads", any, 0, motion_strategy::automatic, {{"params", "quadratic<16>"}, {"build", "insert"}}, peer_tree, in::knn},
+        {"nanoflann", "nanoflann", "", "peer", "nanoflann 1.4.3", "static kd-tree (KDTreeSingleIndexAdaptor)", any, 0, motion_strategy::automatic, {{"leaf_max_size", "10"}}, peer_tree, in::knn | in::structures, {"knn", "approximate_knn", "radius"}},
+        {"nanoflann_dynamic", "nanoflann", "", "peer", "nanoflann 1.4.3", "dynamic kd-tree forest (KDTreeSingleIndexDynamicAdaptor), dynamic workloads", any, 0, motion_strategy::automatic, {{"leaf_max_size", "10"}}, peer_tree, in::knn, {"knn", "approximate_knn", "radius", "dynamic", "bulk_insert", "dynamic_variant"}},
+        {"cgal_kd_tree", "cgal_kd_tree", "", "peer", "CGAL 5.5", "Kd_tree, sliding midpoint", any, 0, motion_strategy::automatic, {{"bucket_size", "10"}}, peer_tree, in::knn | in::structures, {"knn", "approximate_knn", "radius", "dynamic", "bulk_insert", "rebuilds_on_query"}},
+        {"boost_rtree", "boost_rtree", "", "peer", "Boost.Geometry 1.74", "R*-tree, bulk-loaded (packing constructor)", any, 0, motion_strategy::automatic, {{"params", "rstar<16>"}, {"build", "packed"}}, peer_tree, in::knn | in::structures, {"knn", "radius"}},
+        {"boost_rtree_quadratic", "boost_rtree", "", "peer", "Boost.Geometry 1.74", "quadratic R-tree built by insertion, dynamic workloads", any, 0, motion_strategy::automatic, {{"params", "quadratic<16>"}, {"build", "insert"}}, peer_tree, in::knn, {"knn", "radius", "dynamic", "dynamic_variant"}},
         {"embree", "embree", "", "peer", "Embree 3.13", "rtcIntersect1 on a triangle mesh", any, 0, motion_strategy::automatic, {{"build_quality", "medium"}}, peer_tree, in::raycast},
         {"embree_robust", "embree", "", "peer", "Embree 3.13", "rtcIntersect1, RTC_SCENE_FLAG_ROBUST", any, 0, motion_strategy::automatic, {{"build_quality", "medium"}, {"flags", "robust"}}, peer_tree, in::raycast},
         {"embree_user", "embree", "", "peer", "Embree 3.13", "user geometry (boxes, thick points)", any, 0, motion_strategy::automatic, {}, peer_tree, in::raycast_objects},

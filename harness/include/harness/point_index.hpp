@@ -16,6 +16,7 @@
 #include <span>
 #include <stdexcept>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "spatial/core/point.hpp"
@@ -43,6 +44,26 @@ constexpr unsigned operator|(capability a, capability b) {
     return static_cast<unsigned>(a) | static_cast<unsigned>(b);
 }
 constexpr unsigned operator|(unsigned a, capability b) { return a | static_cast<unsigned>(b); }
+
+// The names of the capabilities in `bits`, in the enum's order: the words a peer's registry
+// line (peer_registry.hpp) and results/registry.json use.
+inline std::vector<std::string> capability_names(unsigned bits) {
+    static constexpr std::pair<capability, const char*> names[] = {
+        {capability::knn, "knn"},
+        {capability::approximate_knn, "approximate_knn"},
+        {capability::radius, "radius"},
+        {capability::dynamic, "dynamic"},
+        {capability::hinted_insert, "hinted_insert"},
+        {capability::bulk_insert, "bulk_insert"},
+        {capability::bulk_erase, "bulk_erase"},
+        {capability::rebuilds_on_query, "rebuilds_on_query"},
+        {capability::dynamic_variant, "dynamic_variant"},
+    };
+    std::vector<std::string> out;
+    for (const auto& [c, name] : names)
+        if (bits & static_cast<unsigned>(c)) out.emplace_back(name);
+    return out;
+}
 
 // One reported neighbour. `id` identifies the point WITHIN the structure that reported it
 // (for peers the build/insert id, for our containers the element's slot handle); the

@@ -80,6 +80,9 @@ struct structure_info {
     key_values settings;    // its configuration (leaf size, builder, ...), for the tables' readers
     key_values complexity;  // operation -> "1" | "log n" | "n" | "n log n" | "n^2"; "*" for the rest
     unsigned suites = 0;    // in:: bits (a registry line gives them as the entry's argument)
+    // A point peer's capabilities in harness::point_index terms (capability_names(), e.g.
+    // "knn", "radius", "dynamic"): what its adapter must report, checked by adapters_test.
+    std::vector<std::string> capabilities{};
     // Other names of its rows in the tables (see bv_study_name).
     std::vector<std::string> aliases{};
 
