@@ -1,5 +1,6 @@
-// Result tables read back (result_table.hpp): a reader that misreads a column would mislead
-// without a sign, so every malformed table must stop with FILE:LINE.
+// Result tables read back and compared (result_table.hpp, result_compare.hpp): a reader that
+// misreads a column, or a comparison that calls noise a change, would mislead without a sign,
+// so every malformed table must stop with FILE:LINE and every verdict is pinned down here.
 
 #include <gtest/gtest.h>
 #include <unistd.h>
@@ -16,6 +17,7 @@
 #include <vector>
 
 #include "harness/csv_writer.hpp"
+#include "harness/result_compare.hpp"
 #include "harness/result_table.hpp"
 
 using namespace harness;
@@ -280,4 +282,227 @@ TEST(result_key, prints_as_the_table_writes_the_key_columns) {
     result_row r = row("kd_tree", 1000, 1, 1, 1);
     r.params = "a,b";
     EXPECT_EQ(to_string(key_of(r)), "knn,kd_tree,,uniform,1000,3,double,knn,\"a,b\",time_per_op");
+}
+
+// ---- comparing runs ----
+
+namespace {
+
+const comparison_entry& only_entry(const comparison& c) {
+    EXPECT_EQ(c.entries.size(), 1u);
+    return c.entries.at(0);
+}
+
+verdict verdict_between(const result_row& a, const result_row& b) {
+    return only_entry(compare_results({a}, {b})).outcome;
+}
+
+}  // namespace
+
+TEST(compare_results, a_table_against_itself_is_within_spread_everywhere) {
+    const std::vector<result_row> rows = {row("kd_tree", 1000, 2.5, 2, 3), row("bvh", 1000, 4, 4, 4),
+                                          row("kd_tree", 10000, 3, 2.5, 3.5)};
+    const comparison c = compare_results(rows, rows);
+    EXPECT_EQ(c.entries.size(), 3u);
+    EXPECT_EQ(c.count(verdict::within_spread), 3u);
+    for (const auto& e : c.entries) EXPECT_EQ(e.ratio, 1.0);
+}
+
+// The committed tables predate the check column, so they read as unchecked; marked checked,
+// every one compared with itself is within spread at every key.
+TEST(compare_results, every_committed_table_against_itself_is_within_spread) {
+    for (const auto& entry : fs::directory_iterator(SPATIAL_RESULTS_DIR)) {
+        if (entry.path().extension() != ".csv") continue;
+        SCOPED_TRACE(entry.path().string());
+        std::vector<result_row> rows = read_results_csv(entry.path());
+        const comparison as_read = compare_results(rows, rows);
+        std::size_t unchecked = 0;
+        for (auto& r : rows)
+            if (!r.validated()) {
+                ++unchecked;
+                r.check = "oracle:all";
+            }
+        EXPECT_EQ(as_read.unvalidated_a, unchecked);
+        const comparison c = compare_results(rows, rows);
+        EXPECT_FALSE(c.entries.empty());
+        EXPECT_EQ(c.count(verdict::within_spread), c.entries.size());
+    }
+}
+
+TEST(compare_results, overlapping_spreads_are_within_spread_whatever_the_ratio) {
+    const comparison c = compare_results({row("kd_tree", 1000, 1.5, 1, 2)}, {row("kd_tree", 1000, 2.5, 1.9, 3)});
+    const auto& e = only_entry(c);
+    EXPECT_EQ(e.outcome, verdict::within_spread);
+    EXPECT_DOUBLE_EQ(e.ratio, 2.5 / 1.5);
+    ASSERT_TRUE(e.a && e.b);
+    EXPECT_EQ(e.a->min, 1);
+    EXPECT_EQ(e.b->max, 3);
+    EXPECT_EQ(e.unit, "ns");
+}
+
+TEST(compare_results, higher_when_b_lies_entirely_above_a) {
+    EXPECT_EQ(verdict_between(row("kd_tree", 1000, 1.5, 1, 2), row("kd_tree", 1000, 2.5, 2.1, 3)), verdict::higher);
+}
+
+TEST(compare_results, lower_when_b_lies_entirely_below_a) {
+    EXPECT_EQ(verdict_between(row("kd_tree", 1000, 1.5, 1, 2), row("kd_tree", 1000, 0.7, 0.5, 0.9)), verdict::lower);
+}
+
+// A figure taken once (no repetitions: a count, a size, a recall) has no spread: any change
+// of it is beyond spread, whatever its min and max columns say (the writer puts 0 there).
+TEST(compare_results, figures_without_repetitions_span_their_value) {
+    result_row a = row("kd_tree", 1000, 0.98, 0, 0), b = a;
+    a.repetitions = b.repetitions = 0;
+    a.metric = b.metric = "recall";
+    EXPECT_EQ(verdict_between(a, b), verdict::within_spread);
+    b.value = 0.97;
+    EXPECT_EQ(verdict_between(a, b), verdict::lower);
+    const auto& e = only_entry(compare_results({a}, {b}));
+    EXPECT_EQ(e.a->min, 0.98);
+    EXPECT_EQ(e.a->max, 0.98);
+}
+
+TEST(compare_results, keys_on_one_side_only_are_reported_as_such) {
+    const comparison c = compare_results({row("kd_tree", 1000, 1, 1, 1), row("bvh", 1000, 1, 1, 1)},
+                                         {row("kd_tree", 1000, 1, 1, 1), row("octree", 1000, 1, 1, 1)});
+    ASSERT_EQ(c.entries.size(), 3u);  // in key order: bvh, kd_tree, octree
+    EXPECT_EQ(c.entries[0].key.structure, "bvh");
+    EXPECT_EQ(c.entries[0].outcome, verdict::only_in_a);
+    EXPECT_FALSE(c.entries[0].b.has_value());
+    EXPECT_TRUE(std::isnan(c.entries[0].ratio));
+    EXPECT_EQ(c.entries[1].outcome, verdict::within_spread);
+    EXPECT_EQ(c.entries[2].key.structure, "octree");
+    EXPECT_EQ(c.entries[2].outcome, verdict::only_in_b);
+    EXPECT_FALSE(c.entries[2].a.has_value());
+}
+
+TEST(compare_results, repeated_runs_of_a_key_are_pooled) {
+    std::vector<result_row> a = {row("kd_tree", 1000, 3, 2.5, 3.5), row("kd_tree", 1000, 1, 0.8, 1.2),
+                                 row("kd_tree", 1000, 2, 1.5, 2.5)};
+    a[1].run_id = "run-b";
+    a[2].run_id = "run-c";
+    std::vector<result_row> b = {row("kd_tree", 1000, 4, 3.9, 4.1), row("kd_tree", 1000, 5, 4.8, 6)};
+    const auto& e = only_entry(compare_results(a, b));
+    EXPECT_EQ(e.a->value, 2);  // the median
+    EXPECT_EQ(e.a->min, 0.8);
+    EXPECT_EQ(e.a->max, 3.5);
+    EXPECT_EQ(e.a->rows, 3u);
+    EXPECT_EQ(e.b->value, 4.5);  // an even count: the mean of the middle two
+    EXPECT_EQ(e.b->min, 3.9);
+    EXPECT_EQ(e.b->max, 6);
+    EXPECT_EQ(e.b->rows, 2u);
+    EXPECT_EQ(e.outcome, verdict::higher);  // 3.9 > 3.5
+    EXPECT_DOUBLE_EQ(e.ratio, 4.5 / 2);
+}
+
+TEST(compare_results, unvalidated_rows_are_counted_and_never_compared) {
+    result_row unchecked_a = row("kd_tree", 1000, 100, 100, 100), unchecked_b = row("bvh", 1000, 1, 1, 1);
+    unchecked_a.check = unchecked_b.check = "none";
+    const comparison c = compare_results({row("kd_tree", 1000, 1, 1, 1), unchecked_a},
+                                         {row("kd_tree", 1000, 1, 1, 1), unchecked_b, unchecked_b});
+    EXPECT_EQ(c.unvalidated_a, 1u);
+    EXPECT_EQ(c.unvalidated_b, 2u);
+    const auto& e = only_entry(c);  // no entry for bvh, and A's unchecked 100 is not pooled
+    EXPECT_EQ(e.outcome, verdict::within_spread);
+    EXPECT_EQ(e.a->rows, 1u);
+}
+
+TEST(compare_results, equal_values_have_ratio_one_even_at_zero) {
+    EXPECT_EQ(only_entry(compare_results({row("kd_tree", 1000, 0, 0, 0)}, {row("kd_tree", 1000, 0, 0, 0)})).ratio, 1.0);
+    EXPECT_TRUE(std::isinf(
+        only_entry(compare_results({row("kd_tree", 1000, 0, 0, 0)}, {row("kd_tree", 1000, 1, 1, 1)})).ratio));
+}
+
+TEST(compare_results, a_unit_mismatch_is_an_error_naming_the_key) {
+    result_row seconds = row("kd_tree", 1000, 1, 1, 1);
+    seconds.unit = "s";
+    for (const auto& [a, b] :
+         {std::pair{std::vector{row("kd_tree", 1000, 1, 1, 1)}, std::vector{seconds}},
+          std::pair{std::vector{row("kd_tree", 1000, 1, 1, 1), seconds}, std::vector<result_row>{}}}) {
+        try {
+            compare_results(a, b);
+            ADD_FAILURE() << "no error";
+        } catch (const std::runtime_error& e) {
+            const std::string msg = e.what();
+            EXPECT_NE(msg.find("unit differs for key knn,kd_tree,,uniform,1000,3,double,knn,k=10,time_per_op"),
+                      std::string::npos)
+                << msg;
+            EXPECT_NE(msg.find("'ns' in A"), std::string::npos) << msg;
+            EXPECT_NE(msg.find("'s' in"), std::string::npos) << msg;
+        }
+    }
+}
+
+TEST_F(tables, folders_are_compared_table_by_table_by_file_name) {
+    fs::create_directories(dir / "a" / "nested");
+    fs::create_directories(dir / "b");
+    write_csv_atomically(dir / "a" / "knn.csv", {row("kd_tree", 1000, 1, 1, 1)});
+    write_csv_atomically(dir / "b" / "knn.csv", {row("kd_tree", 1000, 2, 2, 2)});
+    write_csv_atomically(dir / "a" / "bv.csv", {row("kd_tree", 1000, 1, 1, 1)});
+    write_csv_atomically(dir / "b" / "raycast.csv", {row("bvh", 1000, 1, 1, 1)});
+    write_csv_atomically(dir / "a" / "nested" / "deep.csv", {row("bvh", 1000, 1, 1, 1)});  // not at the top level
+    write_text_atomically(dir / "b" / "registry.json", "{}");                              // not a table
+
+    const folder_comparison c = compare_result_paths(dir / "a", dir / "b");
+    ASSERT_EQ(c.tables.size(), 1u);
+    EXPECT_EQ(c.tables[0].table, "knn.csv");
+    EXPECT_EQ(only_entry(c.tables[0].result).outcome, verdict::higher);
+    EXPECT_EQ(c.only_in_a, std::vector<std::string>{"bv.csv"});
+    EXPECT_EQ(c.only_in_b, std::vector<std::string>{"raycast.csv"});
+}
+
+TEST_F(tables, two_tables_are_one_comparison_named_by_a) {
+    write_csv_atomically(dir / "before.csv", {row("kd_tree", 1000, 1, 1, 1)});
+    write_csv_atomically(dir / "after.csv", {row("kd_tree", 1000, 1, 1, 1)});
+    const folder_comparison c = compare_result_paths(dir / "before.csv", dir / "after.csv");
+    ASSERT_EQ(c.tables.size(), 1u);
+    EXPECT_EQ(c.tables[0].table, "before.csv");
+    EXPECT_EQ(c.tables[0].result.count(verdict::within_spread), 1u);
+    EXPECT_THROW(compare_result_paths(dir, dir / "after.csv"), std::runtime_error);
+    EXPECT_THROW(compare_result_paths(dir / "before.csv", dir / "absent.csv"), table_error);
+}
+
+TEST_F(tables, the_comparison_csv_has_one_row_per_key_and_empty_fields_for_a_missing_side) {
+    folder_comparison c;
+    c.tables.push_back({"knn.csv", compare_results({row("kd_tree", 1000, 1.5, 1, 2), row("bvh", 10, 1, 1, 1)},
+                                                   {row("kd_tree", 1000, 3, 2.5, 3.5)})});
+    write_comparison_csv(dir / "out" / "compare.csv", c);
+    std::ifstream in(dir / "out" / "compare.csv");
+    std::stringstream text;
+    text << in.rdbuf();
+    EXPECT_EQ(text.str(),
+              "table,suite,structure,bv,workload,n,dim,scalar,operation,params,metric,unit,verdict,ratio,"
+              "a_value,a_min,a_max,a_rows,b_value,b_min,b_max,b_rows\n"
+              "knn.csv,knn,bvh,,uniform,10,3,double,knn,k=10,time_per_op,ns,only_in_a,,1,1,1,1,,,,\n"
+              "knn.csv,knn,kd_tree,,uniform,1000,3,double,knn,k=10,time_per_op,ns,higher,2,1.5,1,2,1,3,2.5,3.5,1\n");
+    EXPECT_EQ(std::distance(fs::directory_iterator(dir / "out"), fs::directory_iterator{}), 1);  // no temporary left
+}
+
+TEST(comparison_summary, counts_verdicts_and_lists_the_largest_changes_first) {
+    folder_comparison c;
+    std::vector<result_row> a, b;
+    for (std::size_t i = 1; i <= 30; ++i) {  // 30 keys, B slower by 1.1x ... 4x
+        a.push_back(row("kd_tree", i, 1, 0.99, 1.01));
+        b.push_back(row("kd_tree", i, 1 + 0.1 * static_cast<double>(i), 1.05, 5));
+    }
+    result_row unchecked = row("bvh", 1, 1, 1, 1);
+    unchecked.check = "none";
+    b.push_back(unchecked);
+    c.tables.push_back({"knn.csv", compare_results(a, b)});
+    c.only_in_b = {"raycast.csv"};
+    const std::string s = comparison_summary(c);
+    EXPECT_NE(s.find("1 table(s), 30 keys: within_spread 0, higher 30, lower 0, only_in_a 0, only_in_b 0"),
+              std::string::npos)
+        << s;
+    EXPECT_NE(s.find("0 rows of A, 1 rows of B"), std::string::npos) << s;
+    EXPECT_NE(s.find("tables only in B: raycast.csv"), std::string::npos) << s;
+    EXPECT_LT(s.find("higher x4 "), s.find("higher x3.9 ")) << s;  // n=30 first, then n=29
+    EXPECT_NE(s.find("... and 18 more"), std::string::npos) << s;
+    EXPECT_LE(std::count(s.begin(), s.end(), '\n'), 20);
+}
+
+TEST(comparison_summary, says_so_when_nothing_changed_beyond_spread) {
+    folder_comparison c;
+    c.tables.push_back({"knn.csv", compare_results({row("kd_tree", 1000, 1, 1, 1)}, {row("kd_tree", 1000, 1, 1, 1)})});
+    EXPECT_NE(comparison_summary(c).find("no change beyond the runs' spread"), std::string::npos);
 }
