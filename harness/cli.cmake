@@ -4,7 +4,8 @@ find_package(nlohmann_json REQUIRED)
 
 # Result tables, apart from the suites: only the standard library, so what writes and reads
 # tables builds, and is tested, without the structures' suites and the peers.
-add_library(spatial_result_tables STATIC src/csv_writer.cpp src/result_table.cpp src/result_compare.cpp)
+add_library(spatial_result_tables STATIC src/csv_writer.cpp src/result_table.cpp src/result_compare.cpp
+                                   src/result_merge.cpp)
 target_include_directories(spatial_result_tables PUBLIC ${CMAKE_CURRENT_SOURCE_DIR}/include)
 target_compile_options(spatial_result_tables PRIVATE ${SPATIAL_WARNINGS})
 

@@ -4,8 +4,8 @@
 spatial_add_test(harness_test harness_test.cpp)
 target_link_libraries(harness_test PRIVATE spatial_harness)
 
-# Result tables read back and compared (the compare command). Links only the table library:
-# no suites, no peers.
+# Result tables read back, compared and merged (the compare and merge commands). Links only the
+# table library: no suites, no peers.
 spatial_add_test(result_table_test result_table_test.cpp)
 target_link_libraries(result_table_test PRIVATE spatial_result_tables)
 target_compile_definitions(result_table_test PRIVATE SPATIAL_RESULTS_DIR="${PROJECT_SOURCE_DIR}/results")

@@ -1,6 +1,7 @@
-// Result tables read back and compared (result_table.hpp, result_compare.hpp): a reader that
-// misreads a column, or a comparison that calls noise a change, would mislead without a sign,
-// so every malformed table must stop with FILE:LINE and every verdict is pinned down here.
+// Result tables read back, compared and merged (result_table.hpp, result_compare.hpp,
+// result_merge.hpp): a reader that misreads a column, or a comparison that calls noise a
+// change, would mislead without a sign, so every malformed table must stop with FILE:LINE and
+// every verdict is pinned down here.
 
 #include <gtest/gtest.h>
 #include <unistd.h>
@@ -18,6 +19,7 @@
 
 #include "harness/csv_writer.hpp"
 #include "harness/result_compare.hpp"
+#include "harness/result_merge.hpp"
 #include "harness/result_table.hpp"
 
 using namespace harness;
@@ -505,4 +507,69 @@ TEST(comparison_summary, says_so_when_nothing_changed_beyond_spread) {
     folder_comparison c;
     c.tables.push_back({"knn.csv", compare_results({row("kd_tree", 1000, 1, 1, 1)}, {row("kd_tree", 1000, 1, 1, 1)})});
     EXPECT_NE(comparison_summary(c).find("no change beyond the runs' spread"), std::string::npos);
+}
+
+// ---- merging shards ----
+
+TEST(merge_results, is_the_union_of_the_shards_sorted_by_key) {
+    result_row build = row("kd_tree", 1000, 1, 1, 1);
+    build.operation = "build";
+    build.run_id = "shard-1";
+    result_row big = row("kd_tree", 100000, 1, 1, 1);
+    big.run_id = "shard-2";
+    const std::vector<std::vector<result_row>> shards = {{row("kd_tree", 1000, 1, 1, 1), build},
+                                                         {big, row("bvh", 10, 1, 1, 1)}};
+    const auto merged = merge_results(shards);
+    ASSERT_EQ(merged.size(), 4u);
+    EXPECT_EQ(merged[0], shards[1][1]);  // bvh
+    EXPECT_EQ(merged[1], build);         // kd_tree, n=1000: build before knn
+    EXPECT_EQ(merged[2], shards[0][0]);
+    EXPECT_EQ(merged[3], big);                                 // n=100000 after n=1000, its run_id kept
+    EXPECT_EQ(merge_results({shards[1], shards[0]}), merged);  // the shards' order does not matter
+}
+
+TEST(merge_results, keeps_repeated_rows_of_a_key_within_one_shard_in_their_order) {
+    result_row first = row("kd_tree", 1000, 1, 1, 1), second = first;
+    second.run_id = "run-b";
+    const auto merged = merge_results({{first, second}, {}});
+    EXPECT_EQ(merged, (std::vector<result_row>{first, second}));
+}
+
+TEST(merge_results, a_key_in_two_shards_is_an_error_naming_it) {
+    result_row again = row("kd_tree", 1000, 2, 2, 2);
+    again.run_id = "run-b";
+    try {
+        merge_results({{row("bvh", 10, 1, 1, 1)}, {row("kd_tree", 1000, 1, 1, 1)}, {again}});
+        FAIL() << "no error";
+    } catch (const std::runtime_error& e) {
+        EXPECT_STREQ(e.what(),
+                     "key knn,kd_tree,,uniform,1000,3,double,knn,k=10,time_per_op is in shard 2 (run run-a) and in "
+                     "shard 3 (run run-b): shards must hold disjoint cases");
+    }
+}
+
+TEST_F(tables, shard_folders_are_merged_table_by_table) {
+    fs::create_directories(dir / "s1");
+    fs::create_directories(dir / "s2");
+    write_csv_atomically(dir / "s1" / "knn.csv", {row("kd_tree", 1000, 1, 1, 1)});
+    write_csv_atomically(dir / "s2" / "knn.csv", {row("bvh", 1000, 1, 1, 1)});
+    write_csv_atomically(dir / "s2" / "bv.csv", {row("bvh", 10, 1, 1, 1)});
+    const auto merged = merge_result_folders({dir / "s1", dir / "s2"});
+    ASSERT_EQ(merged.size(), 2u);
+    EXPECT_EQ(merged.at("bv.csv"), std::vector<result_row>{row("bvh", 10, 1, 1, 1)});
+    EXPECT_EQ(merged.at("knn.csv"),
+              (std::vector<result_row>{row("bvh", 1000, 1, 1, 1), row("kd_tree", 1000, 1, 1, 1)}));
+
+    write_csv_atomically(dir / "s2" / "knn.csv", {row("kd_tree", 1000, 2, 2, 2)});  // the same case twice
+    try {
+        merge_result_folders({dir / "s1", dir / "s2"});
+        ADD_FAILURE() << "no error";
+    } catch (const std::runtime_error& e) {
+        const std::string msg = e.what();
+        EXPECT_NE(msg.find("is in " + (dir / "s1" / "knn.csv").string() + " (run run-a) and in " +
+                           (dir / "s2" / "knn.csv").string()),
+                  std::string::npos)
+            << msg;
+    }
+    EXPECT_THROW(merge_result_folders({dir / "s1", dir / "absent"}), std::runtime_error);
 }
