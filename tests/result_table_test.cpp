@@ -204,6 +204,10 @@ struct malformed_field {
     const char* to;
     const char* what;  // in the message
 };
+// Test listings show the input's name rather than the struct's bytes.
+void PrintTo(const malformed_field& f, std::ostream* os) {
+    *os << f.name;
+}
 
 const malformed_field malformed_fields[] = {
     {"non_numeric_n", ",1000,", ",1e3,", "n is not a non-negative integer: '1e3'"},
