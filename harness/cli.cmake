@@ -2,13 +2,20 @@
 find_package(CLI11 REQUIRED)
 find_package(nlohmann_json REQUIRED)
 
-add_library(spatial_harness STATIC src/csv_writer.cpp src/run_info.cpp src/timing.cpp src/knn_suite.cpp src/bv_suite.cpp
+# Result tables, apart from the suites: only the standard library, so what writes and reads
+# tables builds, and is tested, without the structures' suites and the peers.
+add_library(spatial_result_tables STATIC src/csv_writer.cpp src/result_table.cpp src/result_compare.cpp
+                                   src/result_merge.cpp)
+target_include_directories(spatial_result_tables PUBLIC ${CMAKE_CURRENT_SOURCE_DIR}/include)
+target_compile_options(spatial_result_tables PRIVATE ${SPATIAL_WARNINGS})
+
+add_library(spatial_harness STATIC src/run_info.cpp src/timing.cpp src/knn_suite.cpp src/bv_suite.cpp
                             src/raycast_suite.cpp src/collide_suite.cpp
                             src/scene_runner.cpp src/suite_table.cpp src/suite_cases.cpp
                             src/scene_runner_2d_float.cpp src/scene_runner_2d_double.cpp
                             src/scene_runner_3d_float.cpp src/scene_runner_3d_double.cpp)
 target_include_directories(spatial_harness PUBLIC ${CMAKE_CURRENT_SOURCE_DIR}/include)
-target_link_libraries(spatial_harness PUBLIC spatial_harness_interface spatial::datasets spatial_adapters
+target_link_libraries(spatial_harness PUBLIC spatial_result_tables spatial_harness_interface spatial::datasets spatial_adapters
                       PRIVATE nlohmann_json::nlohmann_json)
 target_compile_options(spatial_harness PRIVATE ${SPATIAL_WARNINGS})
 # Recorded in each run's JSON sidecar.

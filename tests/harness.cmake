@@ -4,6 +4,12 @@
 spatial_add_test(harness_test harness_test.cpp)
 target_link_libraries(harness_test PRIVATE spatial_harness)
 
+# Result tables read back, compared and merged (the compare and merge commands). Links only the
+# table library: no suites, no peers.
+spatial_add_test(result_table_test result_table_test.cpp)
+target_link_libraries(result_table_test PRIVATE spatial_result_tables)
+target_compile_definitions(result_table_test PRIVATE SPATIAL_RESULTS_DIR="${PROJECT_SOURCE_DIR}/results")
+
 # A suite (or a scene) run end to end: `name` runs `spatialbench ARGS...` and must succeed;
 # its tables go to ${CMAKE_CURRENT_BINARY_DIR}/<dir>. Part of the smoke_tables fixture that
 # the key check below reads.

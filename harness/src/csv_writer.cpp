@@ -8,21 +8,21 @@
 
 namespace harness {
 
-namespace {
-// RFC 4180 quoting for fields that need it (params may contain ';' only, but be safe).
-std::string field(const std::string& s) {
-    if (s.find_first_of(",\"\n") == std::string::npos) return s;
+// RFC 4180 quoting for fields that need it (params may contain ';' only, but be safe; a bare
+// carriage return is quoted too, so that a reader may take CRLF line ends from an edited table).
+std::string csv_field(const std::string& s) {
+    if (s.find_first_of(",\"\r\n") == std::string::npos) return s;
     std::string q = "\"";
     for (char c : s) q += c == '"' ? std::string("\"\"") : std::string(1, c);
     return q + "\"";
 }
-std::string number(double v) {
+
+std::string csv_number(double v) {
     std::ostringstream os;
     os.precision(9);
     os << v;
     return os.str();
 }
-}  // namespace
 
 std::string csv_header() {
     return "suite,structure,bv,workload,n,dim,scalar,operation,params,metric,value,unit,validated,run_id,"
@@ -31,11 +31,12 @@ std::string csv_header() {
 
 std::string csv_line(const result_row& r) {
     std::ostringstream os;
-    os << field(r.suite) << ',' << field(r.structure) << ',' << field(r.bv) << ',' << field(r.workload) << ','
-       << r.n << ',' << r.dim << ',' << field(r.scalar) << ',' << field(r.operation) << ',' << field(r.params)
-       << ',' << field(r.metric) << ',' << number(r.value) << ',' << field(r.unit) << ','
-       << (r.validated() ? "true" : "false") << ',' << field(r.run_id) << ',' << r.repetitions << ','
-       << number(r.min_value) << ',' << number(r.max_value) << ',' << field(r.check);
+    os << csv_field(r.suite) << ',' << csv_field(r.structure) << ',' << csv_field(r.bv) << ','
+       << csv_field(r.workload) << ',' << r.n << ',' << r.dim << ',' << csv_field(r.scalar) << ','
+       << csv_field(r.operation) << ',' << csv_field(r.params) << ',' << csv_field(r.metric) << ','
+       << csv_number(r.value) << ',' << csv_field(r.unit) << ',' << (r.validated() ? "true" : "false") << ','
+       << csv_field(r.run_id) << ',' << r.repetitions << ',' << csv_number(r.min_value) << ','
+       << csv_number(r.max_value) << ',' << csv_field(r.check);
     return os.str();
 }
 

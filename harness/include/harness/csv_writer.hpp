@@ -27,10 +27,16 @@ struct result_row {
 
     // The `validated` column: derived from `check`, never set on its own.
     bool validated() const { return !check.empty() && check != "none"; }
+
+    bool operator==(const result_row&) const = default;
 };
 
 std::string csv_header();
 std::string csv_line(const result_row& r);
+// One field as the tables write it: quoted (RFC 4180) when it holds a comma, quote or newline.
+std::string csv_field(const std::string& s);
+// One number as the tables write it: 9 significant digits.
+std::string csv_number(double v);
 // Writes header + rows to `file` atomically.
 void write_csv_atomically(const std::filesystem::path& file, const std::vector<result_row>& rows);
 // Writes text to `file` atomically.
