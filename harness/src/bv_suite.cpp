@@ -6,8 +6,10 @@
 //   2. pair study: M instances of m points each, randomly rotated and placed; the truth for
 //      each pair (do the instances' hulls intersect?) comes from CGAL's exact LP; for every
 //      type x method x overlap test, the answers over all pairs are checked against the
-//      exact intersection of the two volumes (no false negative allowed) and only then
-//      timed; the rays are checked against contains() and timed;
+//      exact intersection of the two volumes (no false negative allowed; an exact test may
+//      not give a false positive either) and only then timed, each timed pass checked by a
+//      checksum of WHICH pairs it called overlapping; the rays' intervals are checked against
+//      contains() (inside along the chord, outside just beyond its ends) and timed likewise;
 //   3. rows are written atomically when the whole suite has passed.
 
 #include "harness/bv_suite.hpp"
@@ -92,6 +94,9 @@ template <class BV>
 struct overlap_test {
     std::string name;
     bool (*test)(const BV&, const BV&);
+    // An exact test must agree with the exact reference both ways (no false positive either);
+    // a conservative one only may not miss.
+    bool exact = false;
 };
 
 // Exact reference for "do these two volumes intersect?": 1 yes, 0 no, -1 too close to call
@@ -323,11 +328,16 @@ instance_set make_instances(context& ctx, const std::string& workload, const std
     return s;
 }
 
-// Times `pass` (one pass over all pairs or all rays, returning how many answered yes) after a
-// warm-up, repeated so that one timed repetition lasts ~2 ms; every repetition must count
-// `validated_yes` per pass. Returns the time of ONE pass.
+// The checksum of one pass's answers: the sum of (index + 1) over the questions answered yes,
+// so a repetition that says yes to other questions than the validated pass differs even when
+// it says yes as often.
+inline std::size_t answer_checksum(std::size_t question, bool yes) { return yes ? question + 1 : 0; }
+
+// Times `pass` (one pass over all pairs or all rays, returning the answer_checksum of its
+// answers) after a warm-up, repeated so that one timed repetition lasts ~2 ms; every
+// repetition must give `validated_checksum` per pass. Returns the time of ONE pass.
 template <class Pass>
-timing_result time_per_pass(Pass&& pass, std::size_t validated_yes, const std::string& where) {
+timing_result time_per_pass(Pass&& pass, std::size_t validated_checksum, const std::string& where) {
     const std::size_t loops = calibrate_loops(pass);
     timing_result t = time_repeated(
         1, 5, [] {},
@@ -337,7 +347,7 @@ timing_result time_per_pass(Pass&& pass, std::size_t validated_yes, const std::s
             return c;
         },
         [&](std::size_t c) {
-            if (c != validated_yes * loops) throw validation_error(where + ": timed answers differ");
+            if (c != validated_checksum * loops) throw validation_error(where + ": timed answers differ");
         });
     const double per_pass = 1.0 / static_cast<double>(loops);
     t.median_seconds *= per_pass, t.min_seconds *= per_pass, t.max_seconds *= per_pass;
@@ -357,14 +367,16 @@ void overlap_study(context& ctx, const volume_type<BV>& type, const fit_method<B
     for (const auto& test : type.tests) {
         const std::string where = "bv " + type.name + " method " + meth.name + " test " + test.name + " on " + workload;
         const std::string params = "method=" + meth.name + ";test=" + test.name + ";instances=" + std::to_string(s.points.size());
-        std::size_t positives = 0, fp_exact = 0, exact_no = 0, fp_shapes = 0;
+        std::size_t positives = 0, fp_exact = 0, exact_no = 0, fp_shapes = 0, checksum = 0;
         for (std::size_t p = 0; p < s.pairs.size(); ++p) {
             const bool yes = test.test(bvs[s.pairs[p].first], bvs[s.pairs[p].second]) && !injected_fault(type.name);
+            const std::string pair = "pair (" + std::to_string(s.pairs[p].first) + ", " + std::to_string(s.pairs[p].second) + ")";
             if (!yes && exact[p] == 1)
-                throw validation_error(where + ": pair (" + std::to_string(s.pairs[p].first) + ", " +
-                                       std::to_string(s.pairs[p].second) +
-                                       ") intersects exactly but the test says disjoint (a false negative)");
+                throw validation_error(where + ": " + pair + " intersects exactly but the test says disjoint (a false negative)");
+            if (test.exact && yes && exact[p] == 0)
+                throw validation_error(where + ": " + pair + " is disjoint exactly but the exact test says it overlaps (a false positive)");
             positives += yes;
+            checksum += answer_checksum(p, yes);
             exact_no += exact[p] == 0;
             fp_exact += yes && exact[p] == 0;
             fp_shapes += yes && s.shapes_meet[p] == 0;
@@ -372,10 +384,10 @@ void overlap_study(context& ctx, const volume_type<BV>& type, const fit_method<B
         const auto t = time_per_pass(
             [&] {
                 std::size_t c = 0;
-                for (const auto& [i, j] : s.pairs) c += test.test(bvs[i], bvs[j]);
+                for (std::size_t p = 0; p < s.pairs.size(); ++p) c += answer_checksum(p, test.test(bvs[s.pairs[p].first], bvs[s.pairs[p].second]));
                 return c;
             },
-            positives, where);
+            checksum, where);
         auto ratio = [](std::size_t a, std::size_t b) { return b ? static_cast<double>(a) / static_cast<double>(b) : 0.0; };
         ctx.rows.push_back(scope.timed("spatialbench", type.name, "overlap", params, "time_per_op", t, "ns",
                                        1e9 / static_cast<double>(s.pairs.size())));
@@ -386,24 +398,32 @@ void overlap_study(context& ctx, const volume_type<BV>& type, const fit_method<B
     }
 }
 
-// Checks one line against one volume: a hit's interval has its middle inside (unless the
-// line only grazes it), a miss has none of 64 samples across the domain inside.
+// Checks one line against one volume: a hit's interval [t0, t1] is the line's chord through
+// the volume — points at 1%, 50% and 99% of it are inside and points 1% of its length (plus a
+// rounding margin) beyond either end are outside, unless the line only grazes the volume — and
+// a miss has none of 64 samples across the domain inside.
 template <class BV>
 bool checked_ray(const BV& b, const P& o, const P& d, const std::string& where) {
     double t0 = 0, t1 = 0;
-    if (b.ray_interval(o, d, t0, t1)) {
-        const double tm = (t0 + t1) / 2;
+    auto at = [&](double t) {
         P q;
-        for (int k = 0; k < 3; ++k) q[k] = o[k] + tm * d[k];
-        if (!(t0 <= t1) || (t1 - t0 > 1e-6 * std::max(1.0, std::abs(tm)) && !b.contains(q)))
-            throw validation_error(where + " interval [" + fmt(t0) + ", " + fmt(t1) + "] is not inside the volume");
+        for (int k = 0; k < 3; ++k) q[k] = o[k] + t * d[k];
+        return q;
+    };
+    if (b.ray_interval(o, d, t0, t1)) {
+        const double len = t1 - t0, margin = 1e-6 * std::max({1.0, std::abs(t0), std::abs(t1)});
+        const std::string interval = " interval [" + fmt(t0) + ", " + fmt(t1) + "]";
+        if (!(t0 <= t1)) throw validation_error(where + interval + " is empty");
+        if (len <= margin) return true;  // a grazing line: too short to sample
+        for (const double f : {0.01, 0.5, 0.99})
+            if (!b.contains(at(t0 + f * len))) throw validation_error(where + interval + " is not inside the volume at " + fmt(f));
+        for (const double t : {t0 - 0.01 * len - margin, t1 + 0.01 * len + margin})
+            if (b.contains(at(t))) throw validation_error(where + interval + " is shorter than the chord: t=" + fmt(t) + " is inside");
         return true;
     }
     for (int k = 0; k <= 64; ++k) {
         const double tt = -4.0 + 8.0 * k / 64.0;
-        P q;
-        for (int c = 0; c < 3; ++c) q[c] = o[c] + tt * d[c];
-        if (b.contains(q)) throw validation_error(where + " reported as missing, but its point at t=" + fmt(tt) + " is inside");
+        if (b.contains(at(tt))) throw validation_error(where + " reported as missing, but its point at t=" + fmt(tt) + " is inside");
     }
     return false;
 }
@@ -413,13 +433,14 @@ bool checked_ray(const BV& b, const P& o, const P& d, const std::string& where) 
 template <class BV>
 void ray_study(context& ctx, const volume_type<BV>& type, const fit_method<BV>& meth, const std::string& workload,
                const instance_set& s, const std::vector<BV>& bvs) {
-    std::size_t hits = 0, hull_misses = 0;
+    std::size_t hits = 0, hull_misses = 0, checksum = 0;
     for (std::size_t r = 0; r < s.rays.size(); ++r) {
         const auto& [o, d] = s.rays[r];
         for (std::size_t b = 0; b < bvs.size(); ++b) {
             if (!checked_ray(bvs[b], o, d, "bv " + type.name + " method " + meth.name + " on " + workload + ": ray " + std::to_string(r)))
                 continue;
             ++hits;
+            checksum += answer_checksum(r * bvs.size() + b, true);
             double h0 = 0, h1 = 0;
             hull_misses += !s.hulls[b].ray_interval(o, d, h0, h1);
         }
@@ -427,14 +448,14 @@ void ray_study(context& ctx, const volume_type<BV>& type, const fit_method<BV>& 
     const auto t = time_per_pass(
         [&] {
             std::size_t c = 0;
-            for (const auto& [o, d] : s.rays)
-                for (const auto& b : bvs) {
+            for (std::size_t r = 0; r < s.rays.size(); ++r)
+                for (std::size_t b = 0; b < bvs.size(); ++b) {
                     double t0, t1;
-                    c += b.ray_interval(o, d, t0, t1);
+                    c += answer_checksum(r * bvs.size() + b, bvs[b].ray_interval(s.rays[r].first, s.rays[r].second, t0, t1));
                 }
             return c;
         },
-        hits, "bv " + type.name + " ray");
+        checksum, "bv " + type.name + " ray");
     const double lines = static_cast<double>(s.rays.size() * bvs.size());
     const std::string params = "method=" + meth.name + ";instances=" + std::to_string(s.points.size());
     // checked_ray: every line's answer against the volume's own containment test.
@@ -500,7 +521,7 @@ template <std::size_t K>
 volume_type<kdop3<K>> kdop_type() {
     return {"kdop" + std::to_string(K),
             {{"minmax", [](std::span<const P> p) { return kdop3<K>::fit(p); }}},
-            {{"slabs", plain_overlaps<kdop3<K>>}, {"exact", exact_overlaps<kdop3<K>>}},
+            {{"slabs", plain_overlaps<kdop3<K>>}, {"exact", exact_overlaps<kdop3<K>>, true}},
             polytope_reference<kdop3<K>>()};
 }
 volume_type<ellipsoid3> ellipsoid_type() {
@@ -511,7 +532,7 @@ volume_type<ellipsoid3> ellipsoid_type() {
             ellipsoids_intersect};
 }
 volume_type<hull3> hull_type() {
-    return {"convex_hull", {{"quickhull", [](std::span<const P> p) { return hull3::fit(p); }}}, {{"exact", plain_overlaps<hull3>}},
+    return {"convex_hull", {{"quickhull", [](std::span<const P> p) { return hull3::fit(p); }}}, {{"exact", plain_overlaps<hull3>, true}},
             polytope_reference<hull3>()};
 }
 
