@@ -78,3 +78,19 @@ add_test(NAME spatialbench_fails_closed_on_a_wrong_answer
                  ${PROJECT_SOURCE_DIR}/datasets/scenes/falling_boxes.toml
                  ${CMAKE_CURRENT_BINARY_DIR}/fail_closed_results)
 set_tests_properties(spatialbench_fails_closed_on_a_wrong_answer PROPERTIES TIMEOUT 600)
+
+# Sharded runs (run/scene --shard i/N) joined by `spatialbench merge` give the single run's
+# table: the same keys and answers as the smoke fixture's tables, every row validated, every
+# run's sidecar (with its host) merged; overlapping shards are refused by name.
+add_test(NAME spatialbench_shards_merge_to_the_single_run_table
+         COMMAND bash ${CMAKE_CURRENT_SOURCE_DIR}/check_shards.sh $<TARGET_FILE:spatialbench>
+                 ${CMAKE_CURRENT_BINARY_DIR}/shard_results
+                 ${PROJECT_SOURCE_DIR}/datasets/scenes/falling_boxes.toml
+                 ${CMAKE_CURRENT_BINARY_DIR}/smoke_results/knn.csv
+                 ${CMAKE_CURRENT_BINARY_DIR}/structures_smoke_results/structures.csv
+                 ${CMAKE_CURRENT_BINARY_DIR}/bv_smoke_results/bv.csv
+                 ${CMAKE_CURRENT_BINARY_DIR}/raycast_smoke_results/raycast.csv
+                 ${CMAKE_CURRENT_BINARY_DIR}/collide_smoke_results/collide.csv
+                 ${CMAKE_CURRENT_BINARY_DIR}/scenes_smoke_results/scenes.csv)
+set_tests_properties(spatialbench_shards_merge_to_the_single_run_table PROPERTIES
+                     FIXTURES_REQUIRED smoke_tables TIMEOUT 900)

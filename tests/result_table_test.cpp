@@ -413,6 +413,21 @@ TEST(compare_results, unvalidated_rows_are_counted_and_never_compared) {
     EXPECT_EQ(e.a->rows, 1u);
 }
 
+// A ratio of other figures (check "derived") is written once, without a spread of its own: a
+// change of it is reported as no_spread, never flagged; equal values stay within_spread.
+TEST(compare_results, a_single_derived_row_that_changed_has_no_spread) {
+    auto ratio_row = [](double value) {
+        result_row r = row("nanoflann", 1000, value, 0, 0);
+        r.metric = "time_ratio", r.unit = "ratio", r.check = "derived", r.repetitions = 0;
+        return r;
+    };
+    EXPECT_EQ(only_entry(compare_results({ratio_row(0.8)}, {ratio_row(0.9)})).outcome, verdict::no_spread);
+    EXPECT_EQ(only_entry(compare_results({ratio_row(0.8)}, {ratio_row(0.8)})).outcome, verdict::within_spread);
+    // Pooled over repeated runs, derived rows do have a spread and are judged by it.
+    EXPECT_EQ(only_entry(compare_results({ratio_row(0.8), ratio_row(0.82)}, {ratio_row(0.9), ratio_row(0.95)})).outcome,
+              verdict::higher);
+}
+
 TEST(compare_results, equal_values_have_ratio_one_even_at_zero) {
     EXPECT_EQ(only_entry(compare_results({row("kd_tree", 1000, 0, 0, 0)}, {row("kd_tree", 1000, 0, 0, 0)})).ratio, 1.0);
     EXPECT_TRUE(std::isinf(
@@ -497,7 +512,7 @@ TEST(comparison_summary, counts_verdicts_and_lists_the_largest_changes_first) {
     c.tables.push_back({"knn.csv", compare_results(a, b)});
     c.only_in_b = {"raycast.csv"};
     const std::string s = comparison_summary(c);
-    EXPECT_NE(s.find("1 table(s), 30 keys: within_spread 0, higher 30, lower 0, only_in_a 0, only_in_b 0"),
+    EXPECT_NE(s.find("1 table(s), 30 keys: within_spread 0, higher 30, lower 0, only_in_a 0, only_in_b 0, no_spread 0"),
               std::string::npos)
         << s;
     EXPECT_NE(s.find("0 rows of A, 1 rows of B"), std::string::npos) << s;

@@ -762,7 +762,7 @@ void run_bv_suite(const suite_options& options) {
 
 std::vector<std::string> bv_case_ids(const suite_options& options) {
     context ctx = make_context(options);
-    return ids_of(bv_cases(ctx));
+    return ids_of(bv_cases(ctx), options);
 }
 
 }  // namespace harness

@@ -568,7 +568,7 @@ void run_collide_suite(const suite_options& options) {
 
 std::vector<std::string> collide_case_ids(const suite_options& options) {
     context ctx = make_context(options);
-    return ids_of(collide_cases(ctx));
+    return ids_of(collide_cases(ctx), options);
 }
 
 }  // namespace harness

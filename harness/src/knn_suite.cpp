@@ -857,7 +857,7 @@ void run_knn_suite(const suite_options& options) {
 
 std::vector<std::string> knn_case_ids(const suite_options& options) {
     context ctx = make_context(options);
-    return ids_of(knn_cases(ctx));
+    return ids_of(knn_cases(ctx), options);
 }
 
 }  // namespace harness

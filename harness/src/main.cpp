@@ -2,7 +2,10 @@
 //   spatialbench run --suite SUITE [--preset smoke|quick|full] [--results DIR] [--real-data DIR]
 //                    [--workload W ...] [--structure S ...] [--n N ...] [--seed S] [--quiet]
 //   spatialbench scene FILE... [--structure NAME|all] [--steps N] [--results DIR] [--output scenes.csv] [--quiet]
-//   spatialbench list [--json]
+//   spatialbench list [--json] [--cases --suite SUITE [--shard i/N] ...]
+//   spatialbench compare A B [--output FILE]      (two tables or two result folders)
+//   spatialbench merge DIR... --results OUT        (the shards of a run, joined)
+// `run`, `list --cases` and `scene` take --shard i/N: a deterministic 1/N of the cases.
 // The suites come from harness/suite_table.hpp, the structures from structure_registry.hpp and
 // peer_registry.hpp: this file names none of them.
 // Exit codes: 0 success, 1 bad usage or input, 2 validation failure (a wrong answer).
@@ -16,6 +19,8 @@
 #include "datasets/shapes.hpp"
 #include "datasets/scene.hpp"
 #include "harness/peer_registry.hpp"
+#include "harness/result_compare.hpp"
+#include "harness/result_merge.hpp"
 #include "harness/run_info.hpp"
 #include "harness/scene_runner.hpp"
 #include "harness/structure_registry.hpp"
@@ -73,6 +78,7 @@ struct run_command {
     harness::suite_options opt;
     std::string suite = "knn";
     std::string output_name;
+    std::string shard;
     bool no_dynamic = false;
 
     void add_to(CLI::App& parent, const std::vector<std::string>& runnable, const std::string& suite_help) {
@@ -87,6 +93,7 @@ struct run_command {
         app->add_option("--structure", opt.structures, "restrict to these structures (see `spatialbench list`)");
         app->add_option("--n", opt.sizes, "restrict to these sizes");
         app->add_option("--case", opt.cases, "run only these cases (ids from `spatialbench list --cases --suite S`)");
+        app->add_option("--shard", shard, "run a deterministic 1/N of the cases: i/N takes those at positions i mod N (0 <= i < N) of `list --cases`");
         app->add_option("--seed", opt.seed, "seed of every generated workload (logged in the run sidecar)");
         app->add_flag("--quiet", opt.quiet, "no progress output");
         app->add_flag("--no-dynamic", no_dynamic, "skip the insert/erase workloads");
@@ -98,6 +105,7 @@ struct run_command {
         const harness::suite_entry& entry = *harness::find_suite(suite);
         opt.output_name = output_name.empty() ? entry.table : output_name;
         return guarded([&] {
+            if (!shard.empty()) harness::parse_shard(shard, opt);
             entry.run(opt);
             harness::write_registry_json(opt.results_dir);
         });
@@ -109,7 +117,7 @@ struct list_command {
     CLI::App* app = nullptr;
     bool json = false, cases = false;
     harness::suite_options opt;
-    std::string suite;
+    std::string suite, shard;
 
     void add_to(CLI::App& parent, const std::vector<std::string>& runnable) {
         app = parent.add_subcommand("list", "list suites, workloads, structures and peers");
@@ -120,6 +128,7 @@ struct list_command {
         app->add_option("--real-data", opt.real_data_dir, "real data directory, as for run");
         app->add_option("--workload", opt.workloads, "restrict to these workloads, as for run");
         app->add_option("--n", opt.sizes, "restrict to these sizes, as for run");
+        app->add_option("--shard", shard, "only the cases of shard i/N, as for run");
     }
 
     int execute() {
@@ -127,6 +136,7 @@ struct list_command {
             if (cases) {
                 if (suite.empty()) throw std::invalid_argument("list --cases needs --suite");
                 opt.suite_name = suite;
+                if (!shard.empty()) harness::parse_shard(shard, opt);
                 for (const auto& id : harness::find_suite(suite)->case_ids(opt)) std::cout << id << '\n';
             } else if (json) {
                 std::cout << harness::registry_json();
@@ -144,6 +154,7 @@ struct scene_command {
     harness::scene_run_options opt;
     std::filesystem::path results = "results";
     std::string output = "scenes.csv";
+    std::string shard;
 
     void add_to(CLI::App& parent) {
         app = parent.add_subcommand("scene", "run scene files (datasets/scenes/*.toml) and write results/scenes.csv");
@@ -152,12 +163,18 @@ struct scene_command {
         app->add_option("--steps", opt.steps, "override the scene's number of steps");
         app->add_option("--results", results, "directory for the CSV table and the run sidecar");
         app->add_option("--output", output, "CSV file name inside --results");
+        app->add_option("--shard", shard, "run the files at positions i mod N of the list (i/N, 0 <= i < N)");
         app->add_flag("--quiet", opt.quiet, "no progress output");
     }
 
     int execute() {
         return guarded([&] {
-            opt.run_id = harness::make_run_id("scenes", "scene");
+            harness::suite_options sharding;
+            if (!shard.empty()) harness::parse_shard(shard, sharding);
+            std::vector<std::string> mine;
+            for (std::size_t i = sharding.shard_index; i < files.size(); i += sharding.shard_count) mine.push_back(files[i]);
+            files = std::move(mine);
+            opt.run_id = harness::make_run_id("scenes", "scene", sharding.shard_label());
             const auto t0 = std::chrono::steady_clock::now();
             std::vector<harness::result_row> rows;
             harness::scene_counters counters;
@@ -169,8 +186,64 @@ struct scene_command {
             harness::write_registry_json(results);
             harness::run_info info{opt.run_id, "scenes", "scene", {}, {}};
             for (std::size_t i = 0; i < files.size(); ++i) info.extra["scene_" + std::to_string(i)] = files[i];
+            if (!shard.empty()) info.extra["shard"] = shard;
             harness::write_run_sidecar(results, info, harness::seconds_since(t0));
             if (!opt.quiet) std::fprintf(stderr, "spatialbench: wrote %s (%zu rows)\n", (results / output).c_str(), rows.size());
+        });
+    }
+};
+
+// `spatialbench compare A B`: B against A, figure by figure (harness/result_compare.hpp).
+struct compare_command {
+    CLI::App* app = nullptr;
+    std::filesystem::path a, b, output;
+
+    void add_to(CLI::App& parent) {
+        app = parent.add_subcommand("compare", "compare run B with run A (two tables or two result folders): ratio B/A per figure, flagged only beyond both runs' spread");
+        app->add_option("A", a, "the reference: a results table (.csv) or folder")->required()->check(CLI::ExistingPath);
+        app->add_option("B", b, "the run compared with it, of the same kind")->required()->check(CLI::ExistingPath);
+        app->add_option("--output", output, "also write the comparison as a CSV table here");
+    }
+
+    int execute() {
+        return guarded([&] {
+            const auto result = harness::compare_result_paths(a, b);
+            std::cout << harness::comparison_summary(result);
+            if (!output.empty()) harness::write_comparison_csv(output, result);
+        });
+    }
+};
+
+// `spatialbench merge DIR... --results OUT`: the shards of one run joined into the tables a
+// single run writes (harness/result_merge.hpp), with every shard's sidecar copied next to them.
+struct merge_command {
+    CLI::App* app = nullptr;
+    std::vector<std::filesystem::path> shards;
+    std::filesystem::path results;
+    bool quiet = false;
+
+    void add_to(CLI::App& parent) {
+        app = parent.add_subcommand("merge", "join the result folders of a sharded run (run --shard i/N) into one");
+        app->add_option("DIR", shards, "the shards' result folders")->required()->check(CLI::ExistingDirectory);
+        app->add_option("--results", results, "folder for the merged tables (tables there of the same names are replaced)")->required();
+        app->add_flag("--quiet", quiet, "no summary");
+    }
+
+    int execute() {
+        return guarded([&] {
+            const auto tables = harness::merge_result_folders(shards);
+            std::filesystem::create_directories(results / "runs");
+            // Sidecars first: a merged table never names a run whose sidecar is missing.
+            for (const auto& dir : shards)
+                if (std::filesystem::is_directory(dir / "runs"))
+                    for (const auto& sidecar : std::filesystem::directory_iterator(dir / "runs"))
+                        std::filesystem::copy_file(sidecar.path(), results / "runs" / sidecar.path().filename(),
+                                                   std::filesystem::copy_options::overwrite_existing);
+            for (const auto& [name, rows] : tables) {
+                harness::write_csv_atomically(results / name, rows);
+                if (!quiet) std::fprintf(stderr, "spatialbench: merged %s (%zu rows)\n", (results / name).c_str(), rows.size());
+            }
+            harness::write_registry_json(results);
         });
     }
 };
@@ -190,11 +263,17 @@ int main(int argc, char** argv) {
     run_command run;
     list_command list;
     scene_command scene;
+    compare_command compare;
+    merge_command merge;
     run.add_to(app, runnable, suite_help);
     list.add_to(app, runnable);
     scene.add_to(app);
+    compare.add_to(app);
+    merge.add_to(app);
     CLI11_PARSE(app, argc, argv);
     if (*list.app) return list.execute();
     if (*scene.app) return scene.execute();
+    if (*compare.app) return compare.execute();
+    if (*merge.app) return merge.execute();
     return run.execute();
 }

@@ -751,7 +751,7 @@ void run_raycast_suite(const suite_options& options) {
 
 std::vector<std::string> raycast_case_ids(const suite_options& options) {
     context ctx = make_context(options);
-    return ids_of(raycast_cases(ctx));
+    return ids_of(raycast_cases(ctx), options);
 }
 
 }  // namespace harness

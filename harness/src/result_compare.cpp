@@ -15,8 +15,8 @@ namespace harness {
 
 namespace {
 
-constexpr std::array<verdict, 5> all_verdicts = {verdict::within_spread, verdict::higher, verdict::lower,
-                                                 verdict::only_in_a, verdict::only_in_b};
+constexpr std::array<verdict, 6> all_verdicts = {verdict::within_spread, verdict::higher, verdict::lower,
+                                                 verdict::only_in_a, verdict::only_in_b, verdict::no_spread};
 constexpr std::array<const char*, 2> side_names = {"A", "B"};
 
 // The validated rows of one key: [0] from A, [1] from B.
@@ -39,6 +39,7 @@ pooled_figure pool(const std::vector<const result_row*>& rows) {
         values.push_back(r->value);
         f.min = std::min(f.min, r->repetitions == 0 ? r->value : r->min_value);
         f.max = std::max(f.max, r->repetitions == 0 ? r->value : r->max_value);
+        f.derived = f.derived && r->check == "derived";
     }
     f.value = median(std::move(values));
     return f;
@@ -64,6 +65,11 @@ std::string common_unit(const result_key& key, const key_rows& rows) {
 verdict verdict_of(const comparison_entry& e) {
     if (!e.a) return verdict::only_in_b;
     if (!e.b) return verdict::only_in_a;
+    if (e.a->value == e.b->value) return verdict::within_spread;
+    // A ratio of other figures written once has no spread of its own: its components say
+    // whether it moved.
+    const auto single_derived = [](const pooled_figure& f) { return f.derived && f.rows == 1; };
+    if (single_derived(*e.a) || single_derived(*e.b)) return verdict::no_spread;
     if (e.b->min > e.a->max) return verdict::higher;
     if (e.b->max < e.a->min) return verdict::lower;
     return verdict::within_spread;
@@ -96,6 +102,8 @@ std::string_view to_string(verdict v) {
             return "only_in_a";
         case verdict::only_in_b:
             return "only_in_b";
+        case verdict::no_spread:
+            return "no_spread";
     }
     return "?";
 }

@@ -3,11 +3,14 @@
 #include <array>
 #include <chrono>
 #include <cstdio>
+#include <cstdlib>
 #include <ctime>
 #include <fstream>
 #include <memory>
 #include <nlohmann/json.hpp>
 #include <thread>
+
+#include <unistd.h>
 
 #include "harness/csv_writer.hpp"
 
@@ -66,8 +69,16 @@ std::string cpu_model() {
     return "unknown";
 }
 
-std::string make_run_id(const std::string& suite, const std::string& preset) {
-    return suite + "-" + preset + "-" + utc_stamp("%Y%m%dT%H%M%SZ") + "-" + git_commit().substr(0, 7);
+std::string make_run_id(const std::string& suite, const std::string& preset, const std::string& shard) {
+    const char* array_job = std::getenv("SLURM_ARRAY_JOB_ID");
+    const std::string when = array_job && *array_job ? "slurm" + std::string(array_job) : utc_stamp("%Y%m%dT%H%M%SZ");
+    return suite + "-" + preset + "-" + when + "-" + git_commit().substr(0, 7) + (shard.empty() ? "" : "-" + shard);
+}
+
+std::string host_name() {
+    std::array<char, 256> name{};
+    if (gethostname(name.data(), name.size() - 1) != 0) return "unknown";
+    return name.data();
 }
 
 void write_run_sidecar(const std::filesystem::path& results_dir, const run_info& info, double wall_seconds) {
@@ -80,6 +91,7 @@ void write_run_sidecar(const std::filesystem::path& results_dir, const run_info&
     j["compiler"] = std::string("g++ ") + __VERSION__;
     j["build_type"] = SPATIAL_BUILD_TYPE;
     j["cxx_flags"] = SPATIAL_CXX_FLAGS;
+    j["host"] = host_name();
     j["cpu"] = cpu_model();
     j["hardware_threads"] = std::thread::hardware_concurrency();
     j["threads_used"] = 1;

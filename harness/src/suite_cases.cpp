@@ -3,7 +3,9 @@
 #include "harness/suite_cases.hpp"
 
 #include <algorithm>
+#include <charconv>
 #include <stdexcept>
+#include <string_view>
 
 #include "harness/run_info.hpp"
 #include "harness/timing.hpp"
@@ -12,9 +14,11 @@ namespace harness {
 
 std::vector<const suite_case*> selected_cases(const std::vector<suite_case>& all, const suite_options& options) {
     std::vector<const suite_case*> out;
-    for (const auto& c : all)
-        if (options.cases.empty() || std::find(options.cases.begin(), options.cases.end(), c.id) != options.cases.end())
-            out.push_back(&c);
+    for (std::size_t position = 0; position < all.size(); ++position) {
+        const suite_case& c = all[position];
+        const bool wanted = options.cases.empty() || std::find(options.cases.begin(), options.cases.end(), c.id) != options.cases.end();
+        if (wanted && position % options.shard_count == options.shard_index) out.push_back(&c);
+    }
     for (const auto& wanted : options.cases)
         if (std::none_of(all.begin(), all.end(), [&](const suite_case& c) { return c.id == wanted; }))
             throw std::invalid_argument("unknown case '" + wanted + "' in suite " + options.suite_name +
@@ -22,9 +26,28 @@ std::vector<const suite_case*> selected_cases(const std::vector<suite_case>& all
     return out;
 }
 
-std::vector<std::string> ids_of(const std::vector<suite_case>& cases) {
+void parse_shard(const std::string& text, suite_options& options) {
+    const auto bad = [&](const std::string& why) {
+        return std::invalid_argument("--shard '" + text + "': " + why + " (expected i/N with 0 <= i < N, e.g. 0/3)");
+    };
+    const auto slash = text.find('/');
+    if (slash == std::string::npos) throw bad("no '/'");
+    std::size_t index = 0, count = 0;
+    const auto parse = [&](std::string_view part, std::size_t& value) {
+        const auto [end, ec] = std::from_chars(part.data(), part.data() + part.size(), value);
+        if (part.empty() || ec != std::errc() || end != part.data() + part.size()) throw bad("'" + std::string(part) + "' is not a count");
+    };
+    parse(std::string_view(text).substr(0, slash), index);
+    parse(std::string_view(text).substr(slash + 1), count);
+    if (count == 0) throw bad("N must be at least 1");
+    if (index >= count) throw bad("i must be less than N");
+    options.shard_index = index;
+    options.shard_count = count;
+}
+
+std::vector<std::string> ids_of(const std::vector<suite_case>& cases, const suite_options& options) {
     std::vector<std::string> ids;
-    for (const auto& c : cases) ids.push_back(c.id);
+    for (const suite_case* c : selected_cases(cases, options)) ids.push_back(c->id);
     return ids;
 }
 
@@ -38,6 +61,7 @@ void finish_suite(const suite_options& options, const std::vector<result_row>& r
     const auto table = options.results_dir / options.output_name;
     write_csv_atomically(table, rows);
     run_info info{run_id, options.suite_name, options.preset, seeds, extra};
+    if (options.shard_count > 1) info.extra["shard"] = std::to_string(options.shard_index) + "/" + std::to_string(options.shard_count);
     write_run_sidecar(options.results_dir, info, seconds_since(started));
     prog.say("wrote " + table.string() + " (" + std::to_string(rows.size()) + " rows), run " + run_id);
 }

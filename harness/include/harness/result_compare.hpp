@@ -13,7 +13,10 @@
 //     of them is reported instead, and a key whose rows on one side are all unvalidated counts
 //     as absent there;
 //   * verdict: `higher` when B's [min, max] lies entirely above A's, `lower` entirely below,
-//     `within_spread` otherwise; `only_in_a` / `only_in_b` when the other side has no
+//     `within_spread` otherwise (and whenever the values are equal); `no_spread` when the
+//     values differ and one side is a single `derived` row (a ratio of other figures, written
+//     without a spread of its own: its components' verdicts say whether it moved);
+//     `only_in_a` / `only_in_b` when the other side has no
 //     validated row of the key;
 //   * ratio = B's value / A's value (1 when they are equal, zeros included);
 //   * every row of a key must have the same unit, or the comparison stops naming the key.
@@ -30,7 +33,7 @@
 
 namespace harness {
 
-enum class verdict { within_spread, higher, lower, only_in_a, only_in_b };
+enum class verdict { within_spread, higher, lower, only_in_a, only_in_b, no_spread };
 std::string_view to_string(verdict v);
 
 // One side's figure for a key, pooled over its validated rows.
@@ -39,6 +42,7 @@ struct pooled_figure {
     double min = 0;    // least min (least value for rows without repetitions)
     double max = 0;    // greatest max
     std::size_t rows = 0;
+    bool derived = true;  // every row's check is "derived" (a ratio of other figures)
 };
 
 struct comparison_entry {
@@ -77,7 +81,7 @@ folder_comparison compare_result_paths(const std::filesystem::path& a, const std
 //   table                        the table's file name
 //   suite ... metric             the key, as in the tables
 //   unit                         the figure's unit
-//   verdict                      within_spread, higher, lower, only_in_a, only_in_b
+//   verdict                      within_spread, higher, lower, only_in_a, only_in_b, no_spread
 //   ratio                        B / A (empty unless both sides have the key)
 //   a_value, a_min, a_max, a_rows   A's pooled figure (empty when A lacks the key)
 //   b_value, b_min, b_max, b_rows   B's pooled figure

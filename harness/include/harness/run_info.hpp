@@ -16,8 +16,12 @@ struct run_info {
     std::map<std::string, std::string> extra;
 };
 
-// A fresh run id: <suite>-<preset>-<UTC timestamp>-<short commit>.
-std::string make_run_id(const std::string& suite, const std::string& preset);
+// A fresh run id: <suite>-<preset>-<UTC timestamp>-<short commit>, then -<shard> for a
+// sharded run (suite_options::shard_label). Inside a Slurm job array the timestamp is
+// "slurm<SLURM_ARRAY_JOB_ID>", so the shards of one submission share one run id family.
+std::string make_run_id(const std::string& suite, const std::string& preset, const std::string& shard = "");
+// This machine's host name (the sidecar's `host`: merged shards name every machine).
+std::string host_name();
 std::string git_commit();
 std::string cpu_model();
 // Writes results/runs/<run_id>.json atomically.

@@ -31,8 +31,9 @@ struct suite_case {
 // std::invalid_argument naming a requested id that the suite does not have.
 std::vector<const suite_case*> selected_cases(const std::vector<suite_case>& all, const suite_options& options);
 
-// The ids of `cases`, in order (what `spatialbench list --cases` prints).
-std::vector<std::string> ids_of(const std::vector<suite_case>& cases);
+// The ids of the cases of `cases` that `options` selects (--case, --shard), in order: what
+// `spatialbench list --cases` prints.
+std::vector<std::string> ids_of(const std::vector<suite_case>& cases, const suite_options& options);
 
 // Runs the selected cases in order.
 void run_cases(const std::vector<suite_case>& all, const suite_options& options);

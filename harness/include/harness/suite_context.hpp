@@ -52,7 +52,7 @@ struct suite_context {
 // recorded.
 template <class Preset>
 suite_context<Preset> make_suite_context(const std::string& suite, const suite_options& options, Preset cfg) {
-    suite_context<Preset> ctx{suite, options, std::move(cfg), make_run_id(suite, options.preset), progress(options.quiet),
+    suite_context<Preset> ctx{suite, options, std::move(cfg), make_run_id(suite, options.preset, options.shard_label()), progress(options.quiet),
                               {}, {}};
     ctx.seeds["data"] = options.seed;
     return ctx;

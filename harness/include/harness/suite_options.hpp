@@ -17,6 +17,9 @@ struct suite_options {
     std::vector<std::string> structures;  // empty = all available
     std::vector<std::size_t> sizes;       // empty = the preset's
     std::vector<std::string> cases;       // empty = every case (suite_cases.hpp); else these ids
+    // Sharding (`--shard i/N`): of the selected cases, this run takes those whose position in
+    // the suite's case list is i modulo N (0 <= i < N). N = 1: every case.
+    std::size_t shard_index = 0, shard_count = 1;
     bool quiet = false;
     bool dynamic = true;  // run the insert/erase workloads
     std::string output_name = "knn.csv";  // the CLI sets <suite>.csv unless --output is given
@@ -24,6 +27,15 @@ struct suite_options {
     // library (kd_tree, bvh, octree, uniform and hashed grids) next to the peers.
     std::string suite_name = "knn";
     bool all_structures = false;
+
+    // "shard<i>of<N>" for a sharded run (part of its run id and sidecar), "" otherwise.
+    std::string shard_label() const {
+        return shard_count > 1 ? "shard" + std::to_string(shard_index) + "of" + std::to_string(shard_count) : "";
+    }
 };
+
+// Parses "i/N" (0 <= i < N) into options.shard_index and shard_count; throws
+// std::invalid_argument saying what is wrong.
+void parse_shard(const std::string& text, suite_options& options);
 
 }  // namespace harness
