@@ -94,3 +94,24 @@ add_test(NAME spatialbench_shards_merge_to_the_single_run_table
                  ${CMAKE_CURRENT_BINARY_DIR}/scenes_smoke_results/scenes.csv)
 set_tests_properties(spatialbench_shards_merge_to_the_single_run_table PROPERTIES
                      FIXTURES_REQUIRED smoke_tables TIMEOUT 900)
+
+# The same on a real Slurm (issue 21): a single-node Slurm started on this machine runs the
+# smoke preset as a 3-task job array and the dependent merge (scripts/slurm/submit.sh);
+# skipped, with the reason printed, where Slurm cannot start (not root, packages missing).
+add_test(NAME spatialbench_slurm_job_array_merges_to_the_single_run_table
+         COMMAND bash ${CMAKE_CURRENT_SOURCE_DIR}/check_slurm.sh ${CMAKE_CURRENT_BINARY_DIR}/slurm_results
+                 ${CMAKE_CURRENT_BINARY_DIR}/smoke_results/knn.csv
+                 ${CMAKE_CURRENT_BINARY_DIR}/structures_smoke_results/structures.csv
+                 ${CMAKE_CURRENT_BINARY_DIR}/bv_smoke_results/bv.csv
+                 ${CMAKE_CURRENT_BINARY_DIR}/raycast_smoke_results/raycast.csv
+                 ${CMAKE_CURRENT_BINARY_DIR}/collide_smoke_results/collide.csv
+                 ${CMAKE_CURRENT_BINARY_DIR}/scenes_smoke_results/scenes.csv)
+set_tests_properties(spatialbench_slurm_job_array_merges_to_the_single_run_table PROPERTIES
+                     FIXTURES_REQUIRED smoke_tables SKIP_RETURN_CODE 77 TIMEOUT 900 RUN_SERIAL TRUE)
+
+# The real data (issue 17): knn on every fetched point set and raycast on a fetched mesh, at
+# smoke size, validated rows for each. scripts/test.sh fetches the data first; skipped elsewhere.
+add_test(NAME spatialbench_real_data_smoke
+         COMMAND bash ${CMAKE_CURRENT_SOURCE_DIR}/check_real_data_smoke.sh $<TARGET_FILE:spatialbench>
+                 ${PROJECT_SOURCE_DIR}/datasets/real ${CMAKE_CURRENT_BINARY_DIR}/real_data_results)
+set_tests_properties(spatialbench_real_data_smoke PROPERTIES SKIP_RETURN_CODE 77 TIMEOUT 600)
