@@ -1,0 +1,23 @@
+#pragma once
+// How a fuzz target reports a finding that no sanitizer sees: a wrong answer, a broken
+// round trip, an exception of a type the code under test does not document. It prints what
+// went wrong and aborts; libFuzzer treats the abort as a crash, saves the input as
+// crash-<sha1> and stops (libFuzzer docs, "Options": a crash ends the run unless
+// -fork / -ignore_crashes). An undocumented exception needs no call here: it escapes
+// LLVMFuzzerTestOneInput, std::terminate aborts, and libFuzzer reports "deadly signal".
+
+#include <cstdio>
+#include <cstdlib>
+#include <string_view>
+
+namespace spatial_fuzz {
+
+[[noreturn]] inline void finding(std::string_view target, std::string_view what, std::string_view detail = {}) {
+    std::fprintf(stderr, "\n==== %.*s: FINDING: %.*s\n", static_cast<int>(target.size()), target.data(),
+                 static_cast<int>(what.size()), what.data());
+    if (!detail.empty()) std::fprintf(stderr, "%.*s\n", static_cast<int>(detail.size()), detail.data());
+    std::fflush(stderr);
+    std::abort();
+}
+
+}  // namespace spatial_fuzz
