@@ -245,6 +245,28 @@ TEST_F(mesh_loading, errors_name_the_file_and_the_problem) {
     EXPECT_THROW(harness::load_triangle_mesh(dir_), harness::mesh_load_error);
 }
 
+// Found by fuzzing (fuzz/mesh, docs/fuzzing.md): PLY headers that CGAL's reader accepts and
+// then dereferences a null pointer on in release builds (CGAL's assertions off): a property
+// line before any element line, a vertex coordinate that is neither float nor double, and
+// colours where red is uchar but green is not (CGAL then reads green as uchar through a failed
+// dynamic_cast). Each must be a mesh_load_error naming the problem, not a crash.
+TEST_F(mesh_loading, ply_headers_cgal_cannot_read_are_errors_not_crashes) {
+    const std::string face = "element face 1\nproperty list uchar int vertex_indices\n";
+    const std::string xyz = "property float x\nproperty float y\nproperty float z\n";
+    const std::string body = "end_header\n0 0 0\n1 0 0\n0 1 0\n3 0 1 2\n";
+    const auto property_first = write("first.ply", "ply\nformat ascii 1.0\nproperty float x\nelement vertex 3\n" +
+                                                        xyz + face + body);
+    EXPECT_NE(message_of(property_first).find("before any element"), std::string::npos) << message_of(property_first);
+    const auto int_x = write("int_x.ply", "ply\nformat ascii 1.0\nelement vertex 3\nproperty int x\n"
+                                          "property float y\nproperty float z\n" + face + body);
+    EXPECT_NE(message_of(int_x).find("float or double"), std::string::npos) << message_of(int_x);
+    const auto colours = write("colours.ply", "ply\nformat ascii 1.0\nelement vertex 3\n" + xyz + face +
+                                                  "property uchar red\nproperty float green\nproperty uchar g\n"
+                                                  "property uchar blue\nend_header\n0 0 0\n1 0 0\n0 1 0\n"
+                                                  "3 0 1 2 9 0.5 9 9\n");
+    EXPECT_NE(message_of(colours).find("green"), std::string::npos) << message_of(colours);
+}
+
 TEST_F(mesh_loading, fetched_real_meshes_load_when_present) {
     const fs::path real = fs::path(SPATIAL_DATASETS_REAL_DIR) / "meshes";
     if (!fs::is_directory(real)) GTEST_SKIP() << "run scripts/fetch_meshes.sh to test the real meshes";

@@ -707,6 +707,27 @@ TEST(load_point_set, corrupt_ply_names_the_file_and_the_problem) {
     EXPECT_CONTAINS(message, "vertex 1 has a non-finite coordinate");
 }
 
+// Found by fuzzing (fuzz/point_set, docs/fuzzing.md): headers that CGAL's PLY reader accepts
+// and then dereferences a null pointer on (in release builds, where CGAL's assertions are
+// off): a property line before any element line (it is added to the last element of an empty
+// list), and a vertex coordinate that is neither float nor double (its value is read through a
+// failed dynamic_cast). Each must be a load_error naming the problem, not a crash.
+TEST(load_point_set, ply_headers_cgal_cannot_read_are_errors_not_crashes) {
+    if (!datasets::can_load_ply()) GTEST_SKIP() << "built without CGAL: PLY loading is off";
+    expect_load_error("property_first.ply",
+                      "ply\nformat ascii 1.0\nproperty double x\nelement vertex 1\nproperty double x\n"
+                      "property double y\nproperty double z\nend_header\n1 2 3\n",
+                      {"line 3", "before any element"});
+    expect_load_error("int_x.ply",
+                      "ply\nformat ascii 1.0\nelement vertex 1\nproperty int x\nproperty double y\n"
+                      "property double z\nend_header\n1 2 3\n",
+                      {"line 4", "property x", "float or double"});
+    expect_load_error("list_z.ply",
+                      "ply\nformat ascii 1.0\nelement vertices 1\nproperty double x\nproperty double y\n"
+                      "property list uchar float z\nend_header\n1 2 1 3\n",
+                      {"line 6", "property z", "float or double"});
+}
+
 // The files datasets/fetch_real_data.sh places (see datasets/README.md), with their counts.
 TEST(load_point_set, fetched_real_data_loads_with_the_documented_counts) {
     const fs::path real = SPATIAL_DATASETS_REAL_DIR;
