@@ -3,6 +3,7 @@
 // SPATIAL_DATASETS_HAVE_CGAL, and never reach a public header.
 
 #include "datasets/point_set_io.hpp"
+#include "datasets/ply_header.hpp"
 
 #include <algorithm>
 #include <array>
@@ -278,74 +279,21 @@ std::vector<point3> parse_obj_text(std::string_view text, const fs::path& file) 
     return points;
 }
 
-#if defined(SPATIAL_DATASETS_HAVE_CGAL)
-// Checks the PLY header ourselves before handing the file to CGAL: CGAL's reader silently
-// yields (0, 0, 0) points when the vertex element lacks x, y or z, and its failures carry no
-// reason. Returns the declared vertex count. The header is ASCII even in binary PLY files.
-std::uint64_t check_ply_header(const fs::path& file) {
-    std::ifstream in(file, std::ios::binary);
-    if (!in) fail(file, "cannot open the file (missing or unreadable)");
-    std::string raw;
-    std::size_t line_number = 0;
-    const auto next_line = [&](std::string_view& line) {
-        if (!std::getline(in, raw)) return false;
-        ++line_number;
-        line = raw;
-        if (!line.empty() && line.back() == '\r') line.remove_suffix(1);
-        return true;
-    };
-    std::string_view line;
-    if (!next_line(line) || line != "ply") fail_at(file, 1, "expected the PLY magic line \"ply\"");
-    std::optional<std::uint64_t> vertex_count;
-    bool in_vertex_element = false;
-    std::array<bool, 3> has_axis{false, false, false};
-    // Real headers are a few dozen lines; past this, the file is not PLY (and may be binary).
-    constexpr std::size_t max_header_lines = 10000;
-    for (;;) {
-        if (line_number >= max_header_lines || !next_line(line)) {
-            fail(file, "the PLY header has no end_header line");
-        }
-        token_reader tokens(line);
-        std::string_view keyword;
-        if (!tokens.next(keyword)) continue;
-        if (keyword == "end_header") break;
-        if (keyword == "element") {
-            std::string_view name, count;
-            tokens.next(name);
-            tokens.next(count);
-            in_vertex_element = name == "vertex";
-            if (in_vertex_element) {
-                vertex_count = parse_count(count);
-                if (!vertex_count) {
-                    fail_at(file, line_number, "expected a vertex count but found " + quote_token(count));
-                }
-            }
-        } else if (keyword == "property" && in_vertex_element) {
-            // "property <type> <name>" or "property list <count type> <item type> <name>".
-            std::string_view token, name;
-            while (tokens.next(token)) name = token;
-            if (name == "x") has_axis[0] = true;
-            if (name == "y") has_axis[1] = true;
-            if (name == "z") has_axis[2] = true;
-        }
-    }
-    if (!vertex_count) fail(file, "the PLY header declares no vertex element");
-    for (std::size_t d = 0; d < 3; ++d) {
-        if (!has_axis[d]) {
-            fail(file, std::string("the PLY vertex element has no property ") + "xyz"[d] +
-                           " (x, y and z are required)");
-        }
-    }
-    return *vertex_count;
-}
-#endif
-
 std::vector<point3> load_ply(const fs::path& file) {
 #if defined(SPATIAL_DATASETS_HAVE_CGAL)
     using kernel = CGAL::Simple_cartesian<double>;
     std::error_code ec;
     if (!fs::is_regular_file(file, ec)) fail(file, "cannot open the file (missing or not a file)");
-    const std::uint64_t declared = check_ply_header(file);
+    // Our own header check first: CGAL's reader silently yields (0, 0, 0) points when x, y or z
+    // is missing, gives no reason for a failure, and crashes on some headers (ply_header.hpp).
+    std::ifstream header(file, std::ios::binary);
+    if (!header) fail(file, "cannot open the file (missing or unreadable)");
+    const ply_header_check checked = check_ply_header(header, ply_use::points);
+    if (!checked.problem.empty()) {
+        if (checked.line == 0) fail(file, checked.problem);
+        fail_at(file, checked.line, checked.problem);
+    }
+    const std::uint64_t declared = checked.vertex_count;
     std::vector<kernel::Point_3> read;
     bool ok = false;
     try {

@@ -20,6 +20,7 @@
 #include <string>
 #include <vector>
 
+#include "datasets/ply_header.hpp"
 #include "harness/mesh_loading.hpp"
 #include "harness/ray_adapters.hpp"
 
@@ -78,6 +79,12 @@ datasets::triangle_mesh load_triangle_mesh(const std::filesystem::path& file) {
     if (std::filesystem::is_directory(file, ec)) fail(file, "is a directory, not a mesh file");
     if (!std::ifstream(file, std::ios::binary)) fail(file, "cannot open the file (missing or unreadable)");
     const std::string ext = lower_extension(file);
+    if (ext == ".ply") {  // CGAL's PLY reader crashes on some headers (datasets/ply_header.hpp)
+        std::ifstream header(file, std::ios::binary);
+        const auto checked = datasets::check_ply_header(header, datasets::ply_use::mesh);
+        if (!checked.problem.empty())
+            fail(file, (checked.line ? "line " + std::to_string(checked.line) + ": " : std::string()) + checked.problem);
+    }
 
     std::vector<kernel::Point_3> points;
     std::vector<std::vector<std::size_t>> polygons;
