@@ -54,6 +54,9 @@ target_link_libraries(example_structures_test PRIVATE spatial::examples)
 # The capability concepts hold for exactly their documented models; the shared container base
 # (statistics, error names, ray thickness).
 spatial_add_test(capabilities_test capabilities_test.cpp)
+# What the operations fuzzer found (fuzz/operations, docs/fuzzing.md): one test per finding, on
+# every structure over points and boxes, against brute_force.
+spatial_add_test(fuzz_findings_test fuzz_findings_test.cpp)
 
 # The library in another project: installed into a fresh prefix, found by a consumer project
 # with find_package(spatial CONFIG), built and run (README, "Use it in your project").
