@@ -21,7 +21,7 @@ using namespace spatial;
 using spatial_test::tagged_point;
 using P3 = point<double, 3>;
 using B3 = objects::box<double, 3>;
-using tiny_octree = octree_config<2, 6, 2.0>;  // capacity 2, depth 6: stresses overflow leaves
+using tiny_octree = octree_config<2, 6, std::ratio<2>>;  // capacity 2, depth 6: stresses overflow leaves
 
 // The sanitizer build runs a representative subset (CI time: SPATIAL_TEST_FULL_MATRIX=0): every
 // structure, scalar, dimension and object kind still appears; the release build runs them all.

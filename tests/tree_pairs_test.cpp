@@ -136,28 +136,28 @@ std::size_t expect_pairs_equal_oracle(const Tree& tree, const brute_force<typena
 template <class Tree>
 class tree_pairs : public ::testing::Test {};
 
-template <std::size_t Capacity, double Loose>
-using cfg = octree_config<Capacity, 32, Loose>;
+template <std::size_t Capacity, std::intmax_t Loose>
+using cfg = octree_config<Capacity, 32, std::ratio<Loose>>;
 template <std::size_t Capacity, class Splitter = median_of_widest_spread>
 using kd_cfg = kd_tree_config<Capacity, Splitter>;
 // The sanitizer build runs a representative subset (SPATIAL_TEST_FULL_MATRIX=0).
 #if SPATIAL_TEST_FULL_MATRIX
 using tree_pair_types = ::testing::Types<
     octree<objects::box<double, 3>>, octree<objects::box<double, 3>, classic_octree_config>,
-    octree<objects::box<double, 3>, cfg<1, 2.0>>, octree<objects::box<float, 3>, cfg<2, 1.0>>,
-    octree<objects::box<float, 2>, cfg<1, 2.0>>, octree<objects::box<double, 2>, classic_octree_config>,
-    octree<objects::sphere<double, 3>>, octree<objects::sphere<float, 2>, cfg<2, 1.0>>,
-    octree<objects::triangle<double, 3>, classic_octree_config>, octree<objects::triangle<float, 2>, cfg<1, 2.0>>,
-    octree<point<double, 3>, cfg<1, 2.0>>, octree<point<float, 2>, classic_octree_config>,
+    octree<objects::box<double, 3>, cfg<1, 2>>, octree<objects::box<float, 3>, cfg<2, 1>>,
+    octree<objects::box<float, 2>, cfg<1, 2>>, octree<objects::box<double, 2>, classic_octree_config>,
+    octree<objects::sphere<double, 3>>, octree<objects::sphere<float, 2>, cfg<2, 1>>,
+    octree<objects::triangle<double, 3>, classic_octree_config>, octree<objects::triangle<float, 2>, cfg<1, 2>>,
+    octree<point<double, 3>, cfg<1, 2>>, octree<point<float, 2>, classic_octree_config>,
     kd_tree<objects::box<double, 3>>, kd_tree<objects::box<double, 3>, kd_cfg<2>>,
     kd_tree<objects::box<float, 2>, kd_cfg<2, midpoint_of_max_spread>>, kd_tree<objects::sphere<double, 3>, kd_cfg<4>>,
     kd_tree<objects::sphere<float, 2>>, kd_tree<objects::triangle<double, 3>, kd_cfg<3, midpoint_of_max_spread>>,
     kd_tree<objects::triangle<float, 2>, kd_cfg<2>>, kd_tree<point<double, 3>, kd_cfg<2>>>;
 #else
 using tree_pair_types =
-    ::testing::Types<octree<objects::box<double, 3>>, octree<objects::box<float, 2>, cfg<1, 1.0>>,
-                     octree<objects::sphere<double, 3>, cfg<2, 2.0>>,
-                     octree<objects::triangle<float, 3>, classic_octree_config>, octree<point<double, 2>, cfg<1, 2.0>>,
+    ::testing::Types<octree<objects::box<double, 3>>, octree<objects::box<float, 2>, cfg<1, 1>>,
+                     octree<objects::sphere<double, 3>, cfg<2, 2>>,
+                     octree<objects::triangle<float, 3>, classic_octree_config>, octree<point<double, 2>, cfg<1, 2>>,
                      kd_tree<objects::box<double, 3>, kd_cfg<2>>,
                      kd_tree<objects::triangle<float, 2>, kd_cfg<3, midpoint_of_max_spread>>>;
 #endif
