@@ -188,7 +188,10 @@ private:
             for (std::uint32_t j = 0; j < lanes; ++j) {
                 const std::uint32_t b = y + j;
                 bool overlap = true;
-                for (std::size_t i = 0; i < D; ++i) overlap &= (k.lo[i][b] <= k.hi[i][x]) & (k.lo[i][x] <= k.hi[i][b]);
+                for (std::size_t i = 0; i < D; ++i) {  // no branch: both tests always run
+                    overlap &= k.lo[i][b] <= k.hi[i][x];
+                    overlap &= k.lo[i][x] <= k.hi[i][b];
+                }
                 std::uint32_t both = (k.bits[x] | k.bits[b]) & static_cast<std::uint32_t>(axis_bits);
                 if constexpr (Bipartite) both |= (k.bits[x] ^ k.bits[b]) & (1u << D);
                 ok |= static_cast<unsigned>(overlap & (both == need)) << j;
@@ -245,7 +248,10 @@ private:
                 const bounds& bb = sorted_[static_cast<std::size_t>(eb >> D)];
                 const std::uint32_t ib = ids_[static_cast<std::size_t>(eb >> D)];
                 bool here = ((ea | eb) & axis_bits) == axis_bits, apart = false;
-                for (std::size_t i = 0; i < D; ++i) apart |= (ba.hi[i] < bb.lo[i]) | (bb.hi[i] < ba.lo[i]);
+                for (std::size_t i = 0; i < D; ++i) {  // no branch: both tests always run
+                    apart |= ba.hi[i] < bb.lo[i];
+                    apart |= bb.hi[i] < ba.lo[i];
+                }
                 if constexpr (Bipartite) here &= (ia < split) != (ib < split);
                 if (here & !apart) emit(ia, ib);
             }
