@@ -14,6 +14,7 @@
 // counters only).
 
 #include "spatial/bvh/bvh.hpp"
+#include "spatial/core/distance.hpp"
 #include "spatial/core/knn_result_set.hpp"
 
 namespace spatial {
@@ -74,7 +75,7 @@ inline auto bvh<O, BV, Config>::slack_of(const bv_point& p) const -> T {
     const box_type& b = box_of(nodes_[root]);
     if (!b.is_empty())
         for (std::size_t i = 0; i < D; ++i) m = std::max({m, std::abs(b.lo[i]), std::abs(b.hi[i])});
-    return 16 * eps * (2 * m) + std::numeric_limits<T>::min();
+    return 16 * eps * (2 * m) + underflow_slack<T>;
 }
 
 // ---- lookup ----------------------------------------------------------------------

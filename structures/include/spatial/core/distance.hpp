@@ -4,8 +4,24 @@
 
 #include <array>
 #include <cstddef>
+#include <limits>
 
 namespace spatial {
+
+// The distance below which a squared-distance test in T cannot tell an offset from zero: a
+// coordinate difference under sqrt(denorm_min) squares to 0 (underflow), so an object that
+// close to a ball of radius 0 or to a thin ray passes the object's own test. Every pad or slack
+// that must never prune what that test accepts adds this constant to its terms relative to the
+// magnitudes, which are 0 at the origin (found by fuzzing, docs/fuzzing.md). It is
+// 2 sqrt(denorm_min) rounded up to a power of two: 2^-536 for double (about 4.4e-162), 2^-73
+// for float; a difference d >= r + it has d^2 - r^2 >= 4 denorm_min, more than the rounding
+// of both squares.
+template <class T>
+inline constexpr T underflow_slack = [] {
+    T x = 1;
+    for (int e = 0; e < (std::numeric_limits<T>::digits - std::numeric_limits<T>::min_exponent) / 2 - 1; ++e) x /= 2;
+    return x;
+}();
 
 template <class P, class Q>
 constexpr typename P::scalar_type squared_distance(const P& a, const Q& b) {

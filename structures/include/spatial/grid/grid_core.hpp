@@ -47,6 +47,7 @@
 
 #include "spatial/collide/pairs.hpp"
 #include "spatial/core/container_base.hpp"
+#include "spatial/core/distance.hpp"
 #include "spatial/core/input_checks.hpp"
 #include "spatial/core/intersect_info.hpp"
 #include "spatial/core/knn_result_set.hpp"
@@ -352,7 +353,7 @@ public:
         const T r2 = radius * radius;
         box Q;
         for (std::size_t i = 0; i < D; ++i) {
-            const T pad = radius + gamma * (std::abs(center[i]) + radius);
+            const T pad = radius + gamma * (std::abs(center[i]) + radius) + underflow_slack<T>;
             Q.lo[i] = cell_of(center[i] - pad, i);
             Q.hi[i] = cell_of(center[i] + pad, i);
         }

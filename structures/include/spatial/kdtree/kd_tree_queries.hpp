@@ -139,7 +139,7 @@ inline auto kd_tree<O, Config>::knn_slack(const P& x) const -> T {
     const extent& r = extents_[root];
     if (!r.is_empty())
         for (std::size_t i = 0; i < D; ++i) m = std::max({m, std::abs(r.lo[i]), std::abs(r.hi[i])});
-    return gamma * (2 * m) + std::numeric_limits<T>::min();
+    return gamma * (2 * m) + underflow_slack<T>;
 }
 
 // Lower bound on the squared distance from x to anything below node n.

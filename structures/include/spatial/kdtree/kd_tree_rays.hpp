@@ -4,6 +4,7 @@
 // that keep every clip conservative (PBRT 3e sec. 3.9).
 
 #include "spatial/kdtree/kd_tree.hpp"
+#include "spatial/octree/ray_cell_clip.hpp"
 
 namespace spatial {
 
@@ -32,7 +33,7 @@ inline auto kd_tree<O, Config>::intersect_object(const P& origin, const P& direc
 
 template <stored_object O, class Config>
 inline auto kd_tree<O, Config>::pad(const ray_query& q, unsigned d, T bound) -> T {
-    return q.r + gamma * (std::abs(bound) + std::abs(q.o[d]) + q.r);
+    return detail::ray_clip_params<T>::pad(q.r, bound, q.o[d]);
 }
 
 // Restrict [t0, t1] to the parameters where o_d + t v_d <= b.

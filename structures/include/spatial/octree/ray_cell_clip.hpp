@@ -1,6 +1,6 @@
 #pragma once
 // Conservative clipping of a (thick) ray's parameter interval to an axis-aligned cell, shared
-// by the octree and the grids. "Conservative" means: every parameter t at which the exact
+// by the octree and the grids (and its pad by the kd-tree's split planes). "Conservative" means: every parameter t at which the exact
 // object tests (O::intersect) could report a hit for an object inside the cell survives the
 // clip, despite rounding. The cell is grown by the ray thickness r plus a few ulps of the
 // magnitudes involved, and the resulting parameters are widened by a relative gamma (the
@@ -12,13 +12,18 @@
 #include <cstddef>
 #include <limits>
 
+#include "spatial/core/distance.hpp"
+
 namespace spatial::detail {
 
 template <class T>
 struct ray_clip_params {
     static constexpr T gamma = 16 * std::numeric_limits<T>::epsilon();
-    // Absolute padding for a slab bound `bound` on an axis where the origin is `origin`.
-    static T pad(T r, T bound, T origin) { return r + gamma * (std::abs(bound) + std::abs(origin) + r); }
+    // Absolute padding for a slab bound `bound` on an axis where the origin is `origin`; the
+    // underflow slack keeps it positive at 0 (core/distance.hpp).
+    static T pad(T r, T bound, T origin) {
+        return r + gamma * (std::abs(bound) + std::abs(origin) + r) + underflow_slack<T>;
+    }
 };
 
 // Restricts [t0, t1] to the parameters where lo <= o + t v <= hi on one axis, with the slab
