@@ -86,18 +86,7 @@ private:
     std::vector<O> made_;
 };
 
-template <class O>
-std::vector<std::vector<double>> signatures(const auto& range) {
-    std::vector<std::vector<double>> v;
-    for (const auto& x : range) {
-        const O& o = *x;
-        std::vector<double> s;
-        for (std::size_t i = 0; i < O::dimension; ++i) s.push_back(object_lower(o, i)), s.push_back(object_upper(o, i));
-        v.push_back(s);
-    }
-    std::sort(v.begin(), v.end());
-    return v;
-}
+using spatial_test::signatures_of;
 using spatial_test::all_iterators;
 
 // Queries compared with the oracle. Returns the number of ray hits seen (so callers can
@@ -153,7 +142,7 @@ std::size_t compare_queries(const Tree& tree, const brute_force<typename Tree::v
             << "ball " << qi;
         Q lo = g.point_in(-0.1, 1.0), hi = lo;
         for (std::size_t i = 0; i < O::dimension; ++i) spatial_test::set_coord(hi, i, lo[i] + s * 0.3 * g.unit());
-        EXPECT_EQ(signatures<O>(tree.find_in_box(lo, hi)), signatures<O>(oracle.find_in_box(lo, hi))) << "box " << qi;
+        EXPECT_EQ(signatures_of(tree.find_in_box(lo, hi)), signatures_of(oracle.find_in_box(lo, hi))) << "box " << qi;
     }
     return hits;
 }
@@ -223,7 +212,7 @@ void differential(std::uint64_t seed, std::size_t n, int rounds, double offset =
         }
         ASSERT_EQ(tree.size(), oracle.size());
         ASSERT_EQ(tree.check_invariants(), "");
-        EXPECT_EQ(signatures<O>(all_iterators(tree)), signatures<O>(all_iterators(oracle)));
+        EXPECT_EQ(signatures_of(all_iterators(tree)), signatures_of(all_iterators(oracle)));
         hits += compare_queries(tree, oracle, g, 25);
     }
     EXPECT_GT(hits, 0u) << "the scenario never produced a ray hit; it tests nothing";

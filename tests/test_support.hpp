@@ -1,6 +1,7 @@
 #pragma once
-// Helpers shared by the container tests: seeded generators, a user-defined point type,
-// and comparison of answers by DISTANCE (not identity: ties make identity ambiguous).
+// Helpers shared by the container tests: seeded generators, a user-defined point type; the
+// comparison of answers by DISTANCE (not identity: ties make identity ambiguous) and by
+// object signature is answer_comparison.hpp, included here.
 
 #include <gtest/gtest.h>
 
@@ -17,6 +18,7 @@
 #include <utility>
 #include <vector>
 
+#include "answer_comparison.hpp"
 #include "spatial/core/distance.hpp"
 #include "spatial/core/object_geometry.hpp"
 #include "spatial/core/point.hpp"
@@ -332,60 +334,5 @@ private:
     std::mt19937_64 rng_;
     std::vector<P> centers_, pool_;
 };
-
-// Sorted squared distances from q of a list of iterators.
-template <class P, class Its>
-std::vector<double> distances_from(const P& q, const Its& its) {
-    std::vector<double> d;
-    for (const auto& it : its) d.push_back(static_cast<double>(spatial::object_squared_distance(*it, q)));
-    std::sort(d.begin(), d.end());
-    return d;
-}
-
-// Contents of a container as a sorted list of coordinate tuples (a multiset).
-template <class C>
-std::vector<std::vector<double>> contents(const C& c) {
-    std::vector<std::vector<double>> v;
-    for (const auto& p : c) {
-        std::vector<double> t;
-        for (std::size_t i = 0; i < C::dimension; ++i) t.push_back(static_cast<double>(spatial::object_lower(p, i)));
-        for (std::size_t i = 0; i < C::dimension; ++i) t.push_back(static_cast<double>(spatial::object_upper(p, i)));
-        v.push_back(t);
-    }
-    std::sort(v.begin(), v.end());
-    return v;
-}
-
-// A list of pairs of container iterators as their (slot, slot) pairs, in the list's order.
-using slot_pair = std::pair<spatial::slot_index, spatial::slot_index>;
-template <class Pairs>
-std::vector<slot_pair> slots_of(const Pairs& pairs) {
-    std::vector<slot_pair> out;
-    for (const auto& [a, b] : pairs) out.emplace_back(a.slot(), b.slot());
-    return out;
-}
-
-// A list of object pairs as a sorted multiset of pairs of object signatures (bounds per axis,
-// the lower signature first). Containers allocate slots in their own order (kd_tree's bulk
-// build stores objects in leaf order), so pair sets are compared across containers this way;
-// identical objects are interchangeable.
-template <class Pairs>
-std::vector<std::pair<std::vector<double>, std::vector<double>>> signature_pairs(const Pairs& pairs) {
-    auto sig = [](const auto& x) {
-        std::vector<double> v;
-        for (std::size_t i = 0; i < std::decay_t<decltype(x)>::dimension; ++i)
-            v.push_back(static_cast<double>(spatial::object_lower(x, i))),
-                v.push_back(static_cast<double>(spatial::object_upper(x, i)));
-        return v;
-    };
-    std::vector<std::pair<std::vector<double>, std::vector<double>>> out;
-    for (const auto& [a, b] : pairs) {
-        auto x = sig(*a), y = sig(*b);
-        if (y < x) std::swap(x, y);
-        out.emplace_back(std::move(x), std::move(y));
-    }
-    std::sort(out.begin(), out.end());
-    return out;
-}
 
 }  // namespace spatial_test
