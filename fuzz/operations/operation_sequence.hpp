@@ -1,0 +1,159 @@
+#pragma once
+// The operations fuzzer's interpreter: the input is read as a sequence of container
+// operations (structure-aware fuzzing, libFuzzer docs: a mutated byte changes one operation or
+// one argument) applied to a structure and the brute-force oracle (mirror.hpp), every answer
+// compared (answers.hpp, pair_answers.hpp), rejected inputs checked (invalid_inputs.hpp).
+//
+// Two mirrors: `a_`, which every query asks, and `b_`, the other container of pairs_with; a
+// mutation goes to b_ one time in four. Operations a structure does not have (a pair-search
+// structure has no kNN; only some have motion) are skipped. After every mutation the sizes and
+// the structure's invariant check; every 16 steps and at the end the full contents.
+
+#include <array>
+#include <cstddef>
+#include <string_view>
+#include <vector>
+
+#include "answers.hpp"
+#include "fuzz_input.hpp"
+#include "hard_values.hpp"
+#include "invalid_inputs.hpp"
+#include "mirror.hpp"
+#include "operation_log.hpp"
+#include "pair_answers.hpp"
+#include "spatial/core/capabilities.hpp"
+#include "spatial/core/container_concept.hpp"
+
+namespace spatial_fuzz {
+
+template <class C>
+class operation_sequence {
+public:
+    using O = typename C::value_type;
+    using T = typename C::scalar_type;
+
+    operation_sequence(fuzz_input& in, std::string_view structure)
+        : in_(in), log_(structure), a_(log_, "a"), b_(log_, "b"), values_(in) {}
+
+    void run() {
+        for (std::size_t step = 0; step < max_steps && !in_.exhausted(); ++step) {
+            const std::size_t op = in_.below(operation_names.size());
+            log_.begin(step, operation_names[op]);
+            op < first_query ? mutate(op, in_.below(4) == 0 ? b_ : a_) : query(op);
+            a_.check(step % 16 == 15);
+            b_.check(step % 16 == 15);
+        }
+        log_.begin(max_steps, "final check");
+        a_.check(true);
+        b_.check(true);
+    }
+
+private:
+    static constexpr std::size_t max_steps = 2000;
+    static constexpr std::size_t max_size = 300;  // keeps the oracle's O(n^2) pairs cheap
+    static constexpr std::size_t first_query = 9;
+    static constexpr std::array<std::string_view, 19> operation_names{
+        "insert",     "hinted insert", "bulk insert", "erase(pos)", "erase(value)",   "erase(first, last)",
+        "update",     "update batch",  "clear",       "find/count", "kNN",            "eps-kNN",
+        "ball",       "box",           "thin ray",    "thick ray",  "self pairs",     "pairs with",
+        "rejected input"};
+
+    void mutate(std::size_t op, mirror<C>& m) {
+        const bool room = m.size() < max_size;
+        switch (op) {
+            case 0: if (room) m.insert(values_.object(m.anchors())); break;
+            case 1:
+                if constexpr (spatial::spatial_container<C>)
+                    if (room) m.insert_hinted(in_.below(max_size), values_.object(m.anchors()));
+                break;
+            case 2: if (room) m.insert_bulk(batch(m, 1 + in_.below(in_.flag() ? 64 : 8))); break;
+            case 3: if (m.size() > 0) m.erase_at(in_.below(m.size())); break;
+            case 4:
+                if constexpr (spatial::spatial_container<C>) m.erase_value(existing_or_new(m));
+                break;
+            case 5:
+                if constexpr (spatial::spatial_container<C>) {
+                    const std::size_t first = in_.below(m.size() + 1);
+                    m.erase_range(first, in_.below(m.size() + 2));
+                }
+                break;
+            case 6:
+                if constexpr (spatial::single_motion<C>)
+                    if (m.size() > 0) m.update_at(in_.below(m.size()), values_.object(m.anchors()), in_.flag());
+                break;
+            case 7: update_batch(m); break;
+            default: m.clear();
+        }
+    }
+
+    // Arguments drawn from the input are drawn in order (named first), not as function
+    // arguments, whose evaluation order is unspecified: an input means the same to every compiler.
+    void query(std::size_t op) {
+        const auto q = values_.point(a_.anchors());
+        if constexpr (spatial::spatial_container<C>) {
+            switch (op) {
+                case 9: check_find_count(a_, log_, existing_or_new(a_)); return;
+                case 10: check_knn(a_, log_, q, in_.below(a_.size() + 3), T(0)); return;
+                case 11: {
+                    const std::size_t k = in_.below(a_.size() + 3);
+                    check_knn(a_, log_, q, k, values_.eps());
+                    return;
+                }
+                case 12: check_ball(a_, log_, q, values_.size()); return;
+                case 14: ray(q, T(0)); return;
+                case 15: ray(q, values_.size()); return;
+                default: break;
+            }
+        }
+        switch (op) {
+            case 13: check_box(a_, log_, q, values_.point(a_.anchors())); return;
+            case 16: check_self_pairs(a_, log_, filter()); return;
+            case 17: check_pairs_with(a_, b_, log_, filter()); return;
+            case 18: invalid_inputs<C>(a_, log_, in_, values_).run(); return;
+            default: return;
+        }
+    }
+
+    void update_batch(mirror<C>& m) {
+        if constexpr (spatial::batched_motion<C>) {
+            std::vector<std::size_t> indices;
+            std::vector<O> moved;
+            for (std::size_t i = 0; i < m.size() && i < 32; ++i)
+                if (in_.flag()) indices.push_back(i), moved.push_back(values_.object(m.anchors()));
+            static constexpr std::array<spatial::motion_strategy, 4> strategies{
+                spatial::motion_strategy::automatic, spatial::motion_strategy::refit, spatial::motion_strategy::rebuild,
+                spatial::motion_strategy::reinsert};
+            m.update_batch(indices, moved, in_.pick(strategies));
+        }
+    }
+
+    std::vector<O> batch(const mirror<C>& m, std::size_t count) {
+        const auto anchors = m.anchors();
+        std::vector<O> out;
+        for (std::size_t k = 0; k < count; ++k) out.push_back(values_.object(anchors));
+        return out;
+    }
+    // A stored value (half the time, when there is one) or a new one.
+    O existing_or_new(const mirror<C>& m) {
+        if (m.size() > 0 && in_.flag()) return *m.live()[in_.below(m.size())].mine;
+        return values_.object(m.anchors());
+    }
+    spatial::pair_filter filter() { return in_.flag() ? spatial::pair_filter::exact : spatial::pair_filter::candidates; }
+    void ray(const typename C::point_type& origin, T thickness) {
+        const auto direction = values_.direction(origin, a_.anchors());
+        check_ray(a_, log_, origin, direction, thickness, values_.hit_limit());
+    }
+
+    fuzz_input& in_;
+    operation_log log_;
+    mirror<C> a_, b_;
+    value_source<O> values_;
+};
+
+// The entry point of a run_*.cpp: the whole input as operations on a C.
+template <class C>
+void run_operations(fuzz_input& in, std::string_view structure) {
+    operation_sequence<C>(in, structure).run();
+}
+
+}  // namespace spatial_fuzz
