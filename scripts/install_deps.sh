@@ -5,6 +5,7 @@ set -euo pipefail
 
 packages=(
   build-essential cmake ninja-build git
+  clang-14 libclang-rt-14-dev
   libeigen3-dev libboost-dev libcgal-dev libnanoflann-dev libembree-dev libfcl-dev
   libgtest-dev libbenchmark-dev libtbb-dev
   libcli11-dev nlohmann-json3-dev libtomlplusplus-dev librapidcheck-dev

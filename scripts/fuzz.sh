@@ -1,0 +1,78 @@
+#!/usr/bin/env bash
+# Fuzzing (docs/fuzzing.md): configure and build the fuzz preset (clang, libFuzzer, address and
+# undefined-behaviour sanitizers), then run every fuzz target for SECONDS each (default 60) on a
+# scratch copy of its seed corpus, so the committed corpus is not polluted. Prints, per target,
+# the executions run and what was found; exits non-zero when any target found a crash, a leak,
+# a timeout, an out-of-memory or a wrong answer (its input is kept in the scratch directory).
+#
+#   scripts/fuzz.sh [SECONDS]
+#   FUZZ_BUILD_JOBS=1            build jobs (default: all cores)
+#   SPATIAL_FUZZ_FULL_MATRIX=ON  the operations target over every structure and object type
+#                                (about 5 more minutes of build; fuzz/operations/structure_table.hpp)
+#   FUZZ_WORK_DIR=DIR            the scratch directory (default: a new one under /tmp)
+set -euo pipefail
+cd "$(dirname "$0")/.."
+
+seconds="${1:-60}"
+[[ "$seconds" =~ ^[0-9]+$ ]] || { echo "usage: scripts/fuzz.sh [seconds per target]" >&2; exit 2; }
+jobs="${FUZZ_BUILD_JOBS:-$(nproc)}"
+work="${FUZZ_WORK_DIR:-$(mktemp -d /tmp/spatial_fuzz.XXXXXX)}"
+build=build/fuzz/fuzz
+
+phase() { echo "== $1 (at ${SECONDS} s)"; }
+
+scripts/install_deps.sh
+phase "configure (fuzz preset)"
+cmake --preset fuzz -DSPATIAL_FUZZ_FULL_MATRIX="${SPATIAL_FUZZ_FULL_MATRIX:-OFF}" > "$work/configure.log"
+phase "build"
+cmake --build --preset fuzz -j"$jobs"
+
+# target, -max_len, extra seed directories (besides fuzz/corpus/<target>). Inputs stay small:
+# the seeds are below 2 KB, and 4 KB of operations is several hundred container operations.
+targets=(
+  "scene_file 4096 datasets/scenes"
+  "point_set 4096"
+  "mesh 4096"
+  "operations 4096"
+)
+
+failed=0
+summary=()
+for entry in "${targets[@]}"; do
+  read -r name max_len extra <<< "$entry"
+  binary="$build/fuzz_$name"
+  if [[ ! -x "$binary" ]]; then
+    summary+=("$(printf '%-11s not built (see fuzz/CMakeLists.txt)' "$name")")
+    continue
+  fi
+  corpus="$work/corpus/$name" artifacts="$work/artifacts/$name/"
+  mkdir -p "$corpus" "$artifacts"
+  cp fuzz/corpus/"$name"/* "$corpus"/ 2>/dev/null || true
+  [[ -n "${extra:-}" ]] && cp "$extra"/* "$corpus"/
+  dict=()
+  [[ -f "fuzz/dict/$name.dict" ]] && dict=(-dict="fuzz/dict/$name.dict")
+  phase "fuzz $name for $seconds s"
+  status=0
+  # -timeout: seconds per input before it counts as a hang; -rss_limit_mb: libFuzzer's default,
+  # stated. UBSan reports abort (the preset's -fno-sanitize-recover); leaks are checked (ASan).
+  "$binary" -max_total_time="$seconds" -max_len="$max_len" -timeout=25 -rss_limit_mb=2048 \
+    -print_final_stats=1 -artifact_prefix="$artifacts" "${dict[@]}" "$corpus" > "$work/$name.log" 2>&1 || status=$?
+  runs="$(sed -n 's/^stat::number_of_executed_units: *//p' "$work/$name.log" | tail -n 1)"
+  found="$(ls "$artifacts" 2>/dev/null || true)"
+  if [[ $status -ne 0 || -n "$found" ]]; then
+    failed=1
+    grep -a -m 3 -E 'FINDING|ERROR:|SUMMARY:|runtime error' "$work/$name.log" | sed 's/^/    /' || true
+    summary+=("$(printf '%-11s %10s executions  FOUND: %s (exit %d; log %s)' "$name" "${runs:-?}" \
+      "${found:-no input saved}" "$status" "$work/$name.log")")
+  else
+    summary+=("$(printf '%-11s %10s executions  nothing found' "$name" "${runs:-?}")")
+  fi
+done
+
+phase "done"
+printf '%s\n' "${summary[@]}"
+if [[ $failed -ne 0 ]]; then
+  echo "fuzz: findings above; inputs in $work/artifacts (replay: $build/fuzz_<target> <input>)"
+  exit 1
+fi
+rm -rf "$work"
