@@ -15,12 +15,14 @@
 #include <map>
 #include <numeric>
 #include <set>
+#include <sstream>
 #include <stdexcept>
 #include <string>
 #include <string_view>
 #include <vector>
 
 #include "datasets/generators.hpp"
+#include "datasets/ply_header.hpp"
 #include "datasets/point_set_io.hpp"
 
 namespace {
@@ -726,6 +728,44 @@ TEST(load_point_set, ply_headers_cgal_cannot_read_are_errors_not_crashes) {
                       "ply\nformat ascii 1.0\nelement vertices 1\nproperty double x\nproperty double y\n"
                       "property list uchar float z\nend_header\n1 2 1 3\n",
                       {"line 6", "property z", "float or double"});
+}
+
+// datasets/ply_header.hpp on its own: every rule CGAL's reader needs, the line it names, and
+// the vertex count summed over the vertex elements ("vertex" and "vertices", as CGAL reads both).
+TEST(ply_header, rejects_what_cgals_reader_cannot_read_and_sums_the_vertex_elements) {
+    const auto check = [](const std::string& text, datasets::ply_use use = datasets::ply_use::mesh) {
+        std::istringstream in(text);
+        return datasets::check_ply_header(in, use);
+    };
+    const std::string head = "ply\nformat ascii 1.0\n", xyz = "property float x\nproperty float y\nproperty double z\n";
+    const auto fine = check(head + "comment two vertex elements\nelement vertex 3\n" + xyz + "element vertices 2\n" + xyz +
+                            "element face 1\nproperty list uchar int vertex_indices\nend_header\n");
+    EXPECT_EQ(fine.problem, "");
+    EXPECT_EQ(fine.vertex_count, 5u);
+    const auto expect_problem = [&](const std::string& text, std::size_t line, std::string_view fragment,
+                                    datasets::ply_use use = datasets::ply_use::mesh) {
+        const auto r = check(text, use);
+        EXPECT_EQ(r.line, line) << text;
+        EXPECT_CONTAINS(r.problem, fragment);
+    };
+    expect_problem("plx\n", 1, "magic line");
+    expect_problem("ply\nformat binary_middle_endian 1.0\n", 2, "format ascii");
+    expect_problem(head + "element vertex three\n", 3, "element <name> <count>");
+    expect_problem(head + "element vertex 1\n" + xyz + "property int128 w\nend_header\n", 7, "unknown property type");
+    expect_problem(head + "element face 1\nproperty list float int vertex_indices\n", 4, "unknown list types");
+    expect_problem(head + "element vertex 1\nproperty float x\nproperty float y\nend_header\n", 3, "no property z");
+    expect_problem(head + "element face 1\nend_header\n", 0, "no vertex element");
+    expect_problem(head + "element vertex 1\n" + xyz, 0, "no end_header");
+    // Meshes only: a halfedge's source and target must be uint, colours all uchar or ignored.
+    const std::string halfedge = head + "element vertex 1\n" + xyz + "element halfedge 1\nproperty int source\nend_header\n";
+    expect_problem(halfedge, 8, "source of the halfedge element");
+    EXPECT_EQ(check(halfedge, datasets::ply_use::points).problem, "");
+    const std::string float_colours = head + "element vertex 1\n" + xyz +
+                                      "property float red\nproperty float green\nproperty float blue\nend_header\n";
+    EXPECT_EQ(check(float_colours).problem, "") << "colours CGAL ignores (not all uchar) are fine";
+    expect_problem(head + "element vertex 1\n" + xyz + "property uchar r\nproperty uchar g\nproperty uchar b\n" +
+                       "property uchar red\nproperty short green\nproperty uchar blue\nend_header\n",
+                   11, "colour property green");
 }
 
 // The files datasets/fetch_real_data.sh places (see datasets/README.md), with their counts.
