@@ -1106,6 +1106,26 @@ TEST(hull_predicates, hull_2d_is_exact_on_nearly_collinear_points) {
     for (std::size_t i = 0; i < 3; ++i) EXPECT_GT(orientation_2d(h[i], h[(i + 1) % 3], h[(i + 2) % 3]), 0);
 }
 
+// Found by fuzzing (fuzz/operations on bvh<box, convex_hull> and bvh<point, convex_hull>,
+// docs/fuzzing.md): the exact predicates are exact only while no product underflows (their
+// header: coordinates and differences within about 1e-90 .. 1e90), and Quickhull built a wrong
+// hull from coordinates outside that range: the corners of a box of denormal width were half
+// outside it, and points mixing denormals, 1e-30 and 1e30 made it read past its triangle list
+// (a crash under AddressSanitizer).
+TEST(hull_predicates, fit_contains_every_point_whatever_the_magnitudes) {
+    using H = convex_hull<double, 3>;
+    using P = point<double, 3>;
+    const double denormal = std::numeric_limits<double>::denorm_min();
+    std::vector<P> box;
+    for (int m = 0; m < 8; ++m) box.push_back(P{{m & 1 ? denormal : 0.0, m & 2 ? 2.0 : 0.0, m & 4 ? 0.5 : 0.0}});
+    const std::vector<P> mixed{P{{0x0.012688b70e62bp-1022, -123456.789, 1e-30}}, P{{-denormal, 1e30, 0}},
+                               P{{0, 0, 0}}, P{{0, 0, 0}}, P{{0, 0, 0}}};
+    for (const std::vector<P>* pts : std::array<const std::vector<P>*, 2>{&box, &mixed}) {
+        const H h = H::fit(std::span<const P>(*pts));
+        for (const P& p : *pts) EXPECT_EQ(h.distance_lower_bound(p), 0.0) << p;
+    }
+}
+
 TEST(hull_gjk, generic_support_functions_on_spheres) {
     spatial_test::seeded_rng rng(21);
     int yes = 0, no = 0;

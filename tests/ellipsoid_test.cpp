@@ -373,6 +373,23 @@ TYPED_TEST(ellipsoid_typed, khachiyan_is_within_tolerance_of_the_minimum) {
 
 // Exactly tangent pairs (double): opposite normals at a known point; separated or
 // penetrating by 1e-9 of the size; and the contact value against the long double reference.
+// Found by fuzzing (fuzz/operations on bvh<point, ellipsoid>, docs/fuzzing.md): merging a ball of
+// the smallest normal radius (the fit of two points a denormal apart) with a far point's fit
+// gave the EMPTY ellipsoid, so the bvh's root contained nothing. The first candidate (the
+// tiny ball's frame scaled to reach the far point) overflows and is empty, and an empty best
+// was never replaced by the finite candidates.
+TEST(ellipsoid_merge, merged_contains_both_when_one_is_a_ball_of_the_smallest_normal_radius) {
+    using E = ellipsoid<double, 3>;
+    using P = point<double, 3>;
+    const std::vector<P> tiny{P{{-0.0, 0, std::numeric_limits<double>::denorm_min()}}, P{{0, 0, 0}}};
+    const std::vector<P> far{P{{1, 1, 2}}};
+    const E a = E::fit_pca(std::span<const P>(tiny)), b = E::fit_pca(std::span<const P>(far));
+    for (const E& m : {a.merged(b), b.merged(a)}) {
+        ASSERT_FALSE(m.is_empty());
+        for (const P& p : {tiny[0], tiny[1], far[0]}) EXPECT_EQ(m.distance_lower_bound(p), 0.0);
+    }
+}
+
 TEST(ellipsoid_overlap, tangent_pairs_are_decided_exactly) {
     spatial_test::seeded_rng rng(33);
     auto run = [&](auto dim_tag) {

@@ -44,12 +44,23 @@ protected:
         if constexpr (point_object<O>) return p;
         else return O(p, p);
     }
-    // A structure and the oracle holding the objects at `points`.
-    void store(const std::vector<P3>& points) {
-        for (const P3& p : points) {
-            c.insert(at(p));
-            oracle.insert(at(p));
+    // A structure and the oracle holding the objects at `points` (inserted one by one, or as
+    // one batch).
+    void store(const std::vector<P3>& points, bool bulk = false) {
+        std::vector<O> objects;
+        for (const P3& p : points) objects.push_back(at(p));
+        if (bulk) c.insert(objects.begin(), objects.end());
+        else for (const O& v : objects) c.insert(v);
+        oracle.insert(objects.begin(), objects.end());
+    }
+    // The structure's own invariant check, where it has one.
+    void expect_sound() const {
+        if constexpr (requires { c.check_invariants(); }) {
+            EXPECT_EQ(c.check_invariants(), "");
         }
+    }
+    void expect_same_nearest(const P3& q) const {
+        EXPECT_EQ(spatial_test::distances_from(q, c.find_nearest(q, 3)), spatial_test::distances_from(q, oracle.find_nearest(q, 3)));
     }
     void expect_same_ray(const P3& origin, const P3& direction, double thickness) const {
         intersect_info<P3> a, b;
@@ -102,6 +113,29 @@ TYPED_TEST(fuzz_findings, ball_of_radius_zero_holds_an_object_a_denormal_away) {
     EXPECT_EQ(spatial_test::signatures_of(this->c.find_in_ball(origin, 0)),
               spatial_test::signatures_of(this->oracle.find_in_ball(origin, 0)));
     EXPECT_EQ(this->oracle.find_in_ball(origin, 0).size(), 1u);
+}
+
+// A bvh node volume fitted to objects whose coordinates mix denormals, 1e-30 and 1e30, or span a
+// denormal width, did not contain them: the ellipsoid's merge returned the empty ellipsoid (two
+// points a denormal apart, then a third), the convex hull's fit a hull half outside a box of
+// denormal width or crashed (its exact predicates underflow). check_invariants() caught it; a
+// query pruned by such a node would miss objects.
+TYPED_TEST(fuzz_findings, node_volumes_contain_objects_whose_coordinates_span_denormals_to_1e30) {
+    this->store({P3{{1, 1, 2}}, P3{{-0.0, 0, denormal}}}, true);
+    this->store({P3{{0, 0, 0}}});
+    this->expect_sound();
+    this->expect_same_nearest(P3{{1, 1, 2}});
+    this->c.clear(), this->oracle.clear();
+    std::vector<P3> corners;  // a box of denormal width
+    for (int m = 0; m < 8; ++m) corners.push_back(P3{{m & 1 ? denormal : 0.0, m & 2 ? 2.0 : 0.0, m & 4 ? 0.5 : 0.0}});
+    this->store(corners, true);
+    this->expect_sound();
+    this->c.clear(), this->oracle.clear();
+    this->store({P3{{0x0.012688b70e62bp-1022, -123456.789, 1e-30}}, P3{{-denormal, 1e30, 0}}, P3{{0, 0, 0}},
+                 P3{{0, 0, 0}}, P3{{0, 0, 0}}},
+                true);
+    this->expect_sound();
+    this->expect_same_nearest(P3{{0, 1e30, 0}});
 }
 
 }  // namespace
