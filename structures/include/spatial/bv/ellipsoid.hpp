@@ -220,8 +220,11 @@ public:
         if (o.is_empty()) return *this;
         const std::array<target, 2> tg = {as_target(), o.as_target()};
         ellipsoid best = scaled_to_contain(center_d(), frame_d(), axes_d(), tg);
+        // A candidate whose scaling overflowed is empty (scaled_to_contain); it must not win,
+        // not even as the first one (the merge of a ball of the smallest normal radius with a
+        // far ellipsoid was empty: found by fuzzing, docs/fuzzing.md).
         auto consider = [&](const ellipsoid& c) {
-            if (!c.is_empty() && c.volume_d() < best.volume_d()) best = c;
+            if (!c.is_empty() && (best.is_empty() || c.volume_d() < best.volume_d())) best = c;
         };
         consider(scaled_to_contain(o.center_d(), o.frame_d(), o.axes_d(), tg));
         // PCA frame of the 4D semi-axis end points of both.
