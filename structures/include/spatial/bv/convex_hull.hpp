@@ -28,6 +28,10 @@
 //                  polygon normal, triangles() a closed double-covered fan (2(k - 2)
 //                  triangles, V - E + F = 2); planes +- the normal and one in-plane side
 //                  plane per edge.
+//   off the grid -> a coordinate the exact predicates cannot square without underflow (a
+//                  denormal; below about 5e-87 and not a multiple of 2^-340; predicates.hpp):
+//                  the hull of the points' bounding box rounded outward onto that grid, which
+//                  contains every point but is not the exact hull.
 //   volume() is 0 for every flat hull, never NaN. surface_area() of a flat hull is the
 //   limit of a thin slab's: twice the polygon's area (3D), twice the segment's length (2D).
 //
@@ -109,6 +113,7 @@ public:
         for (const auto& p : pts) detail::require_finite(p, "convex_hull::fit_quickhull", "input point");
         convex_hull h;
         if (pts.empty()) return h;
+        if (off_exact_grid(pts)) return fit_quickhull(grid_box_corners(pts));
         if constexpr (D == 2) {
             const auto idx = hull_2d_indices(pts.size(), [&](std::size_t i) {
                 return std::array<double, 2>{double(pts[i][0]), double(pts[i][1])};
@@ -135,6 +140,40 @@ public:
         return h;
     }
     static convex_hull fit(std::span<const point_type> pts) { return fit_quickhull(pts); }
+
+private:
+    // Points off the exact predicates' grid (predicates.hpp: a denormal, or any number below
+    // about 5e-87 that is not a multiple of 2^-340) would make Quickhull's signs inexact, and it
+    // then built wrong hulls or read past its lists (found by fuzzing, docs/fuzzing.md). Such
+    // input is fitted by the hull of its bounding box rounded outward onto the grid: it contains
+    // every point, and is no longer the exact hull. Coordinates beyond 2^300 (about 2e90) have
+    // no grid box and stay outside the guarantee (float never reaches either limit).
+    static bool off_exact_grid(std::span<const point_type> pts) {
+        bool off = false;
+        for (const auto& p : pts)
+            for (std::size_t i = 0; i < D; ++i) {
+                const double x = static_cast<double>(p[i]);
+                if (!(std::abs(x) <= predicates::exact_limit)) return false;
+                off = off || !predicates::on_exact_grid(x);
+            }
+        return off;
+    }
+    static std::vector<point_type> grid_box_corners(std::span<const point_type> pts) {
+        std::array<double, D> lo, hi;
+        lo.fill(std::numeric_limits<double>::infinity());
+        hi.fill(-std::numeric_limits<double>::infinity());
+        for (const auto& p : pts)
+            for (std::size_t i = 0; i < D; ++i)
+                lo[i] = std::min(lo[i], static_cast<double>(p[i])), hi[i] = std::max(hi[i], static_cast<double>(p[i]));
+        std::vector<point_type> corners(std::size_t(1) << D);
+        for (std::size_t m = 0; m < corners.size(); ++m)
+            for (std::size_t i = 0; i < D; ++i)
+                corners[m][i] = static_cast<T>((m >> i) & 1 ? predicates::to_exact_grid(hi[i], false)
+                                                            : predicates::to_exact_grid(lo[i], true));
+        return corners;
+    }
+
+public:
 
     // The hull's vertices: input points, exactly. 2D and flat 3D hulls: counter-clockwise.
     std::span<const point_type> vertices() const { return vertices_; }

@@ -15,8 +15,12 @@
 //
 // Cost: filtered stage a few dozen flops; exact stage ~100 two-sums (2D: ~12).
 // Guarantee: the returned sign is the sign of the exact real determinant of the given
-// doubles, provided no intermediate product overflows or underflows (coordinates and
-// coordinate differences within about 1e-90 .. 1e90 in magnitude, or exactly zero).
+// doubles, provided no intermediate product overflows or underflows: every coordinate is 0
+// or an integer multiple of 2^-340 (so products of three coordinates or differences, and their
+// rounding errors, are multiples of 2^-1020, normal numbers) of magnitude at most 2^300 (so no
+// sum of such products overflows). on_exact_grid() tells; every double from about 5e-87
+// (2^-288) up to 2e90 qualifies, denormals do not. convex_hull fits points off the grid by
+// their bounding box rounded outward onto it (to_exact_grid).
 // Correct under fused multiply-add contraction too (two_sum has no product; two_product
 // uses std::fma explicitly).
 
@@ -25,6 +29,19 @@
 #include <cstddef>
 
 namespace spatial::predicates {
+
+// The inputs for which the signs below are exact (see the header comment).
+inline constexpr double exact_grid_scale = 0x1p+340;  // 1 / the grid step 2^-340
+inline constexpr double exact_limit = 0x1p+300;
+inline bool on_exact_grid(double x) {
+    const double scaled = x * exact_grid_scale;  // exact: a power of two, no overflow below the limit
+    return std::abs(x) <= exact_limit && scaled == std::trunc(scaled);
+}
+// x rounded onto the grid, down (toward -inf) or up.
+inline double to_exact_grid(double x, bool down) {
+    const double scaled = x * exact_grid_scale;
+    return (down ? std::floor(scaled) : std::ceil(scaled)) / exact_grid_scale;
+}
 
 // s + e == a + b exactly, |e| <= ulp(s) / 2 (Knuth's branch-free two-sum).
 inline void two_sum(double a, double b, double& s, double& e) {
