@@ -134,7 +134,7 @@ TYPED_TEST(bvh_hard_cases, bad_input_throws_and_leaves_contents_unchanged) {
     std::vector<Pt> pts;
     for (int i = 0; i < 40; ++i) pts.push_back(Pt{{T(i), T(i % 7), T(i % 3)}});
     TypeParam tree(pts.begin(), pts.end());
-    const auto before = bvh_test::signatures<Pt>(bvh_test::all_iterators(tree));
+    const auto before = bvh_test::signatures_of(bvh_test::all_iterators(tree));
     const Pt good{{1, 2, 3}}, bad{{1, nan, 3}}, zero{{0, T(-0.0), 0}};
     intersect_info<Pt> info;
     EXPECT_THROW(tree.insert(bad), std::invalid_argument);
@@ -164,7 +164,7 @@ TYPED_TEST(bvh_hard_cases, bad_input_throws_and_leaves_contents_unchanged) {
         EXPECT_NE(std::string(e.what()).find("zero"), std::string::npos) << e.what();
     }
     EXPECT_EQ(tree.size(), pts.size());
-    EXPECT_EQ(bvh_test::signatures<Pt>(bvh_test::all_iterators(tree)), before);
+    EXPECT_EQ(bvh_test::signatures_of(bvh_test::all_iterators(tree)), before);
     EXPECT_EQ(tree.check_invariants(), "");
 }
 
