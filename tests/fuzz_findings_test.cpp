@@ -15,6 +15,7 @@
 #include "spatial/bv/obb.hpp"
 #include "spatial/bv/sphere.hpp"
 #include "spatial/bvh/bvh.hpp"
+#include "spatial/collide/collision_grid.hpp"
 #include "spatial/grid/hashed_grid.hpp"
 #include "spatial/grid/uniform_grid.hpp"
 #include "spatial/kdtree/kd_tree.hpp"
@@ -136,6 +137,20 @@ TYPED_TEST(fuzz_findings, node_volumes_contain_objects_whose_coordinates_span_de
                 true);
     this->expect_sound();
     this->expect_same_nearest(P3{{0, 1e30, 0}});
+}
+
+// collision_grid lays its cells out over the objects' bounds; for two points a denormal apart the
+// cell size (the span over a cube root of the cell budget) underflowed to 0, then became NaN, and
+// the layout loop never ended (a hang in self_pairs and pairs_with).
+TEST(fuzz_findings_collision_grid, points_a_denormal_apart_get_cells_and_their_pairs) {
+    const std::vector<P3> points{P3{{0, 0, 1}}, P3{{denormal, 0, 1}}, P3{{denormal, 0, 1}}};
+    const collision_grid<P3> grid(points.begin(), points.end());
+    const brute_force<P3> oracle(points.begin(), points.end());
+    EXPECT_EQ(spatial_test::slots_of(grid.self_pairs(pair_filter::candidates)),
+              spatial_test::slots_of(oracle.self_pairs(pair_filter::candidates)));
+    EXPECT_EQ(spatial_test::slots_of(grid.self_pairs()), spatial_test::slots_of(oracle.self_pairs()));
+    const collision_grid<P3> empty;
+    EXPECT_TRUE(empty.pairs_with(grid, pair_filter::candidates).empty());
 }
 
 }  // namespace
