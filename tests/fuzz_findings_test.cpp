@@ -153,4 +153,17 @@ TEST(fuzz_findings_collision_grid, points_a_denormal_apart_get_cells_and_their_p
     EXPECT_TRUE(empty.pairs_with(grid, pair_filter::candidates).empty());
 }
 
+// Pairs between a collision_grid and an EMPTY one: the joint grid over both sets took the first
+// set alone for a self-pair query and reported its pairs with indices into the empty second set
+// (a read far out of bounds: a crash).
+TEST(fuzz_findings_collision_grid, pairs_with_an_empty_grid_are_none) {
+    using B = spatial_test::B3;
+    const std::vector<B> boxes{B(P3{{0, 1, 3}}, P3{{0, 1, 3}}), B(P3{{0, 0, 3}}, P3{{denormal, 1, 3}})};
+    const collision_grid<B> grid(boxes.begin(), boxes.end()), empty;
+    for (const auto filter : {pair_filter::candidates, pair_filter::exact}) {
+        EXPECT_TRUE(grid.pairs_with(empty, filter).empty());
+        EXPECT_TRUE(empty.pairs_with(grid, filter).empty());
+    }
+}
+
 }  // namespace
