@@ -88,6 +88,12 @@ public:
     // sets, where only pairs from different sets are reported.
     template <class Emit>
     void bipartite_pairs(const std::vector<bounds>& a, const std::vector<bounds>& b, Emit&& emit) {
+        // With one set empty, run() would take the other for a self-pair query (split == n)
+        // and emit indices into the empty set (found by fuzzing, docs/fuzzing.md).
+        if (a.empty() || b.empty()) {
+            stats_ = {};
+            return;
+        }
         combined_.assign(a.begin(), a.end());
         combined_.insert(combined_.end(), b.begin(), b.end());
         const auto na = static_cast<std::uint32_t>(a.size());
