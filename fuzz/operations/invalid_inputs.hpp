@@ -11,10 +11,8 @@
 #include <cstddef>
 #include <limits>
 #include <string>
-#include <utility>
 #include <vector>
 
-#include "answer_comparison.hpp"
 #include "fuzz_input.hpp"
 #include "hard_values.hpp"
 #include "mirror.hpp"
@@ -38,7 +36,7 @@ public:
 
     // One rejected call, chosen by the input.
     void run() {
-        const auto before = snapshot();
+        const auto before = m_.state();
         if constexpr (spatial::spatial_container<C>) {
             switch (in_.below(6)) {
                 case 0: stored_values(); break;
@@ -51,17 +49,10 @@ public:
         } else {
             in_.flag() ? stored_values() : motion();
         }
-        log_.require(snapshot() == before, "a rejected call changed the structure");
+        log_.require(m_.state() == before, "a rejected call changed the structure");
     }
 
 private:
-    // Slot and signature of every stored object in iteration order, and end()'s slot.
-    std::pair<std::vector<std::pair<spatial::slot_index, std::vector<double>>>, spatial::slot_index> snapshot() const {
-        std::vector<std::pair<spatial::slot_index, std::vector<double>>> objects;
-        for (auto it = m_.mine().begin(); it != m_.mine().end(); ++it)
-            objects.emplace_back(it.slot(), spatial_test::signature(*it));
-        return {objects, m_.mine().end().slot()};
-    }
     // `call(container)` must throw std::invalid_argument for the structure and for the oracle.
     template <class F>
     void expect_both(F&& call, const char* what) {

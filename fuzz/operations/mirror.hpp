@@ -13,6 +13,7 @@
 
 #include <algorithm>
 #include <cstddef>
+#include <stdexcept>
 #include <string>
 #include <string_view>
 #include <utility>
@@ -78,9 +79,20 @@ public:
         return map[it.slot()];
     }
 
+    // What a rejected call must leave as it was: the slot and signature of every stored object
+    // in iteration order, and end()'s slot.
+    using state_type = std::pair<std::vector<std::pair<spatial::slot_index, std::vector<double>>>, spatial::slot_index>;
+    state_type state() const {
+        state_type st{{}, mine_.end().slot()};
+        for (auto it = mine_.begin(); it != mine_.end(); ++it) st.first.emplace_back(it.slot(), spatial_test::signature(*it));
+        return st;
+    }
+
     void insert(const O& v) {
         log_.trace([&] { return name_ + " " + value_text(v); });
-        live_.push_back({mine_.insert(v), oracle_.insert(v)});
+        mine_iterator it;
+        if (refused_as_too_large([&] { it = mine_.insert(v); })) return;
+        live_.push_back({it, oracle_.insert(v)});
         log_.require(*live_.back().mine == v, "insert returned an iterator to another value");
     }
     // Hint `choice`: a stored object, end(), or an erased object's iterator.
@@ -91,7 +103,9 @@ public:
         const mine_iterator hint = choice < live_.size()       ? live_[choice].mine
                                    : choice == live_.size()    ? mine_.end()
                                                                : erased_[choice - live_.size() - 1];
-        live_.push_back({mine_.insert(hint, v), oracle_.insert(v)});
+        mine_iterator it;
+        if (refused_as_too_large([&] { it = mine_.insert(hint, v); })) return;
+        live_.push_back({it, oracle_.insert(v)});
         log_.require(*live_.back().mine == v, "hinted insert returned an iterator to another value");
     }
     void insert_bulk(const std::vector<O>& batch) {
@@ -100,7 +114,7 @@ public:
             for (const O& v : batch) s += " " + value_text(v);
             return s;
         });
-        mine_.insert(batch.begin(), batch.end());
+        if (refused_as_too_large([&] { mine_.insert(batch.begin(), batch.end()); })) return;
         oracle_.insert(batch.begin(), batch.end());
         erased_.clear();  // a bulk build may lay the slots out afresh: old iterators mean nothing
         rematch();
@@ -207,6 +221,22 @@ public:
     }
 
 private:
+    // hashed_grid refuses an object that would span more than 2^24 of its cells with
+    // std::length_error before storing anything (docs/structures/octree-and-grids.md; the
+    // contract's "other exceptions"): an allowed outcome of an insertion, if nothing changed.
+    template <class Store>
+    bool refused_as_too_large(Store&& store) {
+        const state_type before = state();
+        try {
+            store();
+        } catch (const std::length_error&) {
+            log_.trace([] { return std::string("refused: std::length_error"); });
+            log_.require(state() == before, "an insertion refused with std::length_error changed the structure");
+            return true;
+        }
+        return false;
+    }
+
     // After a bulk insert: pair the structure's objects with the oracle's by equal values.
     void rematch() {
         std::vector<mine_iterator> ms;
