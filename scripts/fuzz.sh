@@ -27,19 +27,22 @@ cmake --preset fuzz -DSPATIAL_FUZZ_FULL_MATRIX="${SPATIAL_FUZZ_FULL_MATRIX:-OFF}
 phase "build"
 cmake --build --preset fuzz -j"$jobs"
 
-# target, -max_len, extra seed directories (besides fuzz/corpus/<target>). Inputs stay small:
-# the seeds are below 2 KB, and 4 KB of operations is several hundred container operations.
+# target, -max_len, -len_control, extra seed directories (besides fuzz/corpus/<target>).
+# The file seeds are below 2 KB. For operations, length is depth: libFuzzer's default length
+# control (100) kept its inputs at 14 bytes (3 operations) for minutes, and the findings that
+# need a few dozen operations were not reached; 0 lets mutations use the full 4 KB (several
+# hundred operations) at once, at fewer executions per second.
 targets=(
-  "scene_file 4096 datasets/scenes"
-  "point_set 4096"
-  "mesh 4096"
-  "operations 4096"
+  "scene_file 4096 100 datasets/scenes"
+  "point_set 4096 100"
+  "mesh 4096 100"
+  "operations 4096 0"
 )
 
 failed=0
 summary=()
 for entry in "${targets[@]}"; do
-  read -r name max_len extra <<< "$entry"
+  read -r name max_len len_control extra <<< "$entry"
   binary="$build/fuzz_$name"
   if [[ ! -x "$binary" ]]; then
     summary+=("$(printf '%-11s not built (see fuzz/CMakeLists.txt)' "$name")")
@@ -55,7 +58,7 @@ for entry in "${targets[@]}"; do
   status=0
   # -timeout: seconds per input before it counts as a hang; -rss_limit_mb: libFuzzer's default,
   # stated. UBSan reports abort (the preset's -fno-sanitize-recover); leaks are checked (ASan).
-  "$binary" -max_total_time="$seconds" -max_len="$max_len" -timeout=25 -rss_limit_mb=2048 \
+  "$binary" -max_total_time="$seconds" -max_len="$max_len" -len_control="$len_control" -timeout=25 -rss_limit_mb=2048 \
     -print_final_stats=1 -artifact_prefix="$artifacts" "${dict[@]}" "$corpus" > "$work/$name.log" 2>&1 || status=$?
   runs="$(sed -n 's/^stat::number_of_executed_units: *//p' "$work/$name.log" | tail -n 1)"
   found="$(ls "$artifacts" 2>/dev/null || true)"
