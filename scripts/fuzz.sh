@@ -17,6 +17,7 @@ seconds="${1:-60}"
 [[ "$seconds" =~ ^[0-9]+$ ]] || { echo "usage: scripts/fuzz.sh [seconds per target]" >&2; exit 2; }
 jobs="${FUZZ_BUILD_JOBS:-$(nproc)}"
 work="${FUZZ_WORK_DIR:-$(mktemp -d /tmp/spatial_fuzz.XXXXXX)}"
+mkdir -p "$work"
 build=build/fuzz/fuzz
 
 phase() { echo "== $1 (at ${SECONDS} s)"; }
