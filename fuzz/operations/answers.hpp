@@ -89,24 +89,25 @@ void check_knn(const mirror<C>& m, const operation_log& log, const typename C::p
         log.require(d_got[i] <= d_want[i] * factor, "approximate kNN: a distance beyond (1 + eps) times the true one");
 }
 
+// A range query (`query(container)`: ball or box): exactly the oracle's objects, by identity.
+template <class C, class Query>
+void check_same_objects(const mirror<C>& m, const operation_log& log, Query&& query, const char* what) {
+    if (both_reject(log, [&] { (void)query(m.mine()); }, [&] { (void)query(m.oracle()); })) return;
+    log.require(oracle_slots_of(m, log, query(m.mine())) == sorted_slots(query(m.oracle())), what);
+}
 template <class C>
 void check_ball(const mirror<C>& m, const operation_log& log, const typename C::point_type& c,
                 typename C::scalar_type r) {
     log.trace([&] { return value_text(c) + " radius " + number_text(r); });
-    if (both_reject(log, [&] { (void)m.mine().find_in_ball(c, r); }, [&] { (void)m.oracle().find_in_ball(c, r); }))
-        return;
-    log.require(oracle_slots_of(m, log, m.mine().find_in_ball(c, r)) == sorted_slots(m.oracle().find_in_ball(c, r)),
-                "ball query: other objects than the oracle's");
+    check_same_objects(m, log, [&](const auto& container) { return container.find_in_ball(c, r); },
+                       "ball query: other objects than the oracle's");
 }
-
 template <class C>
 void check_box(const mirror<C>& m, const operation_log& log, const typename C::point_type& lo,
                const typename C::point_type& hi) {
     log.trace([&] { return value_text(lo) + " - " + value_text(hi); });
-    if (both_reject(log, [&] { (void)m.mine().find_in_box(lo, hi); }, [&] { (void)m.oracle().find_in_box(lo, hi); }))
-        return;
-    log.require(oracle_slots_of(m, log, m.mine().find_in_box(lo, hi)) == sorted_slots(m.oracle().find_in_box(lo, hi)),
-                "box query: other objects than the oracle's");
+    check_same_objects(m, log, [&](const auto& container) { return container.find_in_box(lo, hi); },
+                       "box query: other objects than the oracle's");
 }
 
 // A ray cast: the same hit or miss, the same hit time and hit location bit for bit (every
