@@ -5,6 +5,7 @@
 
 #include <gtest/gtest.h>
 
+#include <cmath>
 #include <limits>
 #include <vector>
 
@@ -163,6 +164,22 @@ TEST(fuzz_findings_collision_grid, pairs_with_an_empty_grid_are_none) {
     for (const auto filter : {pair_filter::candidates, pair_filter::exact}) {
         EXPECT_TRUE(grid.pairs_with(empty, filter).empty());
         EXPECT_TRUE(empty.pairs_with(grid, filter).empty());
+    }
+}
+
+// A box of denormal height next to a point-sized box: the joint grid's cell size was the denormal
+// height itself, whose reciprocal overflows to infinity, so a coordinate on the grid's origin
+// mapped to 0 * inf = NaN and then to a cell index by an undefined conversion.
+TEST(fuzz_findings_collision_grid, a_box_of_denormal_height_gets_finite_cells) {
+    using B = spatial_test::B3;
+    const std::vector<B> a{B(P3{{0, 0, 0}}, P3{{0, 0, 0}})}, b{B(P3{{0, 0, 0}}, P3{{0, 0, denormal}})};
+    const collision_grid<B> ga(a.begin(), a.end()), gb(b.begin(), b.end());
+    const brute_force<B> oa(a.begin(), a.end()), ob(b.begin(), b.end());
+    for (const auto filter : {pair_filter::candidates, pair_filter::exact}) {
+        EXPECT_EQ(spatial_test::slots_of(ga.pairs_with(gb, filter)), spatial_test::slots_of(oa.pairs_with(ob, filter)));
+        // The cause, visible without a sanitizer (a NaN cell index happens to give the right
+        // pairs here): the cell size must have a finite reciprocal.
+        EXPECT_TRUE(std::isfinite(1 / ga.grid_stats().cell_size)) << ga.grid_stats().cell_size;
     }
 }
 
