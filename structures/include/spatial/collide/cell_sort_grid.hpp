@@ -286,10 +286,11 @@ private:
         // A degenerate set (all points, or all boxes flat) has mean edge 0: start from the
         // cap's cell size instead.
         if (!(h > 0)) h = span_max > 0 ? span_max / std::pow(max_cells, 1.0 / static_cast<double>(D)) : 1.0;
-        // A span of a few denormals divided by that root underflows to 0, and the loop below
-        // would then turn h into NaN and never end (found by fuzzing, docs/fuzzing.md): one
-        // cell over the whole span is the answer there.
-        if (!(h > 0)) h = span_max;
+        // Spans and edges of a few denormals give a cell size that underflows to 0 (the loop
+        // below then turned it into NaN and never ended) or whose reciprocal overflows (a cell
+        // index became 0 * inf = NaN): found by fuzzing, docs/fuzzing.md. The smallest normal
+        // number has a finite reciprocal and still puts such a span in one cell.
+        h = std::max(h, static_cast<double>(std::numeric_limits<double>::min()));
         for (;;) {
             double cells = 1;
             for (std::size_t i = 0; i < D; ++i) cells *= std::floor(span[i] / h) + 1;
