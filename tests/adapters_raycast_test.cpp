@@ -267,6 +267,19 @@ TEST_F(mesh_loading, ply_headers_cgal_cannot_read_are_errors_not_crashes) {
     EXPECT_NE(message_of(colours).find("green"), std::string::npos) << message_of(colours);
 }
 
+// Found by fuzzing (fuzz/mesh, docs/fuzzing.md), NOT FIXED (disabled): a face line whose vertex
+// count is negative reaches CGAL's OFF scanner, which converts the double -1 to std::size_t,
+// undefined behaviour (CGAL/IO/OFF/File_scanner_OFF.h:718; UBSan reports it). On x86-64 the count
+// becomes 2^64 - 1, the read fails and the load ends in an error, so nothing visible breaks; the
+// fix is to check the face lines ourselves before CGAL reads them (as datasets/ply_header.hpp
+// does for PLY headers), which this test asks for.
+TEST_F(mesh_loading, DISABLED_off_face_with_a_negative_vertex_count_is_rejected_before_cgal_reads_it) {
+    const auto negative = write("negative.off", "OFF\n3 1 0\n0 0 0\n1 0 0\n0 1 0\n-1 0 1 2\n");
+    const std::string m = message_of(negative);
+    EXPECT_NE(m.find("face 0"), std::string::npos) << m;
+    EXPECT_NE(m.find("negative"), std::string::npos) << m;
+}
+
 TEST_F(mesh_loading, fetched_real_meshes_load_when_present) {
     const fs::path real = fs::path(SPATIAL_DATASETS_REAL_DIR) / "meshes";
     if (!fs::is_directory(real)) GTEST_SKIP() << "run scripts/fetch_meshes.sh to test the real meshes";
