@@ -390,6 +390,23 @@ TEST(ellipsoid_merge, merged_contains_both_when_one_is_a_ball_of_the_smallest_no
     }
 }
 
+// Found by fuzzing (fuzz/operations on bvh<point, ellipsoid>, docs/fuzzing.md): merging a ball
+// of the smallest normal radius at a denormal with the fit of two points at z = -1e30 and 1e30
+// gave a ball of radius 2^-1022: the candidate in the tiny ball's frame divides 1e30 by 2^-1022
+// (infinity), its certified scale became NaN, std::max dropped the NaN, and the scale 0 made
+// that candidate the smallest. The bvh's root then missed both far points.
+TEST(ellipsoid_merge, merged_contains_both_when_the_scale_of_a_candidate_is_not_a_number) {
+    using E = ellipsoid<double, 3>;
+    using P = point<double, 3>;
+    const std::vector<P> tiny{P{{std::numeric_limits<double>::denorm_min(), 0, 0}}};
+    const std::vector<P> far{P{{0, 0, -1e30}}, P{{0, 0, 1e30}}};
+    const E a = E::fit_pca(std::span<const P>(tiny)), b = E::fit_pca(std::span<const P>(far));
+    for (const E& m : {a.merged(b), b.merged(a)}) {
+        ASSERT_FALSE(m.is_empty());
+        for (const P& p : {tiny[0], far[0], far[1]}) EXPECT_TRUE(m.contains(p)) << p;
+    }
+}
+
 TEST(ellipsoid_overlap, tangent_pairs_are_decided_exactly) {
     spatial_test::seeded_rng rng(33);
     auto run = [&](auto dim_tag) {

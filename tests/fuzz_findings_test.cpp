@@ -138,6 +138,12 @@ TYPED_TEST(fuzz_findings, node_volumes_contain_objects_whose_coordinates_span_de
                 true);
     this->expect_sound();
     this->expect_same_nearest(P3{{0, 1e30, 0}});
+    this->c.clear(), this->oracle.clear();
+    // One by one (the bvh refits and merges node volumes): the ellipsoid merge lost both far
+    // points (a NaN scale taken for 0).
+    this->store({P3{{2, 1, 3}}, P3{{0, 0, -1e30}}, P3{{denormal, 0, 0}}, P3{{0, 0, 0}}, P3{{0, 0, 0}}, P3{{0, 0, 1e30}}});
+    this->expect_sound();
+    this->expect_same_nearest(P3{{0, 0, 1e30}});
 }
 
 // collision_grid lays its cells out over the objects' bounds; for two points a denormal apart the
