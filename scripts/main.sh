@@ -30,5 +30,6 @@ scene_steps=()
 [[ "$preset" == quick ]] && scene_steps=(--steps 30)
 ./build/release/harness/spatialbench scene datasets/scenes/*.toml --structure all --results results "${scene_steps[@]}"
 
+/usr/bin/python3 scripts/provenance.py --results results   # results/provenance.md: which run made which table
 /usr/bin/python3 plots/plot_results.py --results results --out plots
 echo "main: results in results/, plots in plots/"
