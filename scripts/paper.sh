@@ -7,8 +7,9 @@ set -euo pipefail
 cd "$(dirname "$0")/.."
 results="$(realpath "${1:-results}")"
 output="$(realpath -m "${2:-paper/spatialbench.pdf}")"
-# The figure families the paper includes (the complexity family's hundred curves are not).
-families=bv_tradeoff,bvh_tradeoff,raycast,collide,scenes,ratios
+# The figure families the paper includes (not the complexity family's hundred curves, nor the
+# ratio grids, which have too many panels for a printed page).
+families=bv_tradeoff,bvh_tradeoff,raycast,collide,scenes
 
 rm -rf paper/generated paper/build
 /usr/bin/python3 paper/generate.py --results "$results" --out paper/generated
