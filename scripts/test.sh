@@ -25,8 +25,12 @@ cmake --build --preset release -j"$jobs"
 phase "release tests"
 ctest --preset release -j"$jobs"
 
-phase "plot script tests"
+phase "paper on smoke tables"
+tests/check_paper_smoke.sh build/release/harness/spatialbench
+
+phase "plot script and paper tests"
 /usr/bin/python3 -m unittest discover -s plots/tests -t plots
+/usr/bin/python3 -m unittest discover -s paper/tests -t paper
 
 phase "address+undefined sanitizer build"
 cmake --preset asan -G Ninja
