@@ -42,6 +42,15 @@ spatialbench_rejects(spatialbench_bv_rejects_unknown_shape "unknown shape 'nosuc
 spatialbench_rejects(spatialbench_raycast_rejects_unknown_workload "unknown mesh workload \"teapot\""
                      run --suite raycast --preset smoke --workload teapot)
 
+# The smoke fixture's tables, which the checks below read.
+set(spatial_smoke_tables
+    ${CMAKE_CURRENT_BINARY_DIR}/smoke_results/knn.csv
+    ${CMAKE_CURRENT_BINARY_DIR}/structures_smoke_results/structures.csv
+    ${CMAKE_CURRENT_BINARY_DIR}/bv_smoke_results/bv.csv
+    ${CMAKE_CURRENT_BINARY_DIR}/raycast_smoke_results/raycast.csv
+    ${CMAKE_CURRENT_BINARY_DIR}/collide_smoke_results/collide.csv
+    ${CMAKE_CURRENT_BINARY_DIR}/scenes_smoke_results/scenes.csv)
+
 # The smoke tables keep their keys and our structures' answers (tests/check_table_keys.py):
 # every key of tests/data/smoke_table_keys.csv appears again, and every answer figure (pairs,
 # hits, recall, tightness, nodes visited, ...) is the same number. Regenerate the reference
@@ -49,12 +58,7 @@ spatialbench_rejects(spatialbench_raycast_rejects_unknown_workload "unknown mesh
 add_test(NAME spatialbench_smoke_tables_keep_keys_and_answers
          COMMAND /usr/bin/python3 ${CMAKE_CURRENT_SOURCE_DIR}/check_table_keys.py
                  ${CMAKE_CURRENT_SOURCE_DIR}/data/smoke_table_keys.csv
-                 ${CMAKE_CURRENT_BINARY_DIR}/smoke_results/knn.csv
-                 ${CMAKE_CURRENT_BINARY_DIR}/structures_smoke_results/structures.csv
-                 ${CMAKE_CURRENT_BINARY_DIR}/bv_smoke_results/bv.csv
-                 ${CMAKE_CURRENT_BINARY_DIR}/raycast_smoke_results/raycast.csv
-                 ${CMAKE_CURRENT_BINARY_DIR}/collide_smoke_results/collide.csv
-                 ${CMAKE_CURRENT_BINARY_DIR}/scenes_smoke_results/scenes.csv)
+                 ${spatial_smoke_tables})
 set_tests_properties(spatialbench_smoke_tables_keep_keys_and_answers PROPERTIES FIXTURES_REQUIRED smoke_tables)
 
 # docs/adding-a-structure.md, tested: the example structure (examples/) appears with validated
@@ -103,12 +107,7 @@ add_test(NAME spatialbench_shards_merge_to_the_single_run_table
          COMMAND bash ${CMAKE_CURRENT_SOURCE_DIR}/check_shards.sh $<TARGET_FILE:spatialbench>
                  ${CMAKE_CURRENT_BINARY_DIR}/shard_results
                  ${PROJECT_SOURCE_DIR}/datasets/scenes/falling_boxes.toml
-                 ${CMAKE_CURRENT_BINARY_DIR}/smoke_results/knn.csv
-                 ${CMAKE_CURRENT_BINARY_DIR}/structures_smoke_results/structures.csv
-                 ${CMAKE_CURRENT_BINARY_DIR}/bv_smoke_results/bv.csv
-                 ${CMAKE_CURRENT_BINARY_DIR}/raycast_smoke_results/raycast.csv
-                 ${CMAKE_CURRENT_BINARY_DIR}/collide_smoke_results/collide.csv
-                 ${CMAKE_CURRENT_BINARY_DIR}/scenes_smoke_results/scenes.csv)
+                 ${spatial_smoke_tables})
 set_tests_properties(spatialbench_shards_merge_to_the_single_run_table PROPERTIES
                      FIXTURES_REQUIRED smoke_tables TIMEOUT 900)
 
@@ -117,12 +116,7 @@ set_tests_properties(spatialbench_shards_merge_to_the_single_run_table PROPERTIE
 # skipped, with the reason printed, where Slurm cannot start (not root, packages missing).
 add_test(NAME spatialbench_slurm_job_array_merges_to_the_single_run_table
          COMMAND bash ${CMAKE_CURRENT_SOURCE_DIR}/check_slurm.sh ${CMAKE_CURRENT_BINARY_DIR}/slurm_results
-                 ${CMAKE_CURRENT_BINARY_DIR}/smoke_results/knn.csv
-                 ${CMAKE_CURRENT_BINARY_DIR}/structures_smoke_results/structures.csv
-                 ${CMAKE_CURRENT_BINARY_DIR}/bv_smoke_results/bv.csv
-                 ${CMAKE_CURRENT_BINARY_DIR}/raycast_smoke_results/raycast.csv
-                 ${CMAKE_CURRENT_BINARY_DIR}/collide_smoke_results/collide.csv
-                 ${CMAKE_CURRENT_BINARY_DIR}/scenes_smoke_results/scenes.csv)
+                 ${spatial_smoke_tables})
 set_tests_properties(spatialbench_slurm_job_array_merges_to_the_single_run_table PROPERTIES
                      FIXTURES_REQUIRED smoke_tables SKIP_RETURN_CODE 77 TIMEOUT 900 RUN_SERIAL TRUE)
 
