@@ -10,6 +10,7 @@ packages=(
   libgtest-dev libbenchmark-dev libtbb-dev
   libcli11-dev nlohmann-json3-dev libtomlplusplus-dev librapidcheck-dev
   python3 python3-matplotlib python3-numpy
+  latexmk texlive-latex-base texlive-latex-recommended texlive-fonts-recommended
   slurmctld slurmd slurm-client munge
 )
 

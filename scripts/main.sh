@@ -2,6 +2,7 @@
 # The main job: install dependencies, fetch real data, build Release, run the benchmark
 # suites knn, structures, bv, raycast and collide (default: the quick preset) and every shipped
 # scene (datasets/scenes/*.toml), write results/*.csv and draw plots/*.png.
+# Last, it builds the paper (scripts/paper.sh) into paper/spatialbench.pdf.
 # Usage: scripts/main.sh [smoke|quick|full]
 set -euo pipefail
 cd "$(dirname "$0")/.."
@@ -30,5 +31,7 @@ scene_steps=()
 [[ "$preset" == quick ]] && scene_steps=(--steps 30)
 ./build/release/harness/spatialbench scene datasets/scenes/*.toml --structure all --results results "${scene_steps[@]}"
 
+/usr/bin/python3 scripts/provenance.py --results results   # results/provenance.md: which run made which table
 /usr/bin/python3 plots/plot_results.py --results results --out plots
-echo "main: results in results/, plots in plots/"
+scripts/paper.sh results paper/spatialbench.pdf
+echo "main: results in results/, plots in plots/, the paper in paper/spatialbench.pdf"

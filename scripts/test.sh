@@ -1,9 +1,9 @@
 #!/usr/bin/env bash
-# The test job: install dependencies, fetch the real data, then build and run every test
-# twice — a Release build (with the peers' adapters, smoke runs of the harness, the real data
-# and a single-node Slurm) and a Debug build of the
-# library's tests with
-# -fsanitize=address,undefined — plus the plotting script's tests.
+# The test job: install dependencies, fetch the real data, then two builds — a Release build
+# of the harness and the peers' adapters with the tests that need them (smoke runs of every
+# suite, the real data, sharded runs on a single-node Slurm, interrupted runs, the paper on
+# smoke tables), and a Debug build of the library's own tests with
+# -fsanitize=address,undefined — plus the plotting script's and the paper's tests.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 
@@ -19,14 +19,20 @@ phase "real data"
 datasets/fetch_real_data.sh || echo "test: real point sets unavailable; their tests will be skipped"
 scripts/fetch_meshes.sh || echo "test: real meshes unavailable; their tests will be skipped"
 
+# The release build: the harness, the peers' adapters and every test that needs them (smoke
+# runs, real data, Slurm, the paper); the library's own tests run in the sanitizer build below.
 phase "release build"
-cmake --preset release -G Ninja
+cmake --preset release -G Ninja -DSPATIAL_BUILD_STRUCTURE_TESTS=OFF
 cmake --build --preset release -j"$jobs"
 phase "release tests"
 ctest --preset release -j"$jobs"
 
-phase "plot script tests"
+phase "paper on smoke tables"
+tests/check_paper_smoke.sh build/release/harness/spatialbench
+
+phase "plot script and paper tests"
 /usr/bin/python3 -m unittest discover -s plots/tests -t plots
+/usr/bin/python3 -m unittest discover -s paper/tests -t paper
 
 phase "address+undefined sanitizer build"
 cmake --preset asan -G Ninja

@@ -23,21 +23,9 @@ for ((i = 0; i < shards; ++i)); do
 done
 "$bin" merge "$out"/shard* --results "$out/merged" --quiet
 
-/usr/bin/python3 "$here/check_table_keys.py" --write "$out/single_keys.csv" "$@"
-merged=()
-for table in "$@"; do merged+=("$out/merged/$(basename "$table")"); done
-/usr/bin/python3 "$here/check_table_keys.py" "$out/single_keys.csv" "${merged[@]}"
-
-# Every merged row is validated, and names a sidecar that was merged with it.
-for table in "${merged[@]}"; do
-  awk -F, 'NR == 1 { for (c = 1; c <= NF; ++c) if ($c == "validated") v = c; next }
-           $v != "true" { bad++ } END { exit bad > 0 }' "$table" ||
-    { echo "FAIL: $table has rows that are not validated"; exit 1; }
-done
-for run_id in $(awk -F, 'FNR == 1 { for (c = 1; c <= NF; ++c) if ($c == "run_id") r = c; next } { print $r }' "${merged[@]}" | sort -u); do
-  [[ -s "$out/merged/runs/$run_id.json" ]] || { echo "FAIL: merged rows name run $run_id, whose sidecar is missing"; exit 1; }
-  grep -q '"host"' "$out/merged/runs/$run_id.json" || { echo "FAIL: sidecar $run_id names no host"; exit 1; }
-done
+# The single run's keys and answers, every row validated, every run's sidecar merged.
+source "$here/merged_tables_check.sh"
+check_merged_tables "$out/merged" "*-shard[0-2]of3" "$@" > /dev/null
 # Two shards that measured the same figure are refused by name.
 if "$bin" merge "$out/shard0" "$out/shard0" --results "$out/refused" --quiet 2> "$out/err.txt"; then
   echo "FAIL: merging a shard with itself was accepted"; exit 1

@@ -86,20 +86,7 @@ cd "$out"
 export SPATIALBENCH_SCENES="$repo/datasets/scenes/falling_boxes.toml"
 "$repo/scripts/slurm/submit.sh" --wait --no-build --results "$out/results" --plots "" smoke 3
 
-/usr/bin/python3 "$here/check_table_keys.py" --write "$out/single_keys.csv" "$@"
-merged=()
-for table in "$@"; do merged+=("$out/results/$(basename "$table")"); done
-/usr/bin/python3 "$here/check_table_keys.py" "$out/single_keys.csv" "${merged[@]}"
-for table in "${merged[@]}"; do
-  awk -F, 'NR == 1 { for (c = 1; c <= NF; ++c) if ($c == "validated") v = c; next }
-           $v != "true" { bad++ } END { exit bad > 0 }' "$table" ||
-    { echo "FAIL: $table has rows that are not validated"; exit 1; }
-done
-hosts=()
-for run_id in $(awk -F, 'FNR == 1 { for (c = 1; c <= NF; ++c) if ($c == "run_id") r = c; next } { print $r }' "${merged[@]}" | sort -u); do
-  [[ "$run_id" == *-slurm[0-9]*-shard[0-2]of3 ]] || { echo "FAIL: run id $run_id is not of the array's family"; exit 1; }
-  sidecar="$out/results/runs/$run_id.json"
-  [[ -s "$sidecar" ]] || { echo "FAIL: merged rows name run $run_id, whose sidecar is missing"; exit 1; }
-  hosts+=("$(grep -o '"host": *"[^"]*"' "$sidecar")")
-done
-echo "ok: Slurm ran the smoke preset as 3 array tasks and a dependent merge; the merged tables have the single run's keys and answers, every row validated (hosts: $(printf '%s\n' "${hosts[@]}" | sort -u | tr '\n' ' '))"
+# Run ids of the array's family (its job id, the shard), each with its sidecar and host.
+source "$here/merged_tables_check.sh"
+hosts="$(check_merged_tables "$out/results" "*-slurm[0-9]*-shard[0-2]of3" "$@" | grep -o '"[^"]*"$' | sort -u | tr '\n' ' ')"
+echo "ok: Slurm ran the smoke preset as 3 array tasks and a dependent merge; the merged tables have the single run's keys and answers, every row validated (hosts: $hosts)"

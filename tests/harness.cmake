@@ -42,6 +42,15 @@ spatialbench_rejects(spatialbench_bv_rejects_unknown_shape "unknown shape 'nosuc
 spatialbench_rejects(spatialbench_raycast_rejects_unknown_workload "unknown mesh workload \"teapot\""
                      run --suite raycast --preset smoke --workload teapot)
 
+# The smoke fixture's tables, which the checks below read.
+set(spatial_smoke_tables
+    ${CMAKE_CURRENT_BINARY_DIR}/smoke_results/knn.csv
+    ${CMAKE_CURRENT_BINARY_DIR}/structures_smoke_results/structures.csv
+    ${CMAKE_CURRENT_BINARY_DIR}/bv_smoke_results/bv.csv
+    ${CMAKE_CURRENT_BINARY_DIR}/raycast_smoke_results/raycast.csv
+    ${CMAKE_CURRENT_BINARY_DIR}/collide_smoke_results/collide.csv
+    ${CMAKE_CURRENT_BINARY_DIR}/scenes_smoke_results/scenes.csv)
+
 # The smoke tables keep their keys and our structures' answers (tests/check_table_keys.py):
 # every key of tests/data/smoke_table_keys.csv appears again, and every answer figure (pairs,
 # hits, recall, tightness, nodes visited, ...) is the same number. Regenerate the reference
@@ -49,12 +58,7 @@ spatialbench_rejects(spatialbench_raycast_rejects_unknown_workload "unknown mesh
 add_test(NAME spatialbench_smoke_tables_keep_keys_and_answers
          COMMAND /usr/bin/python3 ${CMAKE_CURRENT_SOURCE_DIR}/check_table_keys.py
                  ${CMAKE_CURRENT_SOURCE_DIR}/data/smoke_table_keys.csv
-                 ${CMAKE_CURRENT_BINARY_DIR}/smoke_results/knn.csv
-                 ${CMAKE_CURRENT_BINARY_DIR}/structures_smoke_results/structures.csv
-                 ${CMAKE_CURRENT_BINARY_DIR}/bv_smoke_results/bv.csv
-                 ${CMAKE_CURRENT_BINARY_DIR}/raycast_smoke_results/raycast.csv
-                 ${CMAKE_CURRENT_BINARY_DIR}/collide_smoke_results/collide.csv
-                 ${CMAKE_CURRENT_BINARY_DIR}/scenes_smoke_results/scenes.csv)
+                 ${spatial_smoke_tables})
 set_tests_properties(spatialbench_smoke_tables_keep_keys_and_answers PROPERTIES FIXTURES_REQUIRED smoke_tables)
 
 # docs/adding-a-structure.md, tested: the example structure (examples/) appears with validated
@@ -79,6 +83,23 @@ add_test(NAME spatialbench_fails_closed_on_a_wrong_answer
                  ${CMAKE_CURRENT_BINARY_DIR}/fail_closed_results)
 set_tests_properties(spatialbench_fails_closed_on_a_wrong_answer PROPERTIES TIMEOUT 600)
 
+# Asking for more memory than the machine has: a clear error before any allocation, naming
+# what was asked and what is available (harness/memory_budget.hpp), for a scene, for --n, and
+# for a modest run on a machine said to have 100 kB (SPATIALBENCH_AVAILABLE_MEMORY).
+add_test(NAME spatialbench_rejects_a_scene_larger_than_memory
+         COMMAND $<TARGET_FILE:spatialbench> scene ${CMAKE_CURRENT_SOURCE_DIR}/data/scene_larger_than_memory.toml
+                 --quiet --results ${CMAKE_CURRENT_BINARY_DIR}/bad_results)
+set_tests_properties(spatialbench_rejects_a_scene_larger_than_memory PROPERTIES PASS_REGULAR_EXPRESSION
+  "spatialbench: error: scene larger_than_memory needs about 1\\.0 TB \\(4000000000 objects x about 256 B.*, but .* is available \\(")
+spatialbench_rejects(spatialbench_rejects_n_larger_than_memory
+                     "case knn/uniform/n=4000000000/3d/double needs about 1\\.0 TB .* is available"
+                     run --suite knn --preset smoke --workload uniform --n 4000000000)
+add_test(NAME spatialbench_rejects_a_run_larger_than_the_memory_limit
+         COMMAND ${CMAKE_COMMAND} -E env SPATIALBENCH_AVAILABLE_MEMORY=100000
+                 $<TARGET_FILE:spatialbench> run --suite collide --preset smoke --quiet --results ${CMAKE_CURRENT_BINARY_DIR}/bad_results)
+set_tests_properties(spatialbench_rejects_a_run_larger_than_the_memory_limit PROPERTIES PASS_REGULAR_EXPRESSION
+  "spatialbench: error: case collide/boxes/n=1000 needs about 256\\.0 kB.*but 100\\.0 kB is available \\(SPATIALBENCH_AVAILABLE_MEMORY\\)")
+
 # Sharded runs (run/scene --shard i/N) joined by `spatialbench merge` give the single run's
 # table: the same keys and answers as the smoke fixture's tables, every row validated, every
 # run's sidecar (with its host) merged; overlapping shards are refused by name.
@@ -86,12 +107,7 @@ add_test(NAME spatialbench_shards_merge_to_the_single_run_table
          COMMAND bash ${CMAKE_CURRENT_SOURCE_DIR}/check_shards.sh $<TARGET_FILE:spatialbench>
                  ${CMAKE_CURRENT_BINARY_DIR}/shard_results
                  ${PROJECT_SOURCE_DIR}/datasets/scenes/falling_boxes.toml
-                 ${CMAKE_CURRENT_BINARY_DIR}/smoke_results/knn.csv
-                 ${CMAKE_CURRENT_BINARY_DIR}/structures_smoke_results/structures.csv
-                 ${CMAKE_CURRENT_BINARY_DIR}/bv_smoke_results/bv.csv
-                 ${CMAKE_CURRENT_BINARY_DIR}/raycast_smoke_results/raycast.csv
-                 ${CMAKE_CURRENT_BINARY_DIR}/collide_smoke_results/collide.csv
-                 ${CMAKE_CURRENT_BINARY_DIR}/scenes_smoke_results/scenes.csv)
+                 ${spatial_smoke_tables})
 set_tests_properties(spatialbench_shards_merge_to_the_single_run_table PROPERTIES
                      FIXTURES_REQUIRED smoke_tables TIMEOUT 900)
 
@@ -100,12 +116,7 @@ set_tests_properties(spatialbench_shards_merge_to_the_single_run_table PROPERTIE
 # skipped, with the reason printed, where Slurm cannot start (not root, packages missing).
 add_test(NAME spatialbench_slurm_job_array_merges_to_the_single_run_table
          COMMAND bash ${CMAKE_CURRENT_SOURCE_DIR}/check_slurm.sh ${CMAKE_CURRENT_BINARY_DIR}/slurm_results
-                 ${CMAKE_CURRENT_BINARY_DIR}/smoke_results/knn.csv
-                 ${CMAKE_CURRENT_BINARY_DIR}/structures_smoke_results/structures.csv
-                 ${CMAKE_CURRENT_BINARY_DIR}/bv_smoke_results/bv.csv
-                 ${CMAKE_CURRENT_BINARY_DIR}/raycast_smoke_results/raycast.csv
-                 ${CMAKE_CURRENT_BINARY_DIR}/collide_smoke_results/collide.csv
-                 ${CMAKE_CURRENT_BINARY_DIR}/scenes_smoke_results/scenes.csv)
+                 ${spatial_smoke_tables})
 set_tests_properties(spatialbench_slurm_job_array_merges_to_the_single_run_table PROPERTIES
                      FIXTURES_REQUIRED smoke_tables SKIP_RETURN_CODE 77 TIMEOUT 900 RUN_SERIAL TRUE)
 
@@ -115,3 +126,25 @@ add_test(NAME spatialbench_real_data_smoke
          COMMAND bash ${CMAKE_CURRENT_SOURCE_DIR}/check_real_data_smoke.sh $<TARGET_FILE:spatialbench>
                  ${PROJECT_SOURCE_DIR}/datasets/real ${CMAKE_CURRENT_BINARY_DIR}/real_data_results)
 set_tests_properties(spatialbench_real_data_smoke PROPERTIES SKIP_RETURN_CODE 77 TIMEOUT 600)
+
+# Interrupted and resumed runs: SIGINT and SIGKILL halfway lose no completed case and leave the
+# previous table; --resume finishes the missing cases into the uninterrupted run's table.
+add_test(NAME spatialbench_interrupted_run_resumes_without_loss
+         COMMAND bash ${CMAKE_CURRENT_SOURCE_DIR}/check_resume.sh $<TARGET_FILE:spatialbench>
+                 ${CMAKE_CURRENT_BINARY_DIR}/resume_results
+                 ${CMAKE_CURRENT_BINARY_DIR}/raycast_smoke_results/raycast.csv)
+set_tests_properties(spatialbench_interrupted_run_resumes_without_loss PROPERTIES
+                     FIXTURES_REQUIRED smoke_tables TIMEOUT 600)
+
+# scripts/provenance.py: which run (commit, date, preset, host) produced each table, from the
+# tables' run ids and the sidecars; a row naming a run without a sidecar is an error naming it.
+add_test(NAME provenance_lists_the_run_of_every_table
+         COMMAND /usr/bin/python3 ${PROJECT_SOURCE_DIR}/scripts/provenance.py --results ${CMAKE_CURRENT_BINARY_DIR}/smoke_results
+                 --output ${CMAKE_CURRENT_BINARY_DIR}/smoke_results/provenance.md)
+set_tests_properties(provenance_lists_the_run_of_every_table PROPERTIES FIXTURES_REQUIRED smoke_tables
+                     PASS_REGULAR_EXPRESSION "provenance: wrote .*provenance.md")
+add_test(NAME provenance_rejects_a_run_without_its_sidecar
+         COMMAND /usr/bin/python3 ${PROJECT_SOURCE_DIR}/scripts/provenance.py
+                 --results ${CMAKE_CURRENT_SOURCE_DIR}/data/provenance_missing_sidecar --output ${CMAKE_CURRENT_BINARY_DIR}/provenance_refused.md)
+set_tests_properties(provenance_rejects_a_run_without_its_sidecar PROPERTIES PASS_REGULAR_EXPRESSION
+                     "knn.csv: 1 rows name run knn-smoke-nosuchrun, whose sidecar .* is missing")

@@ -756,7 +756,7 @@ void run_bv_suite(const suite_options& options) {
             if (std::filesystem::exists(options.real_data_dir / f)) ++real;
             else ctx.prog.say("no " + (options.real_data_dir / f).string() + " (run datasets/fetch_real_data.sh)");
         }
-    run_cases(bv_cases(ctx), options);
+    ctx.run(bv_cases(ctx));
     ctx.finish({{"real_meshes", std::to_string(real)}});
 }
 

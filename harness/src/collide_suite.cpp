@@ -553,7 +553,11 @@ std::vector<suite_case> collide_cases(context& ctx) {
                                                                                             : ctx.cfg.triangle_sizes;
         void (*run)(context&, std::size_t) = w == "boxes" ? &run_static_boxes : w == "moving_boxes" ? &run_moving_boxes
                                                                                                     : &run_triangles;
-        for (std::size_t n : sizes(preset_sizes)) cases.push_back({"collide/" + w + "/" + case_size(n), [&ctx, run, n] { run(ctx, n); }});
+        // Per box or triangle, every participant at once (memory_budget.hpp): the objects, each
+        // structure's copy and the pair lists.
+        constexpr std::size_t bytes_per_object_all_participants = 256;
+        for (std::size_t n : sizes(preset_sizes))
+            cases.push_back({"collide/" + w + "/" + case_size(n), [&ctx, run, n] { run(ctx, n); }, n, bytes_per_object_all_participants});
     }
     return cases;
 }
@@ -562,7 +566,7 @@ std::vector<suite_case> collide_cases(context& ctx) {
 
 void run_collide_suite(const suite_options& options) {
     context ctx = make_context(options);
-    run_cases(collide_cases(ctx), options);
+    ctx.run(collide_cases(ctx));
     ctx.finish();
 }
 

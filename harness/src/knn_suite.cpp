@@ -824,19 +824,26 @@ std::vector<std::string> real_point_files(const suite_options& options) {
     return files;
 }
 
+// What a case holds per point, every participant's copy at once (memory_budget.hpp): at 1e6
+// uniform points kd_tree, nanoflann and CGAL take 40-52 B each; with the other participants
+// (the structures suite runs every structure of the library) and the harness's own copies,
+// a few hundred bytes.
+constexpr std::size_t bytes_per_point_all_participants = 256;
+
 // The suite's independent cases: each generated workload at each size (uniform also in 2D
 // double and 3D float), then each real point set.
 std::vector<suite_case> knn_cases(context& ctx) {
+    const std::size_t per_point = bytes_per_point_all_participants;
     std::vector<suite_case> cases;
     const std::string suite = ctx.opt.suite_name;
     for (const auto& w : ctx.cfg.workloads)
         for (std::size_t n : ctx.cfg.sizes) {
             const bool dynamic = ctx.opt.dynamic && (w == "uniform" || w == "clusters") && n <= ctx.cfg.dynamic_max_n;
             const std::string id = suite + "/" + w + "/" + case_size(n);
-            cases.push_back({id + "/3d/double", [&ctx, w, n, dynamic] { run_generated<double, 3>(ctx, w, n, dynamic); }});
+            cases.push_back({id + "/3d/double", [&ctx, w, n, dynamic] { run_generated<double, 3>(ctx, w, n, dynamic); }, n, per_point});
             if (ctx.cfg.variants && w == "uniform") {
-                cases.push_back({id + "/2d/double", [&ctx, w, n] { run_generated<double, 2>(ctx, w, n, false); }});
-                cases.push_back({id + "/3d/float", [&ctx, w, n] { run_generated<float, 3>(ctx, w, n, false); }});
+                cases.push_back({id + "/2d/double", [&ctx, w, n] { run_generated<double, 2>(ctx, w, n, false); }, n, per_point});
+                cases.push_back({id + "/3d/float", [&ctx, w, n] { run_generated<float, 3>(ctx, w, n, false); }, n, per_point});
             }
         }
     for (const auto& f : real_point_files(ctx.opt))
@@ -851,7 +858,7 @@ void run_knn_suite(const suite_options& options) {
     const auto real_files = real_point_files(options);
     if (!options.real_data_dir.empty() && real_files.empty())
         ctx.prog.say("no real point sets in " + options.real_data_dir.string() + " (run datasets/fetch_real_data.sh)");
-    run_cases(knn_cases(ctx), options);
+    ctx.run(knn_cases(ctx));
     ctx.finish({{"real_data", std::to_string(real_files.size()) + " files"}});
 }
 

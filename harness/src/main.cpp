@@ -1,5 +1,5 @@
 // spatialbench — the benchmark harness CLI.
-//   spatialbench run --suite SUITE [--preset smoke|quick|full] [--results DIR] [--real-data DIR]
+//   spatialbench run --suite SUITE [--preset smoke|quick|full] [--results DIR] [--real-data DIR] [--resume]
 //                    [--workload W ...] [--structure S ...] [--n N ...] [--seed S] [--quiet]
 //   spatialbench scene FILE... [--structure NAME|all] [--steps N] [--results DIR] [--output scenes.csv] [--quiet]
 //   spatialbench list [--json] [--cases --suite SUITE [--shard i/N] ...]
@@ -97,6 +97,7 @@ struct run_command {
         app->add_option("--seed", opt.seed, "seed of every generated workload (logged in the run sidecar)");
         app->add_flag("--quiet", opt.quiet, "no progress output");
         app->add_flag("--no-dynamic", no_dynamic, "skip the insert/erase workloads");
+        app->add_flag("--resume", opt.resume, "finish an interrupted run: skip the cases its journal (<results>/<table>.journal/) holds");
     }
 
     int execute() {

@@ -727,7 +727,10 @@ std::vector<suite_case> raycast_cases(context& ctx) {
             if (w == "boxes") run = [&ctx, w, n] { object_measurement<spatial::objects::box<T, 3>>(ctx, w, n).run(); };
             else if (w == "points") run = [&ctx, w, n] { object_measurement<point3>(ctx, w, n).run(); };
             else run = [&ctx, w, n, seed] { mesh_measurement(ctx, w, datasets::generate_mesh(w, n, seed)).run(); };
-            cases.push_back({"raycast/" + w + "/" + case_size(n), std::move(run)});
+            // Per triangle or object, every participant at once (memory_budget.hpp): ours, Embree's
+            // and CGAL's trees, the mesh and its copies (tables: 100-200 B per triangle each).
+            constexpr std::size_t bytes_per_object_all_participants = 512;
+            cases.push_back({"raycast/" + w + "/" + case_size(n), std::move(run), n, bytes_per_object_all_participants});
         }
     for (const auto& f : real_mesh_files(ctx.opt)) {
         const std::string label = "real:" + f.filename().string();
@@ -745,7 +748,7 @@ void run_raycast_suite(const suite_options& options) {
         ctx.prog.say("real meshes skipped: loading them needs CGAL (-DSPATIAL_WITH_CGAL=ON)");
     else if (!options.real_data_dir.empty() && real_files.empty())
         ctx.prog.say("no meshes in " + options.real_data_dir.string() + " (run scripts/fetch_meshes.sh)");
-    run_cases(raycast_cases(ctx), options);
+    ctx.run(raycast_cases(ctx));
     ctx.finish({{"real_meshes", std::to_string(real_files.size()) + " files"}});
 }
 

@@ -19,6 +19,7 @@
 #include "datasets/scene_motion.hpp"
 #include "datasets/scene_objects.hpp"
 #include "datasets/scene_queries.hpp"
+#include "harness/memory_budget.hpp"
 #include "harness/mesh_loading.hpp"
 #include "harness/progress.hpp"
 #include "harness/fault_injection.hpp"
@@ -666,6 +667,12 @@ template <class T, std::size_t D>
 std::vector<result_row> run_typed(const datasets::scene_description& scene, const scene_run_options& opt,
                                   scene_counters& k) {
     progress prog(opt.quiet);
+    std::size_t objects = 0;
+    for (const auto& set : scene.objects) objects += set.generator ? set.generator->count : 0;
+    // Before anything is allocated (memory_budget.hpp): per object, the scene's own state
+    // (positions, velocities, ids), the structure's copy, and the pair lists of a step.
+    constexpr std::size_t bytes_per_scene_object = 256;
+    require_memory("scene " + scene.name, objects, bytes_per_scene_object);
     std::vector<std::string> structures = opt.structures;
     if (structures.empty()) structures = {"bvh"};
     if (structures.size() == 1 && structures[0] == "all") {
@@ -673,8 +680,6 @@ std::vector<result_row> run_typed(const datasets::scene_description& scene, cons
         structures = scene_structure_names();
         if (scene.raycast || scene.nearest || scene.range)  // structures that answer pairs only
             std::erase_if(structures, [](const std::string& s) { return !scene_structure_traits<O>(s).first; });
-        std::size_t objects = 0;
-        for (const auto& set : scene.objects) objects += set.generator ? set.generator->count : 0;
         if (objects > large_scene_objects) {
             // brute_force is O(n^2) per step; structures without batched motion follow it by
             // erasing and inserting every moved object: minutes per large scene. 'all' keeps

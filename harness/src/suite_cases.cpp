@@ -7,7 +7,10 @@
 #include <stdexcept>
 #include <string_view>
 
+#include "harness/fault_injection.hpp"
+#include "harness/memory_budget.hpp"
 #include "harness/run_info.hpp"
+#include "harness/validation.hpp"
 #include "harness/timing.hpp"
 
 namespace harness {
@@ -51,8 +54,30 @@ std::vector<std::string> ids_of(const std::vector<suite_case>& cases, const suit
     return ids;
 }
 
-void run_cases(const std::vector<suite_case>& all, const suite_options& options) {
-    for (const suite_case* c : selected_cases(all, options)) c->run();
+void run_cases(const std::vector<suite_case>& all, const suite_options& options, run_journal& journal,
+               std::vector<result_row>& rows, const progress& prog) {
+    const auto selected = selected_cases(all, options);
+    // Before anything runs: a case that cannot fit is refused now, not killed hours later.
+    for (const suite_case* c : selected) require_memory("case " + c->id, c->objects, c->bytes_per_object);
+    std::size_t completed_here = 0;
+    for (const suite_case* c : selected) {
+        const auto position = static_cast<std::size_t>(c - all.data());
+        if (journal.completed(position)) {
+            const auto& kept = journal.rows_of(position);
+            rows.insert(rows.end(), kept.begin(), kept.end());
+            prog.say("resumed: " + c->id + " from " + journal.dir().string() + " (" + std::to_string(kept.size()) + " rows)");
+            continue;
+        }
+        const std::size_t before = rows.size();
+        try {
+            c->run();
+        } catch (const validation_error&) {
+            journal.finish();  // a run that met a wrong answer keeps nothing
+            throw;
+        }
+        journal.record(position, std::vector<result_row>(rows.begin() + static_cast<std::ptrdiff_t>(before), rows.end()));
+        injected_interrupt(++completed_here);
+    }
 }
 
 void finish_suite(const suite_options& options, const std::vector<result_row>& rows, const std::string& run_id,

@@ -5,6 +5,7 @@ import argparse
 import os
 
 from . import family as families_module
+from . import formats
 from .core import label_of, series_label
 from .io import REGISTRY_FILE, RegistryError, note, read_registry, read_results, table_names
 from .style import StyleBook
@@ -24,7 +25,16 @@ def main(argv=None, repo=None, families_package="spatialplots.families"):
     parser.add_argument("--include-unvalidated", action="store_true",
                         help="draw timing rows with validated=false hollow/dashed "
                              "instead of skipping them")
+    parser.add_argument("--formats", default="png",
+                        help="comma-separated file formats of every figure: png, pdf "
+                             "(vector, for print) or both (default: %(default)s)")
+    parser.add_argument("--families", default="",
+                        help="comma-separated figure families to draw (default: all)")
     args = parser.parse_args(argv)
+    try:
+        formats.choose([f.strip() for f in args.formats.split(",") if f.strip()])
+    except ValueError as error:
+        parser.error(str(error))
 
     names = table_names(args.results)
     if names is None:
@@ -42,8 +52,10 @@ def main(argv=None, repo=None, families_package="spatialplots.families"):
     os.makedirs(args.out, exist_ok=True)
     styles = StyleBook(registry, {label_of(r) for r in rows} | {series_label(r, registry) for r in rows})
     families = families_module.discover(families_package)
+    wanted = {f.strip() for f in args.families.split(",") if f.strip()}
+    drawn = [f for f in families if not wanted or f.name in wanted]
     written = []
-    for family in families:
+    for family in drawn:
         family_rows = families_module.rows_for(family, rows, families)
         if family.suites is not None and not family_rows:
             continue
@@ -51,5 +63,5 @@ def main(argv=None, repo=None, families_package="spatialplots.families"):
                                           out_dir=args.out,
                                           include_unvalidated=args.include_unvalidated)
         written += family.draw(context) or []
-    note(f"{len(written)} PNG(s) written to {args.out}")
+    note(f"{len(written)} figure(s) written to {args.out} as {', '.join(formats.chosen())}")
     return 0

@@ -8,12 +8,15 @@ import tempfile
 import matplotlib.pyplot as plt
 import numpy as np
 
+from . import formats
 from .core import (COMPLEXITY_FUNCTIONS, METRIC_LABELS, fastest_series, fit_exponent,
                    median, pareto_front, structure_of)
 
 SUBPLOT_INCHES = (5.0, 4.0)
 DPI = 120
 MAX_COLUMNS = 3
+# PDF: embed TrueType (Type 42) fonts instead of Type 3, which print and search properly.
+PRINT_SETTINGS = {"pdf.fonttype": 42}
 LEGEND_COLUMNS = 2
 
 _UMASK = os.umask(0)
@@ -57,13 +60,24 @@ def finish_figure(figure, title):
 
 
 def save_atomically(figure, path):
-    """Write the PNG to a temp file in the same directory, then rename it over `path`."""
+    """Write the figure in every chosen format (formats.py: path's .png, and/or a vector .pdf
+    beside it), each to a temp file in the same directory renamed over the target.  Returns
+    the first file written."""
+    try:
+        written = [_write_one(figure, target) for target in formats.paths(path)]
+    finally:
+        plt.close(figure)
+    return written[0]
+
+
+def _write_one(figure, path):
     directory = os.path.dirname(os.path.abspath(path))
+    kind = path.rsplit(".", 1)[-1]
     handle, temp_path = tempfile.mkstemp(
         prefix="." + os.path.basename(path) + ".", suffix=".tmp", dir=directory)
     try:
-        with os.fdopen(handle, "wb") as stream:
-            figure.savefig(stream, format="png", dpi=DPI)
+        with os.fdopen(handle, "wb") as stream, plt.rc_context(PRINT_SETTINGS):
+            figure.savefig(stream, format=kind, dpi=DPI)
         os.chmod(temp_path, 0o666 & ~_UMASK)  # mkstemp makes 0600; give a normal file's mode
         os.replace(temp_path, path)
     except BaseException:
@@ -72,8 +86,6 @@ def save_atomically(figure, path):
         except OSError:
             pass
         raise
-    finally:
-        plt.close(figure)
     print(f"wrote {path}")
     return path
 

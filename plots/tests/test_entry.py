@@ -94,7 +94,7 @@ class DiscoveryTest(support.ResultsTestCase):
                     sys.modules.pop(name, None)
         self.assertEqual(code, 0, stderr)
         self.assertTrue(os.path.isfile(os.path.join(self.out, "probe.txt")))
-        self.assertIn("0 PNG(s) written", stderr)
+        self.assertIn("0 figure(s) written", stderr)
 
     def plot_with(self, package):
         return support.run_main("--results", self.results, "--out", self.out,

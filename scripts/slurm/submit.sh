@@ -45,9 +45,11 @@ shards_dir="${results}.shards"
 rm -rf "$shards_dir"
 mkdir -p "$shards_dir"
 
-array_job="$(sbatch --parsable --array="0-$((shards - 1))" scripts/slurm/shard.sbatch "$preset" "$shards_dir")"
+# The jobs' logs go next to the shards' results, not into the checkout.
+array_job="$(sbatch --parsable --array="0-$((shards - 1))" --output="${shards_dir}/shard-%A_%a.out" \
+  scripts/slurm/shard.sbatch "$preset" "$shards_dir")"
 array_job="${array_job%%;*}"  # --parsable prints "jobid[;cluster]"
 echo "submit.sh: shard array job ${array_job} (${shards} tasks, preset ${preset})"
 merge_job="$(sbatch --parsable "${wait[@]}" --dependency="afterok:${array_job}" --kill-on-invalid-dep=yes \
-  scripts/slurm/merge.sbatch "$shards_dir" "$results" "$plots")"
+  --output="${shards_dir}/merge-%j.out" scripts/slurm/merge.sbatch "$shards_dir" "$results" "$plots")"
 echo "submit.sh: merge job ${merge_job%%;*} runs after every shard succeeded"

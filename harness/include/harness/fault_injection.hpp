@@ -8,6 +8,7 @@
 // leave every table it would have written as it was. Unset, it costs one string compare
 // per validated answer set, outside every timed region.
 
+#include <csignal>
 #include <cstdlib>
 #include <string>
 
@@ -20,6 +21,20 @@ inline bool injected_fault(const std::string& participant) {
         return std::string(v ? v : "");
     }();
     return !target.empty() && target == participant;
+}
+
+// The hook behind the interrupted-run tests (tests/check_resume.sh): with
+// SPATIALBENCH_INTERRUPT_AFTER_CASES=<k>:<INT|TERM|KILL>, the run sends itself that signal
+// once it has completed (and journaled) k cases in this process, as Ctrl-C, a scheduler's
+// SIGTERM or the OOM killer would at that moment. Unset, it does nothing.
+inline void injected_interrupt(std::size_t cases_completed_here) {
+    static const char* v = std::getenv("SPATIALBENCH_INTERRUPT_AFTER_CASES");
+    if (!v) return;
+    const std::string spec(v);
+    const auto colon = spec.find(':');
+    if (colon == std::string::npos || std::stoul(spec.substr(0, colon)) != cases_completed_here) return;
+    const std::string sig = spec.substr(colon + 1);
+    std::raise(sig == "KILL" ? SIGKILL : sig == "TERM" ? SIGTERM : SIGINT);
 }
 
 }  // namespace harness

@@ -18,6 +18,7 @@
 
 #include "harness/csv_writer.hpp"
 #include "harness/progress.hpp"
+#include "harness/run_journal.hpp"
 #include "harness/suite_options.hpp"
 
 namespace harness {
@@ -25,6 +26,10 @@ namespace harness {
 struct suite_case {
     std::string id;             // stable: <suite>/<workload>/n=<n>[/<dim>d/<scalar>]
     std::function<void()> run;  // runs the case, adding its rows to the suite's table
+    // What it will hold in memory, checked for every selected case before any runs
+    // (memory_budget.hpp): objects x about this many bytes each (0: not estimated).
+    std::size_t objects = 0;
+    std::size_t bytes_per_object = 0;
 };
 
 // The cases of `all` that --case selects (all of them when options.cases is empty). Throws
@@ -35,8 +40,11 @@ std::vector<const suite_case*> selected_cases(const std::vector<suite_case>& all
 // `spatialbench list --cases` prints.
 std::vector<std::string> ids_of(const std::vector<suite_case>& cases, const suite_options& options);
 
-// Runs the selected cases in order.
-void run_cases(const std::vector<suite_case>& all, const suite_options& options);
+// Runs the selected cases in order, each case's rows appended to `rows` and recorded in
+// `journal` as it completes; a case the journal already holds (a resumed run) is not run
+// again, its journaled rows are appended instead.
+void run_cases(const std::vector<suite_case>& all, const suite_options& options, run_journal& journal,
+               std::vector<result_row>& rows, const progress& prog);
 
 // The end every suite shares: writes options.results_dir / options.output_name atomically,
 // then the run's JSON sidecar (seeds and `extra`), and says so.

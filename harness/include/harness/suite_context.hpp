@@ -7,6 +7,7 @@
 #include <chrono>
 #include <cstdint>
 #include <map>
+#include <memory>
 #include <string>
 #include <vector>
 
@@ -29,6 +30,7 @@ struct suite_context {
     std::vector<result_row> rows;
     std::map<std::string, std::uint64_t> seeds;
     std::chrono::steady_clock::time_point started = std::chrono::steady_clock::now();
+    std::unique_ptr<run_journal> journal = nullptr;  // while the cases run (run_journal.hpp)
 
     // Whether --structure (empty: every structure) selects `structure`.
     bool wants(const std::string& structure) const {
@@ -42,9 +44,19 @@ struct suite_context {
         return {suite, run_id, workload, n, dim, scalar};
     }
 
-    // The suite's end (finish_suite): the table, the sidecar with the seeds and `extra`.
-    void finish(const std::map<std::string, std::string>& extra = {}) const {
+    // Runs the selected cases of `cases` (the suite's whole list, in order), journaled: a
+    // resumed run takes the interrupted run's id and its completed cases.
+    void run(const std::vector<suite_case>& cases) {
+        journal = std::make_unique<run_journal>(opt, run_id, ids_of(cases, suite_options{}));
+        run_id = journal->run_id();
+        run_cases(cases, opt, *journal, rows, prog);
+    }
+
+    // The suite's end (finish_suite): the table, the sidecar with the seeds and `extra`; then
+    // the journal goes (the table holds every case now).
+    void finish(const std::map<std::string, std::string>& extra = {}) {
         finish_suite(opt, rows, run_id, seeds, extra, started, prog);
+        if (journal) journal->finish();
     }
 };
 

@@ -21,6 +21,8 @@ struct suite_options {
     // the suite's case list is i modulo N (0 <= i < N). N = 1: every case.
     std::size_t shard_index = 0, shard_count = 1;
     bool quiet = false;
+    // Finish an interrupted run: skip the cases its journal holds (run_journal.hpp).
+    bool resume = false;
     bool dynamic = true;  // run the insert/erase workloads
     std::string output_name = "knn.csv";  // the CLI sets <suite>.csv unless --output is given
     // The `structures` suite is the knn suite's static part run on EVERY structure of the

@@ -1,0 +1,158 @@
+"""kNN and range queries (knn.csv): the reference case (uniform, 3D double, largest n), the
+ratios across workloads, approximate kNN (recall against time), growth exponents, real data and
+the dynamic workloads."""
+
+from .. import quotes
+from ..latex import key_part, name, ref, tabular
+
+SUITE = "knn"
+REF = dict(workload="uniform", dim="3", scalar="double")
+QUERIES = (("knn", "k=1", "kNN, $k=1$", "knn-k1"), ("knn", "k=10", "kNN, $k=10$", "knn-k10"),
+           ("radius", None, "radius", "radius"))
+ORACLE = "brute_force"
+
+
+def _query_rows(ctx, operation, params, structure, n, metric="time_per_op", **where):
+    where = dict(REF, **where)
+    rows = ctx.rows.find(suite=SUITE, operation=operation, metric=metric, structure=structure,
+                         n=n, **where)
+    return [r for r in rows if params is None or r["params"] == params]
+
+
+def reference(ctx, n):
+    """The table of the reference case and, per query, kd_tree over the fastest peer."""
+    structures = [s for s in ctx.rows.values_of("structure", suite=SUITE, operation="knn",
+                                                metric="time_per_op", n=n, **REF) if s != ORACLE]
+    figures = [(op, params, label, tag, "time_per_op") for op, params, label, tag in QUERIES]
+    figures += [("build", None, "build", "build", "build_time"),
+                ("build", None, "memory per point", "bytes", "bytes_per_point")]
+    body = []
+    for operation, params, label, tag, metric in figures:
+        cells = [label]
+        for structure in structures:
+            key = f"knn.ref.{tag}.{key_part(structure)}"
+            rows = _query_rows(ctx, operation, params, structure, n, metric)
+            if metric == "bytes_per_point":
+                quotes.plain(ctx.book, key, [rows], unit="B")
+            else:
+                quotes.time(ctx.book, key, rows)
+            cells.append(ref(key))
+        body.append(cells)
+        _ratio_to_fastest_peer(ctx, tag, operation, params, metric, structures, n)
+    ctx.table("knn_reference.tex", tabular("l" + "r" * len(structures),
+                                           ["figure"] + [name(s) for s in structures], body))
+
+
+def _ratio_to_fastest_peer(ctx, tag, operation, params, metric, structures, n):
+    ours = _query_rows(ctx, operation, params, "kd_tree", n, metric)
+    peers = {s: _query_rows(ctx, operation, params, s, n, metric)
+             for s in structures if s != "kd_tree"}
+    peers = {s: rows for s, rows in peers.items() if rows}
+    key = f"knn.ref.{tag}.ratio"
+    if not ours or not peers:
+        ctx.book.missing(key, f"{tag}: kd_tree and a peer at n={n}")
+        ctx.book.missing(key + ".peer", "the fastest peer")
+        return
+    best = min(peers, key=lambda s: sorted(r.value for r in peers[s])[len(peers[s]) // 2])
+    quotes.ratio(ctx.book, key, [ours, peers[best]], "ratio")
+    ctx.book.word(key + ".peer", name(best))
+
+
+def across_workloads(ctx, n):
+    """kd_tree / peer time ratios (the harness's time_ratio rows) over the generated workloads."""
+    for peer in ("cgal_kd_tree", "nanoflann"):
+        for params, tag in (("k=10", "k10"), ("k=1", "k1")):
+            groups = {}
+            for row in ctx.rows.find(suite=SUITE, operation="knn", metric="time_ratio",
+                                     structure=peer, params=params, n=n, dim="3",
+                                     scalar="double"):
+                if not row["workload"].startswith("real:"):
+                    groups.setdefault(row["workload"], []).append(row)
+            base = f"knn.wl.{tag}.{key_part(peer)}"
+            for op in ("min", "max"):
+                quotes.ratio(ctx.book, f"{base}.{op}", list(groups.values()), op)
+            quotes.count(ctx.book, f"{base}.workloads", list(groups.values()), "count")
+            worst = max(groups, key=lambda w: groups[w][0].value) if groups else None
+            if worst:
+                ctx.book.word(f"{base}.worst", name(worst))
+            else:
+                ctx.book.missing(f"{base}.worst", "workloads")
+            quotes.ratio(ctx.book, f"{base}.lattice", [groups.get("lattice", [])])
+
+
+def real_data(ctx):
+    groups = {}
+    for row in ctx.rows.find(suite=SUITE, operation="knn", metric="time_ratio",
+                             structure="cgal_kd_tree", params="k=10"):
+        if row["workload"].startswith("real:"):
+            groups.setdefault(row["workload"], []).append(row)
+    quotes.count(ctx.book, "knn.real.sets", list(groups.values()), "count")
+    for op in ("min", "max"):
+        quotes.ratio(ctx.book, f"knn.real.k10.cgal-kd-tree.{op}", list(groups.values()), op)
+
+
+def recall(ctx, n):
+    """Recall and time per eps at the reference n: the table behind the recall-vs-time front."""
+    structures = [s for s in ctx.rows.values_of("structure", suite=SUITE, operation="approx_knn",
+                                                metric="recall", n=n, **REF)]
+    params = ctx.rows.values_of("params", suite=SUITE, operation="approx_knn", metric="recall",
+                                n=n, **REF)
+    body = []
+    for p in params:
+        eps = p.split("eps=")[-1]
+        cells = [f"$\\varepsilon={eps}$" if eps.replace(".", "").isdigit() else p]
+        for s in structures:
+            base = f"knn.recall.{key_part(p)}.{key_part(s)}"
+            quotes.plain(ctx.book, base + ".recall",
+                         [_query_rows(ctx, "approx_knn", p, s, n, "recall")], digits=2)
+            quotes.time(ctx.book, base + ".time", _query_rows(ctx, "approx_knn", p, s, n))
+            cells.append(f"{ref(base + '.recall')} / {ref(base + '.time')}")
+        body.append(cells)
+    ctx.table("knn_recall.tex", tabular("l" + "r" * len(structures),
+                                        ["$\\varepsilon$"] + [name(s) for s in structures], body))
+    exact = "knn.recall.exact.kd-tree.time"
+    quotes.time(ctx.book, exact, _query_rows(ctx, "knn", "k=10", "kd_tree", n))
+
+
+def exponents(ctx):
+    for structure in ("kd_tree", "nanoflann", "cgal_kd_tree"):
+        for operation, params, metric, tag in (("knn", "k=10", "time_per_op", "knn-k10"),
+                                               ("build", "", "build_time", "build")):
+            groups = ctx.rows.by("n", suite=SUITE, structure=structure, operation=operation,
+                                 params=params, metric=metric, **REF)
+            key = f"knn.exp.{tag}.{key_part(structure)}"
+            if len(groups) < 2:
+                ctx.book.missing(key, "two sizes n")
+                continue
+            quotes.plain(ctx.book, key, [groups[n] for n in sorted(groups)], "exponent", digits=2)
+
+
+def dynamic(ctx):
+    """Speed-up ratios of the dynamic workloads at their largest n (kd_tree's rows)."""
+    for operation, params, tag in (("insert_hinted", "stream=walks;m=n/2", "hint-walks"),
+                                   ("insert_hinted", "stream=morton;m=n/2", "hint-morton"),
+                                   ("insert_bulk", "into=empty;m=n", "bulk-empty"),
+                                   ("insert_bulk", "into=n;m=n/10", "bulk-merge"),
+                                   ("erase_bulk", "range=50%", "erase-half")):
+        where = dict(suite=SUITE, structure="kd_tree", operation=operation, params=params,
+                     metric="speedup_ratio", workload="uniform")
+        n = ctx.rows.largest_n(**where)
+        quotes.ratio(ctx.book, f"knn.dyn.{tag}", [ctx.rows.find(n=n, **where) if n else []])
+    where = dict(suite=SUITE, operation="churn", metric="time_per_op", workload="uniform")
+    n = ctx.rows.largest_n(structure="kd_tree", **where)
+    for structure in ("kd_tree", "nanoflann_dynamic"):
+        rows = ctx.rows.find(structure=structure, n=n, **where) if n else []
+        quotes.time(ctx.book, f"knn.dyn.churn.{key_part(structure)}", rows)
+
+
+def generate(ctx):
+    n = ctx.rows.largest_n(suite=SUITE, operation="knn", metric="time_per_op", **REF)
+    if not ctx.suite_measured(SUITE, n is not None):
+        return
+    quotes.size(ctx.book, "knn.n", _query_rows(ctx, "knn", "k=10", "kd_tree", n))
+    reference(ctx, n)
+    across_workloads(ctx, n)
+    real_data(ctx)
+    recall(ctx, n)
+    exponents(ctx)
+    dynamic(ctx)
