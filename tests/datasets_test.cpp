@@ -22,7 +22,7 @@
 #include <vector>
 
 #include "datasets/generators.hpp"
-#include "datasets/ply_header.hpp"
+#include "datasets/ply_check.hpp"
 #include "datasets/point_set_io.hpp"
 
 namespace {
@@ -696,7 +696,7 @@ TEST(load_point_set, corrupt_ply_names_the_file_and_the_problem) {
     const temp_file truncated("truncated.ply", "ply\nformat ascii 1.0\nelement vertex 3\n"
                                                "property float x\nproperty float y\nproperty float z\n"
                                                "end_header\n1 2 3\n");
-    EXPECT_CONTAINS(load_error_of(truncated.path()), "could not read the vertices");
+    EXPECT_CONTAINS(load_error_of(truncated.path()), "the file ends in row 1 of element vertex, property x");
 
     // Binary PLY cannot name a line, so a NaN is reported by vertex index.
     std::string binary = "ply\nformat binary_little_endian 1.0\nelement vertex 2\nproperty double x\n"
@@ -730,7 +730,7 @@ TEST(load_point_set, ply_headers_cgal_cannot_read_are_errors_not_crashes) {
                       {"line 6", "property z", "float or double"});
 }
 
-// datasets/ply_header.hpp on its own: every rule CGAL's reader needs, the line it names, and
+// datasets/ply_check.hpp on its own: every rule CGAL's reader needs, the line it names, and
 // the vertex count summed over the vertex elements ("vertex" and "vertices", as CGAL reads both).
 TEST(ply_header, rejects_what_cgals_reader_cannot_read_and_sums_the_vertex_elements) {
     const auto check = [](const std::string& text, datasets::ply_use use = datasets::ply_use::mesh) {
@@ -768,15 +768,13 @@ TEST(ply_header, rejects_what_cgals_reader_cannot_read_and_sums_the_vertex_eleme
                    11, "colour property green");
 }
 
-// Found by fuzzing (fuzz/point_set, docs/fuzzing.md), NOT FIXED (disabled): CGAL's PLY reader
-// resizes a list to its declared count before reading its items
-// (PLY_read_typed_list_with_typed_size::get), so a binary file of a few hundred bytes whose face
-// list declares 2^31 - 1 indices of a 32-bit count type makes the loader allocate 8 GB
-// (libFuzzer: "out-of-memory (malloc(7650410496))"); a release build gets a bad_alloc at best,
-// the OOM killer at worst. The header cannot tell (the count is in the body): the fix is a pass
-// of our own over the body, each list count against the bytes left, before CGAL reads it (issue
-// 19 part 2, resources). Enable when that exists; it allocates 8 GB until then.
-TEST(load_point_set, DISABLED_a_ply_list_longer_than_the_file_is_an_error_before_any_allocation) {
+// Found by fuzzing (fuzz/point_set, docs/fuzzing.md): CGAL's PLY reader resizes a list to its
+// declared count before reading its items (PLY_read_typed_list_with_typed_size::get), so a
+// binary file of a few hundred bytes whose face list declares 2^31 - 1 indices of a 32-bit count
+// type made the loader allocate 8 GB (libFuzzer: "out-of-memory (malloc(7650410496))"); a
+// release build got a bad_alloc at best, the OOM killer at worst. datasets::check_ply walks the
+// body first, each list count against the bytes left.
+TEST(load_point_set, a_ply_list_longer_than_the_file_is_an_error_before_any_allocation) {
     if (!datasets::can_load_ply()) GTEST_SKIP() << "built without CGAL: PLY loading is off";
     std::string ply = "ply\nformat binary_little_endian 1.0\nelement vertex 1\nproperty double x\n"
                       "property double y\nproperty double z\nelement face 1\n"
@@ -786,7 +784,54 @@ TEST(load_point_set, DISABLED_a_ply_list_longer_than_the_file_is_an_error_before
     static_assert(std::endian::native == std::endian::little, "the sample below is little-endian");
     ply.append(reinterpret_cast<const char*>(xyz), sizeof xyz);
     ply.append(reinterpret_cast<const char*>(&count), sizeof count);
-    expect_load_error("long_list.ply", ply, {"list", "vertex_indices"});
+    expect_load_error("long_list.ply", ply, {"row 0 of element face, property vertex_indices", "2147483647 items"});
+}
+
+// datasets::check_ply on its own: the body's declared sizes, binary (both byte orders, fixed
+// rows and lists, signed counts) and ASCII (the line of a list count), against what follows.
+TEST(ply_check, the_body_holds_what_the_header_declares) {
+    const auto check = [](const std::string& text) {
+        std::istringstream in(text);
+        return datasets::check_ply(in, datasets::ply_use::mesh);
+    };
+    const std::string xyz = "property float x\nproperty float y\nproperty float z\n";
+    const auto binary = [&](std::string_view format, std::string_view count_type, std::uint32_t vertices,
+                            std::string_view body) {
+        return "ply\nformat " + std::string(format) + " 1.0\nelement vertex " + std::to_string(vertices) + "\n" + xyz +
+               "element face 1\nproperty list " + std::string(count_type) + " int vertex_indices\nend_header\n" +
+               std::string(body);
+    };
+    const std::string vertex(12, '\0');  // one vertex: three floats
+    const std::string three = vertex + vertex + vertex;
+    // A triangle, little and big endian; bytes after the last element are ignored.
+    EXPECT_EQ(check(binary("binary_little_endian", "uchar", 3, three + '\3' + std::string(12, '\0'))).problem, "");
+    EXPECT_EQ(check(binary("binary_big_endian", "ushort", 3, three + std::string("\0\3", 2) + std::string(12, '\0') + "tail"))
+                  .problem,
+              "");
+    const auto expect_problem = [&](const std::string& text, std::size_t line, std::string_view fragment) {
+        const auto r = check(text);
+        EXPECT_EQ(r.line, line) << r.problem;
+        EXPECT_CONTAINS(r.problem, fragment);
+    };
+    expect_problem(binary("binary_little_endian", "uchar", 4, three), 0, "element vertex declares 4 rows of 12 bytes but 36");
+    expect_problem(binary("binary_little_endian", "uchar", 3, three), 0, "the file ends in row 0 of element face");
+    expect_problem(binary("binary_little_endian", "uchar", 3, three + '\4' + std::string(12, '\0')), 0,
+                   "the list declares 4 items of 4 bytes but 12 bytes follow");
+    expect_problem(binary("binary_big_endian", "ushort", 3, three + std::string("\1\0", 2) + std::string(12, '\0')), 0,
+                   "the list declares 256 items");
+    expect_problem(binary("binary_little_endian", "int", 3, three + std::string("\xff\xff\xff\xff", 4)), 0,
+                   "a negative list count");
+
+    const std::string ascii = "ply\nformat ascii 1.0\nelement vertex 3\n" + xyz +
+                              "element face 2\nproperty list uchar int vertex_indices\nend_header\n0 0 0\n1 0 0\n0 1 0\n";
+    EXPECT_EQ(check(ascii + "3 0 1 2\n3 2 1 0\n").problem, "");
+    EXPECT_EQ(check(ascii + "3 0 1\n2\n3 2 1 0 trailing words\n").problem, "") << "words, not lines, as CGAL reads them";
+    expect_problem(ascii + "3 0 1 2\n4 2 1 0\n", 14, "row 1 of element face, property vertex_indices: the list declares 4 items but the file ends after 3");
+    expect_problem(ascii + "-1 0 1 2\n", 13, "a negative list count -1");
+    expect_problem(ascii + "three 0 1 2\n", 13, "expected a list count but found \"three\"");
+    expect_problem(ascii + "3 0 1 2\n", 0, "the file ends in row 1 of element face");
+    expect_problem("ply\nformat ascii 1.0\nelement vertex 2\n" + xyz + "end_header\n1 2 3\n4 5\n", 0,
+                   "the file ends in row 1 of element vertex, property z");
 }
 
 // The files datasets/fetch_real_data.sh places (see datasets/README.md), with their counts.

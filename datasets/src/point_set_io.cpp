@@ -3,7 +3,7 @@
 // SPATIAL_DATASETS_HAVE_CGAL, and never reach a public header.
 
 #include "datasets/point_set_io.hpp"
-#include "datasets/ply_header.hpp"
+#include "datasets/ply_check.hpp"
 
 #include <algorithm>
 #include <array>
@@ -187,7 +187,13 @@ std::vector<point3> parse_xyz_text(std::string_view text, const fs::path& file) 
 // reader refuses although their vertices are a perfectly good point set.
 // Accepts the ASCII header keywords [ST][C][N]OFF (extra per-vertex columns ignored) and
 // headerless files that start with the counts; rejects 4OFF, nOFF and binary OFF by name.
-std::vector<point3> parse_off_text(std::string_view text, const fs::path& file) {
+enum class off_faces { ignore, check };
+
+// Faces (when asked): each face's line starts with its vertex count, a non-negative integer
+// followed by at least that many indices on the same line, as CGAL's OFF scanner (which reads a
+// face and skips the rest of its line, colours included) needs them: it converts a negative
+// count to std::size_t (undefined behaviour) and reserves a count's worth of indices.
+std::vector<point3> parse_off_text(std::string_view text, const fs::path& file, off_faces faces = off_faces::ignore) {
     line_reader lines(text);
     std::string_view raw;
     // Next line with content, comments removed; false at end of file.
@@ -205,8 +211,10 @@ std::vector<point3> parse_off_text(std::string_view text, const fs::path& file) 
     std::string_view token;
     header_tokens.next(token);
     std::optional<std::uint64_t> vertex_count;
+    std::string_view face_count_token;  // the word after the vertex count
     if (parse_count(token)) {
         vertex_count = parse_count(token);  // headerless: the counts come first
+        header_tokens.next(face_count_token);
     } else {
         const bool ends_with_off = token.size() >= 3 && token.substr(token.size() - 3) == "OFF";
         const std::string_view prefix = ends_with_off ? token.substr(0, token.size() - 3) : token;
@@ -232,6 +240,7 @@ std::vector<point3> parse_off_text(std::string_view text, const fs::path& file) 
                         "expected the vertex count after " + quote_token(token) + " but found " +
                             quote_token(counts_token));
             }
+            header_tokens.next(face_count_token);
         }
     }
     if (!vertex_count) {
@@ -246,7 +255,9 @@ std::vector<point3> parse_off_text(std::string_view text, const fs::path& file) 
             fail_at(file, lines.number(),
                     "expected the vertex count (\"vertices faces edges\") but found " + quote_token(token));
         }
+        count_tokens.next(face_count_token);
     }
+    const std::size_t counts_line = lines.number();
     if (*vertex_count == 0) fail(file, "contains no points (the OFF header declares 0 vertices)");
 
     std::vector<point3> points;
@@ -261,6 +272,31 @@ std::vector<point3> parse_off_text(std::string_view text, const fs::path& file) 
         }
         token_reader tokens(vertex_line);
         points.push_back(parse_xyz(tokens, file, lines.number(), "a vertex line"));
+    }
+    if (faces == off_faces::ignore) return points;
+
+    const std::optional<std::uint64_t> face_count = parse_count(face_count_token);
+    if (!face_count)
+        fail_at(file, counts_line, "expected the face count after the vertex count but found " + quote_token(face_count_token));
+    std::string_view face_line;
+    for (std::uint64_t f = 0; f < *face_count; ++f) {
+        if (!next_content_line(face_line))
+            fail(file, "the OFF header declares " + std::to_string(*face_count) + " faces but the file ends after " +
+                           std::to_string(f) + " (at line " + std::to_string(lines.number()) + ")");
+        token_reader tokens(face_line);
+        std::string_view size_token, index;
+        tokens.next(size_token);
+        const std::string face = "face " + std::to_string(f);
+        if (!size_token.empty() && size_token.front() == '-')
+            fail_at(file, lines.number(), face + " has a negative vertex count " + quote_token(size_token));
+        const std::optional<std::uint64_t> size = parse_count(size_token);
+        if (!size)
+            fail_at(file, lines.number(), "expected the vertex count of " + face + " but found " + quote_token(size_token));
+        std::uint64_t indices = 0;
+        while (indices < *size && tokens.next(index)) ++indices;
+        if (indices < *size)
+            fail_at(file, lines.number(), face + " declares " + std::to_string(*size) + " vertices but its line has " +
+                                              std::to_string(indices) + " indices (a face is one line)");
     }
     return points;
 }
@@ -284,11 +320,12 @@ std::vector<point3> load_ply(const fs::path& file) {
     using kernel = CGAL::Simple_cartesian<double>;
     std::error_code ec;
     if (!fs::is_regular_file(file, ec)) fail(file, "cannot open the file (missing or not a file)");
-    // Our own header check first: CGAL's reader silently yields (0, 0, 0) points when x, y or z
-    // is missing, gives no reason for a failure, and crashes on some headers (ply_header.hpp).
-    std::ifstream header(file, std::ios::binary);
-    if (!header) fail(file, "cannot open the file (missing or unreadable)");
-    const ply_header_check checked = check_ply_header(header, ply_use::points);
+    // Our own check first: CGAL's reader silently yields (0, 0, 0) points when x, y or z is
+    // missing, gives no reason for a failure, crashes on some headers, and allocates a list's
+    // declared count before reading it (ply_check.hpp).
+    std::ifstream in(file, std::ios::binary);
+    if (!in) fail(file, "cannot open the file (missing or unreadable)");
+    const ply_check_result checked = check_ply(in, ply_use::points);
     if (!checked.problem.empty()) {
         if (checked.line == 0) fail(file, checked.problem);
         fail_at(file, checked.line, checked.problem);
@@ -349,6 +386,10 @@ bool can_load_ply() noexcept {
 #else
     return false;
 #endif
+}
+
+void check_off_faces(const std::filesystem::path& file) {
+    parse_off_text(read_whole_file(file), file, off_faces::check);
 }
 
 std::vector<spatial::point<double, 3>> load_point_set(const std::filesystem::path& file) {

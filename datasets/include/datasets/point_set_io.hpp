@@ -33,6 +33,13 @@ std::vector<spatial::point<double, 3>> load_point_set(const std::filesystem::pat
 // Extensions load_point_set accepts in this build (lower case, with the dot).
 std::span<const std::string_view> supported_point_set_extensions() noexcept;
 
+// An OFF mesh checked before CGAL's OFF reader is given it (harness::load_triangle_mesh): the
+// vertices as load_point_set reads them, then each face's line: a non-negative vertex count and
+// that many indices on the line. CGAL's scanner converts a negative count to std::size_t
+// (undefined behaviour; found by fuzzing, docs/fuzzing.md). Throws load_error naming the file
+// and line. O(file size).
+void check_off_faces(const std::filesystem::path& file);
+
 // True when this build reads .ply files (it was configured with SPATIAL_WITH_CGAL=ON).
 bool can_load_ply() noexcept;
 

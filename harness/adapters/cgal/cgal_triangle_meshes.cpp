@@ -20,7 +20,8 @@
 #include <string>
 #include <vector>
 
-#include "datasets/ply_header.hpp"
+#include "datasets/ply_check.hpp"
+#include "datasets/point_set_io.hpp"
 #include "harness/mesh_loading.hpp"
 #include "harness/ray_adapters.hpp"
 
@@ -79,11 +80,18 @@ datasets::triangle_mesh load_triangle_mesh(const std::filesystem::path& file) {
     if (std::filesystem::is_directory(file, ec)) fail(file, "is a directory, not a mesh file");
     if (!std::ifstream(file, std::ios::binary)) fail(file, "cannot open the file (missing or unreadable)");
     const std::string ext = lower_extension(file);
-    if (ext == ".ply") {  // CGAL's PLY reader crashes on some headers (datasets/ply_header.hpp)
-        std::ifstream header(file, std::ios::binary);
-        const auto checked = datasets::check_ply_header(header, datasets::ply_use::mesh);
+    if (ext == ".ply") {  // CGAL's PLY reader crashes on some headers, trusts list counts (datasets/ply_check.hpp)
+        std::ifstream in(file, std::ios::binary);
+        const auto checked = datasets::check_ply(in, datasets::ply_use::mesh);
         if (!checked.problem.empty())
             fail(file, (checked.line ? "line " + std::to_string(checked.line) + ": " : std::string()) + checked.problem);
+    }
+    if (ext == ".off") {  // CGAL's OFF scanner takes a negative face size for a huge one (point_set_io.hpp)
+        try {
+            datasets::check_off_faces(file);
+        } catch (const datasets::load_error& e) {
+            throw mesh_load_error(e.what());  // it names the file already
+        }
     }
 
     std::vector<kernel::Point_3> points;

@@ -483,12 +483,8 @@ private:
                     h[j][k] = sh / a[k];
                 }
             }
-            // A NaN bound (a frame so small that 1/a overflowed) must not be dropped by
-            // std::max, which would take it for 0 and let this candidate win as the smallest
-            // (found by fuzzing, docs/fuzzing.md): the candidate is then empty, as on overflow.
-            const double q = detail_ellipsoid::max_quadratic_over_ball<D>(g, h);
-            if (std::isnan(q)) return empty();
-            s = std::max(s, q);
+            // Infinite when g or h overflowed (max_quadratic_over_ball): empty below.
+            s = std::max(s, detail_ellipsoid::max_quadratic_over_ball<D>(g, h));
         }
         const double factor = std::sqrt(s) * (1 + 8 * std::numeric_limits<double>::epsilon());
         for (std::size_t k = 0; k < D; ++k) {

@@ -82,8 +82,17 @@ void one_sided_jacobi(std::size_t n, std::array<std::array<double, N>, N>& g, st
 //   max <= phi(nu) = nu + |g|^2 + sum_k mu_k^2 gamma_k^2 / (nu - mu_k^2),
 // with H = U diag(mu) V^T and gamma = U^T g; phi is convex, minimised by golden section
 // over (|H|^2, |H|^2 + |H| |g|] (phi there is <= (|H| + |g|)^2). Relative rounding margin.
+// An infinite or NaN entry (a frame so small that dividing by its semi-axes overflowed) has no
+// finite bound: +infinity, which the caller treats as overflow. The SVD of such a matrix is NaN,
+// and std::max(0, NaN) is 0: the bound came out as |g|^2, tiny, and the merged ellipsoid missed
+// the far one (found by fuzzing, docs/fuzzing.md).
 template <std::size_t D>
 double max_quadratic_over_ball(const vec<D>& g, std::array<std::array<double, D>, D> h) {
+    for (std::size_t i = 0; i < D; ++i) {
+        if (!std::isfinite(g[i])) return std::numeric_limits<double>::infinity();
+        for (std::size_t j = 0; j < D; ++j)
+            if (!std::isfinite(h[i][j])) return std::numeric_limits<double>::infinity();
+    }
     std::array<double, D> mu;
     std::array<std::array<double, D>, D> v;
     one_sided_jacobi<D, false>(D, h, mu, v);
