@@ -1,9 +1,10 @@
 #!/usr/bin/env bash
-# The test job: install dependencies, fetch the real data, then two builds — a Release build
+# The test job: install dependencies, fetch the real data, then three builds — a Release build
 # of the harness and the peers' adapters with the tests that need them (smoke runs of every
 # suite, the real data, sharded runs on a single-node Slurm, interrupted runs, the paper on
 # smoke tables), and a Debug build of the library's own tests with
-# -fsanitize=address,undefined — plus the plotting script's and the paper's tests.
+# -fsanitize=address,undefined — plus the plotting script's and the paper's tests, and a short
+# run of every fuzz target (a third build: clang, libFuzzer, the same sanitizers).
 set -euo pipefail
 cd "$(dirname "$0")/.."
 
@@ -40,4 +41,10 @@ cmake --build --preset asan -j"$jobs"
 phase "sanitizer tests"
 ASAN_OPTIONS=detect_leaks=1:abort_on_error=1 UBSAN_OPTIONS=print_stacktrace=1:halt_on_error=1 \
   ctest --preset asan -j"$jobs"
+
+# Fuzzing (docs/fuzzing.md): the libFuzzer targets built with clang under address+undefined
+# sanitizers, each run on its seed corpus and then mutated for a short fixed budget (every seed
+# replayed is the regression part; the budget keeps CI under 30 minutes). Longer runs: by hand.
+phase "fuzz build and ${SPATIAL_CI_FUZZ_SECONDS:-20} s per target"
+FUZZ_BUILD_JOBS="$jobs" scripts/fuzz.sh "${SPATIAL_CI_FUZZ_SECONDS:-20}"
 phase "done"

@@ -567,6 +567,26 @@ TEST(merge_results, a_key_in_two_shards_is_an_error_naming_it) {
     }
 }
 
+// Repeated runs of the same cases (issue 20): every run's rows of a key, in the inputs' order,
+// sorted by key; the same run given twice is the error.
+TEST(merge_results, repeated_runs_keep_every_runs_rows_of_a_key) {
+    result_row first = row("kd_tree", 1000, 1, 1, 1), second = row("kd_tree", 1000, 2, 2, 2);
+    second.run_id = "run-b";
+    result_row other = row("bvh", 1000, 3, 3, 3);
+    other.run_id = "run-b";
+    const auto merged = merge_results({{first}, {second, other}}, {"a.csv", "b.csv"}, merge_kind::repeated_runs);
+    EXPECT_EQ(merged, (std::vector<result_row>{other, first, second}));
+    try {
+        merge_results({{first}, {first}}, {"a.csv", "b.csv"}, merge_kind::repeated_runs);
+        FAIL() << "no error";
+    } catch (const std::runtime_error& e) {
+        EXPECT_STREQ(e.what(),
+                     "key knn,kd_tree,,uniform,1000,3,double,knn,k=10,time_per_op is in a.csv (run run-a) and in "
+                     "b.csv (run run-a): one run given twice");
+    }
+    EXPECT_THROW(merge_results({{first}, {second}}, {"a.csv", "b.csv"}), std::runtime_error) << "shards by default";
+}
+
 TEST_F(tables, shard_folders_are_merged_table_by_table) {
     fs::create_directories(dir / "s1");
     fs::create_directories(dir / "s2");

@@ -4,7 +4,8 @@
 //   spatialbench scene FILE... [--structure NAME|all] [--steps N] [--results DIR] [--output scenes.csv] [--quiet]
 //   spatialbench list [--json] [--cases --suite SUITE [--shard i/N] ...]
 //   spatialbench compare A B [--output FILE]      (two tables or two result folders)
-//   spatialbench merge DIR... --results OUT        (the shards of a run, joined)
+//   spatialbench merge DIR... --results OUT        (the shards of a run, joined; --repeated-runs:
+//                                                   runs of the same cases, one table)
 // `run`, `list --cases` and `scene` take --shard i/N: a deterministic 1/N of the cases.
 // The suites come from harness/suite_table.hpp, the structures from structure_registry.hpp and
 // peer_registry.hpp: this file names none of them.
@@ -221,18 +222,22 @@ struct merge_command {
     CLI::App* app = nullptr;
     std::vector<std::filesystem::path> shards;
     std::filesystem::path results;
+    bool repeated_runs = false;
     bool quiet = false;
 
     void add_to(CLI::App& parent) {
         app = parent.add_subcommand("merge", "join the result folders of a sharded run (run --shard i/N) into one");
         app->add_option("DIR", shards, "the shards' result folders")->required()->check(CLI::ExistingDirectory);
         app->add_option("--results", results, "folder for the merged tables (tables there of the same names are replaced)")->required();
+        app->add_flag("--repeated-runs", repeated_runs,
+                      "the folders are runs of the same cases: keep every run's rows of a key (told apart by run_id)");
         app->add_flag("--quiet", quiet, "no summary");
     }
 
     int execute() {
         return guarded([&] {
-            const auto tables = harness::merge_result_folders(shards);
+            const auto tables = harness::merge_result_folders(
+                shards, repeated_runs ? harness::merge_kind::repeated_runs : harness::merge_kind::shards);
             std::filesystem::create_directories(results / "runs");
             // Sidecars first: a merged table never names a run whose sidecar is missing.
             for (const auto& dir : shards)

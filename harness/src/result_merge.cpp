@@ -2,9 +2,9 @@
 
 #include <algorithm>
 #include <cstddef>
+#include <map>
 #include <numeric>
 #include <stdexcept>
-#include <unordered_map>
 #include <utility>
 
 #include "harness/result_key.hpp"
@@ -19,21 +19,24 @@ std::vector<result_row> merge_results(const std::vector<std::vector<result_row>>
 }
 
 std::vector<result_row> merge_results(const std::vector<std::vector<result_row>>& shards,
-                                      const std::vector<std::string>& shard_names) {
+                                      const std::vector<std::string>& shard_names, merge_kind kind) {
     if (shard_names.size() != shards.size()) throw std::invalid_argument("merge_results: one name per shard");
     std::vector<result_row> rows;
     std::vector<result_key> keys;
-    // The shard that first held each key, and its row (for the message).
-    std::unordered_map<result_key, std::pair<std::size_t, const result_row*>> owner;
+    // The input that first held each key (for repeated runs: each key of each run; the run_id
+    // is empty for shards), and its row (for the message).
+    std::map<std::pair<result_key, std::string>, std::pair<std::size_t, const result_row*>> owner;
     auto where = [&](std::size_t shard, const result_row& r) { return shard_names[shard] + " (run " + r.run_id + ")"; };
     for (std::size_t s = 0; s < shards.size(); ++s)
         for (const result_row& r : shards[s]) {
             result_key key = key_of(r);
-            const auto [it, fresh] = owner.try_emplace(key, s, &r);
+            const auto [it, fresh] =
+                owner.try_emplace({key, kind == merge_kind::repeated_runs ? r.run_id : std::string()}, s, &r);
             if (!fresh && it->second.first != s)
                 throw std::runtime_error("key " + to_string(key) + " is in " +
                                          where(it->second.first, *it->second.second) + " and in " + where(s, r) +
-                                         ": shards must hold disjoint cases");
+                                         (kind == merge_kind::shards ? ": shards must hold disjoint cases"
+                                                                     : ": one run given twice"));
             rows.push_back(r);
             keys.push_back(std::move(key));
         }
@@ -46,7 +49,8 @@ std::vector<result_row> merge_results(const std::vector<std::vector<result_row>>
     return out;
 }
 
-std::map<std::string, std::vector<result_row>> merge_result_folders(const std::vector<std::filesystem::path>& dirs) {
+std::map<std::string, std::vector<result_row>> merge_result_folders(const std::vector<std::filesystem::path>& dirs,
+                                                                   merge_kind kind) {
     // Per table name: the shards that have it, and their paths (which the errors name).
     std::map<std::string, std::pair<std::vector<std::vector<result_row>>, std::vector<std::string>>> tables;
     for (const auto& dir : dirs)
@@ -56,7 +60,7 @@ std::map<std::string, std::vector<result_row>> merge_result_folders(const std::v
             paths.push_back((dir / name).string());
         }
     std::map<std::string, std::vector<result_row>> out;
-    for (const auto& [name, shards] : tables) out.emplace(name, merge_results(shards.first, shards.second));
+    for (const auto& [name, shards] : tables) out.emplace(name, merge_results(shards.first, shards.second, kind));
     return out;
 }
 
