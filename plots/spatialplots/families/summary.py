@@ -39,7 +39,7 @@ from ..figures import legend_below, save_atomically
 from ..io import note
 
 SUMMARY_FILE = "{suite}_summary.png"
-ROW_INCHES = 0.36
+ROW_INCHES = 0.28
 WIDTH_INCHES = 9.5
 VARIANT_MARKERS = "o^sDv<>P"
 JITTER = 0.22  # vertical spread of a row's points, in rows
@@ -286,9 +286,9 @@ def draw(ctx):
                    else "time / best time")
         axis.set_xlabel(f"{measure} in the same case (1 = the best; log scale)")
         title = textwrap.fill(f"{summary.suite}: {summary.what}", TITLE_CHARACTERS)
-        title += (f"\n{_cases_text(points)} (per structure in brackets); points: cases at "
-                  f"their largest n (hollow: a smaller n);\nblack bar: median; line: "
-                  f"min\u2013max; ratios of medians over repeated runs")
+        title += (f"\n{_cases_text(points)}, cases per structure in brackets; repeated runs "
+                  f"pooled by median\npoints: cases at their largest n (hollow: a smaller n); "
+                  f"black bar: median; line: min\u2013max")
         axis.set_title(title, fontsize="medium")
         figure.tight_layout()
         written.append(save_atomically(figure, os.path.join(ctx.out_dir, name), rows=used))
