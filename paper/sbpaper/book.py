@@ -51,6 +51,10 @@ class Book:
         a compiler): no rows, nothing to read back."""
         self._add(key, {"text": text, "operation": "fact"})
 
+    def runs(self, key, text, run_ids):
+        """A caption's list of runs: generated words, with the run ids in the provenance."""
+        self._add(key, {"text": text, "operation": "fact", "runs": list(run_ids)})
+
     def has(self, key):
         entry = self.entries.get(key)
         return entry is not None and entry["operation"] != "not_measured"

@@ -20,14 +20,17 @@ def write_flags(ctx):
     ctx.table("flags.tex", "\n".join(lines) + "\n")
 
 
-def generate(results_dir, out_dir):
+def generate(results_dir, out_dir, figure_runs=None):
+    """figure_runs: the plotting run's manifest ({figure: [run ids]}); by default
+    <out_dir>/figures/runs.json, where scripts/paper.sh draws the figures first."""
     os.makedirs(out_dir, exist_ok=True)
     tables = tables_module.read_tables(results_dir) if os.path.isdir(results_dir) else []
     ctx = Context(rows=Rows(tables), book=book_module.Book(), out_dir=out_dir,
                   registry=read_registry(results_dir), tables=tables)
     for section in SECTIONS:
         section.generate(ctx)
-    runs.generate(ctx, results_dir)
+    runs.generate(ctx, results_dir,
+                  figure_runs or os.path.join(out_dir, "figures", "runs.json"))
     ctx.book.write(out_dir)
     write_flags(ctx)
     return ctx
@@ -38,8 +41,11 @@ def main(argv=None):
     parser = argparse.ArgumentParser(description=__doc__)
     parser.add_argument("--results", default=os.path.join(os.path.dirname(paper), "results"))
     parser.add_argument("--out", default=os.path.join(paper, "generated"))
+    parser.add_argument("--figure-runs", default=None,
+                        help="the figures' run manifest (plot_results.py --runs-manifest); "
+                             "default: OUT/figures/runs.json if it exists")
     args = parser.parse_args(argv)
-    ctx = generate(args.results, args.out)
+    ctx = generate(args.results, args.out, args.figure_runs)
     missing = sum(1 for e in ctx.book.entries.values() if e["operation"] == "not_measured")
     print(f"generate: {len(ctx.book.entries)} values ({missing} not measured in this run), "
           f"suites measured: {', '.join(sorted(ctx.measured)) or 'none'} -> {args.out}")

@@ -23,7 +23,7 @@ from tests import support
 
 ARGUMENT_COMMANDS = ("R", "label", "ref", "eqref", "autoref", "cite", "input", "include",
                      "includegraphics", "usepackage", "documentclass", "url", "IfFileExists",
-                     "sbfigure", "sbtable", "sbif", "sbsuitemissing")
+                     "sbfigure", "sbtable", "sbif", "sbsuitemissing", "sbruns")
 _ARGUMENT = re.compile(r"\\(" + "|".join(ARGUMENT_COMMANDS) + r")\*?(\[[^\]]*\])?\{[^{}]*\}")
 _COMMENT = re.compile(r"(?<!\\)%.*$", re.MULTILINE)
 _PARAMETER = re.compile(r"#\d|(?<=\\newcommand)(\\\w+|\{\\\w+\})\[\d\]")
@@ -31,6 +31,9 @@ _LENGTH = re.compile(r"\d+(\.\d+)?\s*(pt|em|ex|cm|mm|in|bp|\\linewidth|\\textwid
                      r"\\textheight|\\columnwidth)")
 NOTATION = re.compile(r"\(1\s*\+\s*\\varepsilon\)")
 _KEY = re.compile(r"\\R\{([^{}]*)\}")
+# \sbruns{figure}{suite} (preamble.tex): runs.figure.<figure> when the figures were drawn, else
+# runs.suite.<suite>, which must then be generated.
+_RUNS = re.compile(r"\\sbruns\{([^{}]*)\}\{([^{}]*)\}")
 
 
 def stray_digits(text):
@@ -73,8 +76,13 @@ class PaperLintTest(unittest.TestCase):
                                                 if f.endswith(".tex") and f != "values.tex"]
         for path in sources:
             with open(path, encoding="utf-8") as handle:
-                for key in _KEY.findall(_COMMENT.sub("", handle.read())):
-                    used.setdefault(key, os.path.basename(path))
+                text = _COMMENT.sub("", handle.read())
+                for key in _KEY.findall(text):
+                    if "#" not in key:  # a macro's parameter (preamble.tex), not a key
+                        used.setdefault(key, os.path.basename(path))
+                for _, suite in _RUNS.findall(text):
+                    if "#" not in suite:
+                        used.setdefault(f"runs.suite.{suite}", os.path.basename(path))
         return used
 
     def test_every_key_is_generated(self):

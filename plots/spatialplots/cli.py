@@ -2,10 +2,11 @@
 the figure families and run each of them."""
 
 import argparse
+import json
 import os
 
 from . import family as families_module
-from . import formats
+from . import figures, formats
 from .core import label_of, series_label
 from .io import REGISTRY_FILE, RegistryError, note, read_registry, read_results, table_names
 from .style import StyleBook
@@ -30,12 +31,16 @@ def main(argv=None, repo=None, families_package="spatialplots.families"):
                              "(vector, for print) or both (default: %(default)s)")
     parser.add_argument("--families", default="",
                         help="comma-separated figure families to draw (default: all)")
+    parser.add_argument("--runs-manifest", default="",
+                        help="also write this JSON file: {figure name: [run ids of its rows]} "
+                             "(the paper's captions read it)")
     args = parser.parse_args(argv)
     try:
         formats.choose([f.strip() for f in args.formats.split(",") if f.strip()])
     except ValueError as error:
         parser.error(str(error))
 
+    figures.forget_runs()
     names = table_names(args.results)
     if names is None:
         return 0
@@ -59,9 +64,24 @@ def main(argv=None, repo=None, families_package="spatialplots.families"):
         family_rows = families_module.rows_for(family, rows, families)
         if family.suites is not None and not family_rows:
             continue
+        figures.family_rows(row for row in family_rows
+                            if row.validated or args.include_unvalidated)
         context = families_module.Context(rows=family_rows, registry=registry, styles=styles,
                                           out_dir=args.out,
                                           include_unvalidated=args.include_unvalidated)
         written += family.draw(context) or []
+    if args.runs_manifest:
+        write_manifest(args.runs_manifest, figures.figure_runs())
     note(f"{len(written)} figure(s) written to {args.out} as {', '.join(formats.chosen())}")
     return 0
+
+
+def write_manifest(path, runs):
+    """{figure name: [run ids]} as JSON, written to a temporary file renamed into place."""
+    directory = os.path.dirname(os.path.abspath(path))
+    os.makedirs(directory, exist_ok=True)
+    temp = path + ".tmp"
+    with open(temp, "w", encoding="utf-8") as handle:
+        json.dump(runs, handle, indent=1, sort_keys=True)
+        handle.write("\n")
+    os.replace(temp, path)

@@ -1,8 +1,16 @@
-"""Shared drawing helpers: figure grids, legends, atomic PNG writes, and the panels several
-figure families draw (complexity curves, accuracy/time trade-offs with a Pareto front)."""
+"""Shared drawing helpers: figure grids, legends, atomic PNG writes, the run caption every
+figure carries, and the panels several figure families draw (complexity curves, accuracy/time
+trade-offs with a Pareto front).
+
+Run captions.  save_atomically adds a footer strip to every figure naming the run(s) its rows
+come from (`run: <id>`; up to RUNS_LISTED ids listed; more as `<count> runs: <first> ... <last>`,
+ordered by the ids' timestamps).  A family passes the rows it drew (`rows=`); without them the
+rows of the family being drawn are used (the command line sets them with family_rows()).  The
+run ids of every figure written are also kept (figure_runs()) for the paper's captions."""
 
 import math
 import os
+import re
 import tempfile
 
 import matplotlib.pyplot as plt
@@ -21,6 +29,14 @@ LEGEND_COLUMNS = 2
 
 _UMASK = os.umask(0)
 os.umask(_UMASK)
+
+RUNS_LISTED = 3  # a caption lists this many run ids; more are summarised as count, first, last
+FOOTER_INCHES = 0.26
+FOOTER_FONT_SIZE = 7
+FOOTER_COLOUR = "dimgrey"
+_STAMP = re.compile(r"\d{8}T\d{6}Z")  # the UTC timestamp inside a run id
+_family_rows = []  # the rows of the family being drawn: the caption's default
+_figure_runs = {}  # figure file name (no extension) -> run ids, of every figure written
 
 
 # -------------------------------------------------------------------------------- figures
@@ -59,11 +75,70 @@ def finish_figure(figure, title):
     figure.tight_layout(rect=(0, 0, 1, top))
 
 
-def save_atomically(figure, path):
+# -------------------------------------------------------------------------------- run captions
+
+def run_ids(rows):
+    """The distinct run ids of rows (Row objects or run-id strings), oldest first (by the
+    timestamp in the id, then by the id)."""
+    ids = {row if isinstance(row, str) else row.run_id for row in rows} - {""}
+
+    def when(run_id):
+        found = _STAMP.search(run_id)
+        return (found.group(0) if found else "", run_id)
+    return sorted(ids, key=when)
+
+
+def runs_caption(ids):
+    """The footer text naming the runs: 'run: a', 'runs: a, b', or '5 runs: a ... e'."""
+    ids = list(ids)
+    if not ids:
+        return "runs: not recorded"
+    if len(ids) <= RUNS_LISTED:
+        return ("run: " if len(ids) == 1 else "runs: ") + ", ".join(ids)
+    return f"{len(ids)} runs: {ids[0]} \u2026 {ids[-1]}"
+
+
+def family_rows(rows):
+    """Set the rows a caption names when a family saves a figure without rows=."""
+    _family_rows[:] = list(rows)
+
+
+def forget_runs():
+    """Start a new record of figure runs (one per command-line run)."""
+    _figure_runs.clear()
+
+
+def figure_runs():
+    """{figure name without extension: [run ids]} of every figure written so far."""
+    return {name: list(ids) for name, ids in _figure_runs.items()}
+
+
+def add_footer(figure, text):
+    """Grow the figure by a strip at the bottom and write text in it; the axes and figure
+    texts keep their size and place (measured from the top)."""
+    height = figure.get_figheight()
+    grown = height + FOOTER_INCHES
+    scale, lift = height / grown, FOOTER_INCHES / grown
+    for axis in figure.axes:
+        box = axis.get_position()
+        axis.set_position([box.x0, box.y0 * scale + lift, box.width, box.height * scale])
+    for label in figure.texts:
+        x, y = label.get_position()
+        label.set_position((x, y * scale + lift))
+    figure.set_figheight(grown)
+    figure.text(0.006, 0.45 * FOOTER_INCHES / grown, text, ha="left", va="center",
+                fontsize=FOOTER_FONT_SIZE, color=FOOTER_COLOUR)
+
+
+def save_atomically(figure, path, rows=None):
     """Write the figure in every chosen format (formats.py: path's .png, and/or a vector .pdf
-    beside it), each to a temp file in the same directory renamed over the target.  Returns
-    the first file written."""
+    beside it), each to a temp file in the same directory renamed over the target, with a
+    footer naming the runs of `rows` (default: the family's rows, family_rows()).  Returns the
+    first file written."""
+    ids = run_ids(_family_rows if rows is None else rows)
+    _figure_runs[os.path.splitext(os.path.basename(path))[0]] = ids
     try:
+        add_footer(figure, runs_caption(ids))
         written = [_write_one(figure, target) for target in formats.paths(path)]
     finally:
         plt.close(figure)

@@ -2,7 +2,9 @@
 
 A table has the columns
     suite,structure,bv,workload,n,dim,scalar,operation,params,metric,value,unit,validated,run_id
-(extra columns after them are ignored; a `bv` of "-" means none, like an empty one).  Files that
+(extra columns after them are ignored, except `check`, which is kept when present: a row whose
+`check` is `none` was covered by no check and counts as unvalidated, whatever its `validated`
+says; a `bv` of "-" means none, like an empty one).  Files that
 are empty, lack these columns or hold malformed rows are skipped with a note on stderr; so are
 rows whose suite or structure the registry does not list.  The registry is required: without a
 usable one read_registry raises RegistryError naming the file.
@@ -21,7 +23,11 @@ REQUIRED_COLUMNS = ("suite", "structure", "bv", "workload", "n", "dim", "scalar"
                     "params", "metric", "value", "unit", "validated", "run_id")
 REGISTRY_FILE = "registry.json"
 
-Row = collections.namedtuple("Row", REQUIRED_COLUMNS)
+OPTIONAL_COLUMNS = ("check",)  # kept when the table has them, "" otherwise
+UNCHECKED = "none"  # the check column's word for "no check covered this figure"
+
+Row = collections.namedtuple("Row", REQUIRED_COLUMNS + OPTIONAL_COLUMNS,
+                             defaults=("",) * len(OPTIONAL_COLUMNS))
 
 
 def note(message):
@@ -71,13 +77,14 @@ def read_csv_file(path):
         return []
     index = {name: header.index(name) for name in REQUIRED_COLUMNS}
     last_index = max(index.values())
+    index.update({name: header.index(name) for name in OPTIONAL_COLUMNS if name in header})
 
     rows, bad = [], 0
     for line in lines[1:]:
         if len(line) <= last_index:
             bad += 1
             continue
-        cells = {name: line[i].strip() for name, i in index.items()}
+        cells = {name: line[i].strip() if i < len(line) else "" for name, i in index.items()}
         if cells["suite"] == "suite":  # a repeated header from concatenated files
             continue
         try:
@@ -90,7 +97,8 @@ def read_csv_file(path):
         if not math.isfinite(cells["value"]):
             bad += 1
             continue
-        cells["validated"] = _parse_bool(cells["validated"])
+        cells["validated"] = (_parse_bool(cells["validated"])
+                              and cells.get("check", "") != UNCHECKED)
         if cells["bv"] == "-":  # the collide and scenes suites write "-" for "no volume type"
             cells["bv"] = ""
         rows.append(Row(**cells))

@@ -172,7 +172,8 @@ class CollidePlotTest(support.ResultsTestCase):
         code, stdout, stderr = self.plot()
         self.assertEqual(code, 0, stderr)
         # Only the dedicated figures: no generic complexity curves of these suites.
-        self.assertEqual(pngs(self.out), sorted(COLLIDE_FILES + ("scenes.png",)))
+        self.assertEqual(pngs(self.out), sorted(COLLIDE_FILES + ("scenes.png", "collide_summary.png",
+                                                                  "scenes_summary.png")))
         for name in pngs(self.out):
             self.assert_png(name)
             self.assertIn(name, stdout)
@@ -182,7 +183,7 @@ class CollidePlotTest(support.ResultsTestCase):
         write_csv(self.results, "collide.csv", collide_boxes_rows())
         code, _, stderr = self.plot()
         self.assertEqual(code, 0, stderr)
-        self.assertEqual(pngs(self.out), ["collide_boxes.png"])
+        self.assertEqual(pngs(self.out), ["collide_boxes.png", "collide_summary.png"])
         for name in COLLIDE_FILES[1:]:
             self.assertIn(f"skip {name}", stderr)
 
@@ -192,7 +193,7 @@ class CollidePlotTest(support.ResultsTestCase):
         code, _, stderr = self.plot()
         self.assertEqual(code, 0, stderr)
         self.assertEqual(pngs(self.out), ["collide_boxes.png", "collide_moving.png",
-                                          "collide_refit_decay.png"])
+                                          "collide_refit_decay.png", "collide_summary.png"])
         self.assertIn("no speed-up panel", stderr)
         self.assertIn("skip collide_bv_tradeoff.png", stderr)
 

@@ -87,7 +87,8 @@ class ComplexityFiguresTest(support.ResultsTestCase):
         write_csv(self.results, "knn.csv", rows)
         code, stdout, stderr = self.plot()
         self.assertEqual(code, 0, stderr)
-        self.assertEqual(support.pngs(self.out), ["knn_build_3d_double.png", "knn_knn_k10_3d_double.png"])
+        self.assertEqual(support.pngs(self.out), ["knn_build_3d_double.png", "knn_knn_k10_3d_double.png",
+                                                 "knn_summary.png"])
         self.assertIn("only one n", stderr)
         self.assertIn("knn_knn_k10_3d_double.png", stdout)
 

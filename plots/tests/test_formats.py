@@ -24,7 +24,8 @@ class FormatsTest(support.ResultsTestCase):
         write_csv(self.results, "scenes.csv", scenes_rows())
         code, _, stderr = self.plot("--formats", "png,pdf")
         self.assertEqual(code, 0, stderr)
-        self.assertEqual(self.files(), ["scenes.pdf", "scenes.png"])
+        self.assertEqual(self.files(), ["scenes.pdf", "scenes.png", "scenes_summary.pdf",
+                                        "scenes_summary.png"])
         with open(os.path.join(self.out, "scenes.pdf"), "rb") as handle:
             self.assertEqual(handle.read(5), b"%PDF-")
 

@@ -34,7 +34,7 @@ class ScenesTest(support.ResultsTestCase):
         self.assertAlmostEqual(rates[("queries", 100000)][("collision_grid", PARAMS, True)], 1000.0 / 23.0)
         code, _, stderr = self.plot()
         self.assertEqual(code, 0, stderr)
-        self.assertEqual(pngs(self.out), ["scenes.png"])
+        self.assertEqual(pngs(self.out), ["scenes.png", "scenes_summary.png"])
 
     def test_once_stages_come_from_the_registry(self):
         data = support.registry_dict([dict(SCENES, once_stages=[])], REGISTRY["structures"])
@@ -49,4 +49,4 @@ class ScenesTest(support.ResultsTestCase):
         code, _, stderr = self.plot()
         self.assertEqual(code, 0, stderr)
         self.assertIn("skip scenes.png", stderr)
-        self.assertEqual(pngs(self.out), [])
+        self.assertEqual(pngs(self.out), ["scenes_summary.png"])  # steps/s rows are there

@@ -99,4 +99,4 @@ def draw(ctx):
     figure.suptitle("bv: accuracy against time (times and tightness: geometric means over "
                     "shapes; lower-left is better; stars = Pareto front)")
     figure.tight_layout()
-    return [save_atomically(figure, os.path.join(ctx.out_dir, BV_TRADEOFF_FILE))]
+    return [save_atomically(figure, os.path.join(ctx.out_dir, BV_TRADEOFF_FILE), rows=bv_rows)]

@@ -144,7 +144,8 @@ def plot_collide_boxes(ctx, suite, styles):
         legend_below(right)
     finish_figure(figure, "collide: static self-intersection of n random boxes "
                           "(build + all pairs, median of repetitions)")
-    return [save_atomically(figure, os.path.join(ctx.out_dir, BOXES_FILE))]
+    return [save_atomically(figure, os.path.join(ctx.out_dir, BOXES_FILE),
+                            rows=workload_rows(ctx, "boxes"))]
 
 
 def collide_moving_bars(rows, include_unvalidated):
@@ -216,7 +217,8 @@ def plot_collide_moving(ctx, suite, styles):
     axis.grid(True, axis="y", which="both", alpha=0.3)
     legend_below(axis, bbox_to_anchor=(0.5, -0.14), ncol=4)
     finish_figure(figure, "collide: steps per second on moving boxes (higher is better)")
-    return [save_atomically(figure, os.path.join(ctx.out_dir, MOVING_FILE))]
+    return [save_atomically(figure, os.path.join(ctx.out_dir, MOVING_FILE),
+                            rows=workload_rows(ctx, "moving_boxes", stepped=False))]
 
 
 def refit_decay_series(rows, include_unvalidated):
@@ -279,7 +281,8 @@ def plot_collide_refit_decay(ctx, styles):
             legend_below(axis)
     finish_figure(figure, "collide: BVH update strategies on moving boxes, step by step "
                           "(a refitted tree ages: its quality ratio grows)")
-    return [save_atomically(figure, os.path.join(ctx.out_dir, DECAY_FILE))]
+    return [save_atomically(figure, os.path.join(ctx.out_dir, DECAY_FILE),
+                            rows=workload_rows(ctx, "moving_boxes", stepped=True))]
 
 
 def collide_bv_points(rows, registry, include_unvalidated):
@@ -335,7 +338,16 @@ def plot_collide_bv_tradeoff(ctx):
     figure.suptitle("collide: what bounding-volume accuracy costs in time (triangle soup self-"
                     "intersection; one point per BVH volume type; lower-left is better)")
     figure.tight_layout(rect=(0, 0, 1, 1.0 - 0.5 / figure.get_figheight()))
-    return [save_atomically(figure, os.path.join(ctx.out_dir, BV_FILE))]
+    return [save_atomically(figure, os.path.join(ctx.out_dir, BV_FILE),
+                            rows=workload_rows(ctx, "triangles"))]
+
+
+def workload_rows(ctx, workload, stepped=None):
+    """The rows a figure of one workload draws (its run caption): validated ones unless
+    unvalidated rows are drawn; stepped=True/False keeps only the rows with/without step=K."""
+    return [row for row in ctx.rows if row.workload == workload
+            and (row.validated or ctx.include_unvalidated)
+            and (stepped is None or (STEP_PARAM in dict(parse_params(row.params))) == stepped)]
 
 
 @figure_family("collide", suites=(SUITE,), exclusive=True, order=70)

@@ -99,5 +99,6 @@ def draw(ctx):
         title = f"{suite}: " + (f"{bv} " if bv else "") + operation + (f" ({params})" if params else "")
         title += f" \u2014 {METRIC_LABELS.get(metric, metric)}, {dim}D, {scalar}"
         finish_figure(figure, title)
-        written.append(save_atomically(figure, os.path.join(ctx.out_dir, name)))
+        drawn = [row for row in figure_rows if row.workload in kept]
+        written.append(save_atomically(figure, os.path.join(ctx.out_dir, name), rows=drawn))
     return written

@@ -63,7 +63,9 @@ def draw(ctx):
             draw_ratio_panel(axis, key, panels[key], ctx.styles, baseline)
         finish_figure(figure, f"{suite}: {baseline} time / peer time "
                               f"(below 1: {baseline} faster)")
-        written.append(save_atomically(figure, os.path.join(ctx.out_dir, f"{slug(suite)}_ratios.png")))
+        written.append(save_atomically(
+            figure, os.path.join(ctx.out_dir, f"{slug(suite)}_ratios.png"),
+            rows=[row for row in ratio_rows if row.suite == suite]))
     return written
 
 

@@ -76,4 +76,6 @@ def draw(ctx):
         axis.set_ylabel(f"time per ray ({unit})")
         legend_below(axis)
     finish_figure(figure, "raycast: time per ray against mesh size (median of repetitions)")
-    return [save_atomically(figure, os.path.join(ctx.out_dir, RAYCAST_FILE))]
+    drawn = [row for row in ctx.rows if row.operation == "ray" and row.metric == "time_per_op"
+             and row.value > 0 and (row.validated or ctx.include_unvalidated)]
+    return [save_atomically(figure, os.path.join(ctx.out_dir, RAYCAST_FILE), rows=drawn)]

@@ -80,7 +80,9 @@ def draw(ctx):
             note(f"skip recall vs time {suite} {workload}: mixed time units")
             continue
         curves = collections.defaultdict(list)
+        drawn = []
         for label, others, eps_value, eps, time_rows, recall in figures[key][n]:
+            drawn += time_rows
             time = median([convert(row.value, row.unit, unit) for row in time_rows])
             validated = all(row.validated for row in time_rows)
             curves[(label, others, validated)].append((eps_value, eps, time, recall))
@@ -111,5 +113,5 @@ def draw(ctx):
                     title_fontsize="small")
         figure.tight_layout()
         name = f"{slug(suite)}_recall_vs_time_{slug(workload)}_{dim}d_{slug(scalar)}.png"
-        written.append(save_atomically(figure, os.path.join(ctx.out_dir, name)))
+        written.append(save_atomically(figure, os.path.join(ctx.out_dir, name), rows=drawn))
     return written
