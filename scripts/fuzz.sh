@@ -57,9 +57,12 @@ for entry in "${targets[@]}"; do
   [[ -f "fuzz/dict/$name.dict" ]] && dict=(-dict="fuzz/dict/$name.dict")
   phase "fuzz $name for $seconds s"
   status=0
-  # -timeout: seconds per input before it counts as a hang; -rss_limit_mb: libFuzzer's default,
+  # -timeout: seconds per input before it counts as a hang: 120, because a legitimate input can
+  # take half a minute under the sanitizers on a loaded machine (a hashed_grid object spanning
+  # millions of cells, up to its documented 2^24, is listed in, and checked in, every one of
+  # them; docs/fuzzing.md); -rss_limit_mb: libFuzzer's default,
   # stated. UBSan reports abort (the preset's -fno-sanitize-recover); leaks are checked (ASan).
-  "$binary" -max_total_time="$seconds" -max_len="$max_len" -len_control="$len_control" -timeout=25 -rss_limit_mb=2048 \
+  "$binary" -max_total_time="$seconds" -max_len="$max_len" -len_control="$len_control" -timeout=120 -rss_limit_mb=2048 \
     -print_final_stats=1 -artifact_prefix="$artifacts" "${dict[@]}" "$corpus" > "$work/$name.log" 2>&1 || status=$?
   runs="$(sed -n 's/^stat::number_of_executed_units: *//p' "$work/$name.log" | tail -n 1)"
   found="$(ls "$artifacts" 2>/dev/null || true)"

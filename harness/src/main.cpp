@@ -85,7 +85,7 @@ struct run_command {
     void add_to(CLI::App& parent, const std::vector<std::string>& runnable, const std::string& suite_help) {
         app = parent.add_subcommand("run", "run a benchmark suite and write results/<suite>.csv");
         app->add_option("--suite", suite, suite_help)->check(CLI::IsMember(runnable));
-        app->add_option("--preset", opt.preset, "size preset: smoke (seconds), quick (<15 min), full (1e7)")
+        app->add_option("--preset", opt.preset, "size preset: smoke (seconds), quick (up to 1e6; each run's wall time: results/provenance.md), full (1e7)")
             ->check(CLI::IsMember({"smoke", "quick", "full"}));
         app->add_option("--results", opt.results_dir, "directory for CSV tables and run sidecars");
         app->add_option("--output", output_name, "CSV file name inside --results (default <suite>.csv)");
