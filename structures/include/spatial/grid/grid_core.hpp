@@ -253,8 +253,11 @@ public:
                 B.hi[i] = cell_of(b + ray_clip_params<T>::pad(thickness, b, o[i]), i);
             }
             B = B.clipped(R);
+            // Every step counts against the budget, an empty one too: where the cell planes
+            // round together (coordinates near 1e30 with small cells) t_next stops advancing and
+            // the walk would step through empty cells forever (found by the soak, issue 19).
+            visited += B.empty() ? 1 : static_cast<double>(B.count());
             if (!B.empty()) {
-                visited += B.count();
                 for_each_cell(B, [&](const key& cell) {
                     if (have_prev && prev.contains(cell)) return;
                     const std::vector<slot_index>* list = cells_.find(cell);
