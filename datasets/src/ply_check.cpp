@@ -190,6 +190,22 @@ bool is_signed(std::string_view type) {
     return type == "char" || type == "int8" || type == "short" || type == "int16" || type == "int" || type == "int32";
 }
 
+// At the end of the file: no line to name (the row says where).
+ply_check_result file_ends_in(const element& e, std::uint64_t row, const property& p) {
+    return problem_at(0, "the file ends in " + place(e, row, p) + " (element " + e.name + " declares " +
+                             std::to_string(e.count) + " rows)");
+}
+
+// Every value of an element, row by row: `value(row, property)` reads one (binary or ASCII)
+// and returns a problem or nothing.
+template <class ReadValue>
+ply_check_result each_value(const element& e, ReadValue&& value) {
+    for (std::uint64_t row = 0; row < e.count; ++row)
+        for (const auto& p : e.properties)
+            if (auto r = value(row, p); !r.problem.empty()) return r;
+    return {};
+}
+
 // A binary body: rows of fixed-size scalars and lists (a count, then that many items). Skipped
 // with istream::ignore, so the stream's buffer serves it and nothing is stored.
 class binary_body {
@@ -220,9 +236,8 @@ public:
                 skip(e.count * row_bytes);
                 continue;
             }
-            for (std::uint64_t row = 0; row < e.count; ++row)
-                for (const auto& p : e.properties)
-                    if (auto r = property_value(e, row, p); !r.problem.empty()) return r;
+            const auto value = [&](std::uint64_t row, const property& p) { return property_value(e, row, p); };
+            if (auto r = each_value(e, value); !r.problem.empty()) return r;
         }
         return {};
     }
@@ -231,12 +246,12 @@ private:
     ply_check_result property_value(const element& e, std::uint64_t row, const property& p) {
         if (p.type != "list") {
             const std::size_t n = byte_size(p.type);
-            if (n > left_) return truncated(e, row, p);
+            if (n > left_) return file_ends_in(e, row, p);
             skip(n);
             return {};
         }
         const std::size_t count_bytes = byte_size(p.count_type), item_bytes = byte_size(p.item_type);
-        if (count_bytes > left_) return truncated(e, row, p);
+        if (count_bytes > left_) return file_ends_in(e, row, p);
         std::array<unsigned char, 4> raw{};
         in_.read(reinterpret_cast<char*>(raw.data()), static_cast<std::streamsize>(count_bytes));
         left_ -= count_bytes;
@@ -251,11 +266,6 @@ private:
                                      " bytes follow");
         skip(count * item_bytes);
         return {};
-    }
-
-    ply_check_result truncated(const element& e, std::uint64_t row, const property& p) const {
-        return problem_at(0, "the file ends in " + place(e, row, p) + " (element " + e.name + " declares " +
-                                 std::to_string(e.count) + " rows)");
     }
 
     void skip(std::uint64_t bytes) {
@@ -280,16 +290,15 @@ public:
     ply_check_result walk(const std::vector<element>& elements) {
         for (const auto& e : elements) {
             if (e.properties.empty()) continue;
-            for (std::uint64_t row = 0; row < e.count; ++row)
-                for (const auto& p : e.properties)
-                    if (auto r = property_value(e, row, p); !r.problem.empty()) return r;
+            const auto value = [&](std::uint64_t row, const property& p) { return property_value(e, row, p); };
+            if (auto r = each_value(e, value); !r.problem.empty()) return r;
         }
         return {};
     }
 
 private:
     ply_check_result property_value(const element& e, std::uint64_t row, const property& p) {
-        if (!next_word()) return truncated(e, row, p);
+        if (!next_word()) return file_ends_in(e, row, p);
         if (p.type != "list") return {};
         std::int64_t count = 0;
         const auto [end, ec] = std::from_chars(word_.data(), word_.data() + word_.size(), count);
@@ -302,12 +311,6 @@ private:
                 return problem_at(count_line, place(e, row, p) + ": the list declares " + std::to_string(count) +
                                                   " items but the file ends after " + std::to_string(i));
         return {};
-    }
-
-    // At the end of the file: no line to name (the row says where).
-    ply_check_result truncated(const element& e, std::uint64_t row, const property& p) const {
-        return problem_at(0, "the file ends in " + place(e, row, p) + " (element " + e.name + " declares " +
-                                     std::to_string(e.count) + " rows)");
     }
 
     // The next whitespace-separated word into word_ (kept to 64 characters: a value longer than
