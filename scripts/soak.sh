@@ -2,10 +2,11 @@
 # Soak (docs/fuzzing.md, "Soak"; issue 19, part 5): configure and build spatial_soak in an
 # optimised build of its own (build/soak: -O2 with assertions on, no sanitizers), then run it.
 # Every argument goes to spatial_soak: by default 1e7 operations on each of the 24 structures
-# of the full matrix (hours). Exits with spatial_soak's status: 1 if any answer differed from
+# of the full matrix (days at the rates in docs/fuzzing.md; --seconds bounds each). Exits with spatial_soak's status: 1 if any answer differed from
 # brute_force; the failing sequences are then in soak_findings/ (replay: fuzz_operations FILE).
 #
-#   scripts/soak.sh [--structure NAME]... [--operations N] [--seed S] [--findings DIR] [--list]
+#   scripts/soak.sh [--structure NAME]... [--operations N] [--seconds T] [--seed S] [--findings DIR] [--list]
+#   scripts/soak.sh --replay FILE    one failing sequence again (SPATIAL_FUZZ_TRACE=1: every operation)
 #   SOAK_BUILD_JOBS=1   build jobs (default: all cores)
 set -euo pipefail
 cd "$(dirname "$0")/.."

@@ -6,7 +6,7 @@
 // counted as a mismatch, its sequence written to a file the fuzz target replays, and the next
 // sequence starts; the exit status is 1 if there was any.
 //
-//   spatial_soak [--structure NAME]... [--operations N] [--seed S] [--findings DIR] [--list]
+//   spatial_soak [--structure NAME]... [--operations N] [--seconds T] [--seed S] [--findings DIR] [--list]
 //   spatial_soak --replay FILE     one written sequence again (SPATIAL_FUZZ_TRACE=1: every operation)
 
 #include <algorithm>
@@ -49,6 +49,7 @@ struct settings {
     std::filesystem::path replay;  // a sequence file to run once instead of soaking
     std::vector<std::string> structures;  // empty: all
     std::uint64_t operations = 10'000'000;
+    std::uint64_t seconds = 0;  // per structure; 0: no limit (the operations decide)
     std::uint64_t seed = 0;
     std::filesystem::path findings = "soak_findings";
 };
@@ -56,9 +57,10 @@ struct settings {
 [[noreturn]] void usage(const std::string& problem) {
     std::fprintf(stderr,
                  "spatial_soak: %s\n"
-                 "usage: spatial_soak [--structure NAME]... [--operations N] [--seed S] [--findings DIR] [--list]\n"
+                 "usage: spatial_soak [--structure NAME]... [--operations N] [--seconds T] [--seed S] [--findings DIR] [--list]\n"
                  "  --structure  a structure of --list (repeatable; default: all)\n"
                  "  --operations operations per structure (default 1e7; 1e7 and 10000000 both read)\n"
+                 "  --seconds    also stop a structure after its first sequence that ends past T seconds (default: no limit)\n"
                  "  --seed       the seed of every sequence (default: random, printed)\n"
                  "  --findings   where failing sequences are written (default soak_findings/)\n"
                  "  --replay     run one written sequence (SPATIAL_FUZZ_TRACE=1 prints every operation)\n",
@@ -94,6 +96,7 @@ settings parse(int argc, char** argv) {
         if (flag == "--structure") s.structures.push_back(value);
         else if (flag == "--operations") s.operations = count_argument(flag, value);
         else if (flag == "--seed") s.seed = count_argument(flag, value);
+        else if (flag == "--seconds") s.seconds = count_argument(flag, value);
         else if (flag == "--findings") s.findings = value;
         else if (flag == "--replay") s.replay = value;
         else usage("unknown option " + flag);
@@ -188,7 +191,8 @@ structure_result soak(const settings& s, const named_structure& structure, std::
     const auto start = clock::now();
     auto last_report = start;
     double sum_largest = 0;
-    while (r.operations < s.operations && r.mismatches < mismatches_before_giving_up) {
+    const auto out_of_time = [&] { return s.seconds > 0 && clock::now() - start > std::chrono::seconds(s.seconds); };
+    while (r.operations < s.operations && r.mismatches < mismatches_before_giving_up && !out_of_time()) {
         const std::uint64_t sequence = r.sequences++;
         fill(bytes, mix(s.seed ^ mix(structure_index ^ mix(sequence))));
         spatial_fuzz::fuzz_input in(bytes.data(), bytes.size());
@@ -251,9 +255,10 @@ int main(int argc, char** argv) {
     spatial_fuzz::findings_throw() = true;
     for (int signal : {SIGSEGV, SIGABRT, SIGFPE, SIGILL, SIGBUS}) std::signal(signal, write_sequence_and_die);
 
-    std::printf("spatial_soak: seed %llu, %llu operations per structure, %zu structures, limits: %zu steps per sequence, "
-                "%zu objects per container, clear and range erase 1 in %zu\n",
-                static_cast<unsigned long long>(s.seed), static_cast<unsigned long long>(s.operations), structures.size(),
+    std::printf("spatial_soak: seed %llu, %llu operations per structure (or %llu s; 0: no limit), %zu structures, limits: "
+                "%zu steps per sequence, %zu objects per container, clear and range erase 1 in %zu\n",
+                static_cast<unsigned long long>(s.seed), static_cast<unsigned long long>(s.operations),
+                static_cast<unsigned long long>(s.seconds), structures.size(),
                 spatial_fuzz::soak_limits.max_steps, spatial_fuzz::soak_limits.max_size,
                 spatial_fuzz::soak_limits.wholesale_removal_one_in);
     std::printf("%-36s %12s %10s %10s %8s %8s %9s\n", "structure", "operations", "sequences", "mismatches", "largest",
