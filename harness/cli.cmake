@@ -9,13 +9,20 @@ add_library(spatial_result_tables STATIC src/csv_writer.cpp src/result_table.cpp
 target_include_directories(spatial_result_tables PUBLIC ${CMAKE_CURRENT_SOURCE_DIR}/include)
 target_compile_options(spatial_result_tables PRIVATE ${SPATIAL_WARNINGS})
 
+# The command line's options and checks (harness/command_line.hpp), apart from what runs them:
+# the command-line fuzz target (fuzz/command_line/) parses without building a suite.
+add_library(spatial_command_line STATIC src/command_line.cpp src/suite_options.cpp)
+target_include_directories(spatial_command_line PUBLIC ${CMAKE_CURRENT_SOURCE_DIR}/include)
+target_link_libraries(spatial_command_line PUBLIC CLI11::CLI11 spatial::datasets)
+target_compile_options(spatial_command_line PRIVATE ${SPATIAL_WARNINGS})
+
 add_library(spatial_harness STATIC src/run_info.cpp src/timing.cpp src/knn_suite.cpp src/bv_suite.cpp
                             src/raycast_suite.cpp src/collide_suite.cpp
                             src/scene_runner.cpp src/suite_table.cpp src/suite_cases.cpp src/run_journal.cpp src/memory_budget.cpp
                             src/scene_runner_2d_float.cpp src/scene_runner_2d_double.cpp
                             src/scene_runner_3d_float.cpp src/scene_runner_3d_double.cpp)
 target_include_directories(spatial_harness PUBLIC ${CMAKE_CURRENT_SOURCE_DIR}/include)
-target_link_libraries(spatial_harness PUBLIC spatial_result_tables spatial_harness_interface spatial::datasets spatial_adapters
+target_link_libraries(spatial_harness PUBLIC spatial_result_tables spatial_command_line spatial_harness_interface spatial::datasets spatial_adapters
                       PRIVATE nlohmann_json::nlohmann_json)
 target_compile_options(spatial_harness PRIVATE ${SPATIAL_WARNINGS})
 # Recorded in each run's JSON sidecar.

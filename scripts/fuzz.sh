@@ -37,6 +37,7 @@ targets=(
   "scene_file 4096 100 datasets/scenes"
   "point_set 4096 100"
   "mesh 4096 100"
+  "command_line 1024 100"
   "operations 4096 0"
 )
 
@@ -46,7 +47,7 @@ for entry in "${targets[@]}"; do
   read -r name max_len len_control extra <<< "$entry"
   binary="$build/fuzz_$name"
   if [[ ! -x "$binary" ]]; then
-    summary+=("$(printf '%-11s not built (see fuzz/CMakeLists.txt)' "$name")")
+    summary+=("$(printf '%-12s not built (see fuzz/CMakeLists.txt)' "$name")")
     continue
   fi
   corpus="$work/corpus/$name" artifacts="$work/artifacts/$name/"
@@ -69,10 +70,10 @@ for entry in "${targets[@]}"; do
   if [[ $status -ne 0 || -n "$found" ]]; then
     failed=1
     grep -a -m 3 -E 'FINDING|ERROR:|SUMMARY:|runtime error' "$work/$name.log" | sed 's/^/    /' || true
-    summary+=("$(printf '%-11s %10s executions  FOUND: %s (exit %d; log %s)' "$name" "${runs:-?}" \
+    summary+=("$(printf '%-12s %10s executions  FOUND: %s (exit %d; log %s)' "$name" "${runs:-?}" \
       "${found:-no input saved}" "$status" "$work/$name.log")")
   else
-    summary+=("$(printf '%-11s %10s executions  nothing found' "$name" "${runs:-?}")")
+    summary+=("$(printf '%-12s %10s executions  nothing found' "$name" "${runs:-?}")")
   fi
 done
 

@@ -220,6 +220,22 @@ void minimum_ball_matches_brute_force() {
 TEST(sphere_minimum, matches_brute_force_optimum_2d) { minimum_ball_matches_brute_force<2>(); }
 TEST(sphere_minimum, matches_brute_force_optimum_3d) { minimum_ball_matches_brute_force<3>(); }
 
+// Soak finding (docs/fuzzing.md, "Soak"): the merge of two balls computed the exact radius
+// around the exact centre, then rounded the centre, which for two points one ulp apart moved it
+// onto one of them, half an ulp from where the radius was measured: the other point was outside
+// the merged ball, and a bvh<sphere> node pruned it (missed pairs). At 1 as at 1e30.
+TEST(sphere_merge, merged_contains_both_points_one_ulp_apart) {
+    using S = sphere<double, 3>;
+    using P = point<double, 3>;
+    for (double x : {1.0, 123456.789, 3e29, 1e30, 7.7e30}) {
+        const std::vector<P> a{P{{x, 0, 0}}}, b{P{{std::nextafter(x, 2 * x), 0, 0}}};
+        for (const S& merged : {S::fit_ritter(a).merged(S::fit_ritter(b)), S::fit_ritter(b).merged(S::fit_ritter(a))}) {
+            EXPECT_TRUE(merged.contains(a[0])) << "x = " << x;
+            EXPECT_TRUE(merged.contains(b[0])) << "x = " << x;
+        }
+    }
+}
+
 TEST(sphere_minimum, is_tighter_than_ritter_on_a_large_cloud_and_contains_it) {
     std::mt19937_64 rng(spatial_test::test_seed(9));
     std::vector<point<double, 3>> pts(200000);

@@ -158,6 +158,37 @@ TYPED_TEST(fuzz_findings, node_volumes_contain_objects_whose_coordinates_span_de
     this->expect_same_nearest(P3{{0, 0, 1e30}});
 }
 
+// Soak finding (docs/fuzzing.md, "Soak"; minimised from the failing sequence by removing points
+// while the answer stayed wrong): kd_tree's kNN updated the squared distance to a far cell as
+// rd - old^2 + diff^2 (Arya & Mount). With coordinates near 1e30 next to small ones the
+// subtraction cancels and rounds ABOVE the squared distance of a point in that cell, and the
+// cell was pruned: the 25 nearest of these 35 points were not the oracle's.
+TYPED_TEST(fuzz_findings, knn_does_not_prune_a_cell_whose_distance_rounds_up_near_1e30) {
+    this->store({P3{{0x1.c6bf52633fffcp+51, 0x1.93e5939a08ceap+99, -6}}, P3{{2, 3, 1}}, P3{{1, 2, 0x1.5b33333333333p+4}},
+                 P3{{3, 1, 3}}, P3{{-0x1.3333333333334p-1, 0x1.0000000000001p+0, 0x1.8666666666667p+2}},
+                 P3{{0x0.01c8871bbcb29p-1022, -0x1.4484bfeebc2ap-101, 0x1.39051f30fa069p+100}},
+                 P3{{0x1.e4ad1785a42b2p+98, 0x1.8cccccccccccdp+1, 0x1.0000000000001p+0}}, P3{{3, 2, 3}},
+                 P3{{0x1.999999999999ap-4, 0x1.6b33333333333p+5, 0}}, P3{{0, 2, 0x1p-1022}},
+                 P3{{0x1.0cccccccccccdp+2, 0x1.0cccccccccccdp+2, -0x1.e240c9fbe76c9p+16}}, P3{{4, -6, -1}},
+                 P3{{0, 7, -0x1.e240c9fbe76c9p+16}}, P3{{-0x1.4484bfeebc2ap-100, 0x1.856c1984e1ccp-101, -0x1.4484bfeebc2ap-100}},
+                 P3{{0x1.299999999999ap+3, -0x1.215a12ca57a78p+16, -0x1.8cccccccccccdp+1}}, P3{{1, 0, 0}},
+                 P3{{0x1.6666666666666p-1022, 0x1.3333333333333p+1, -1}}, P3{{0x1.0cccccccccccdp+2, 0x1.9999999999999p-3, -0.5}},
+                 P3{{0x1.2f2a36ecd5542p+49, 0x1.82095d520e78fp+14, -0x1.9999999999999p-3}},
+                 P3{{0x1.10d9316ec0002p+49, 0x0.012688b70e62bp-1022, -0.5}}, P3{{0x1.c6bf526340004p+49, 0x1.8cccccccccccdp-1, -0.0}},
+                 P3{{0, 0, 0}}, P3{{denormal, 0x1.4484bfeebc2ap-100, -0.0}}, P3{{2, 0, 0}}, P3{{-0x1.3333333333333p-2, 0, 0}},
+                 P3{{0x1.10d9316ec0002p+49, 0x0.012688b70e62bp-1022, -0.5}},
+                 P3{{0x1.c6bf526340004p+49, -0x1.4484bfeebc2ap-100, -0x1.e240c9fbe76c9p+16}}, P3{{0x1.c6bf526340004p+49, -1, -1}},
+                 P3{{0x1.c6bf526340004p+49, -0x1.4484bfeebc2ap-100, -0x1.e240c9fbe76c9p+16}},
+                 P3{{0x1.c6bf526340004p+49, -0x1.e240c9fbe76c9p+16, -0.0}}, P3{{3, 0, -0x1.3333333333333p-1}},
+                 P3{{-0x1.cccccccccccccp+1, -0.25, -0x1.8cccccccccccdp+0}}, P3{{0, 0x1p-1022, -0x1.f700f64ba3a78p-99}},
+                 P3{{1, 0, 0}}, P3{{0, 0, 0}}});
+    const P3 q{{-0x1.e4ad1785a42b2p+98, 0x1.93e5939a08ceap+100, 0x1.39051f30fa069p+101}};
+    for (std::size_t k = 1; k <= this->oracle.size(); ++k)
+        EXPECT_EQ(spatial_test::distances_from(q, this->c.find_nearest(q, k)),
+                  spatial_test::distances_from(q, this->oracle.find_nearest(q, k)))
+            << "k = " << k;
+}
+
 // collision_grid lays its cells out over the objects' bounds; for two points a denormal apart the
 // cell size (the span over a cube root of the cell budget) underflowed to 0, then became NaN, and
 // the layout loop never ended (a hang in self_pairs and pairs_with).

@@ -3,6 +3,8 @@
 # sidecar + registry written).
 spatial_add_test(harness_test harness_test.cpp)
 target_link_libraries(harness_test PRIVATE spatial_harness)
+# fuzz/command_line/vocabulary.hpp, checked against the suite table.
+target_include_directories(harness_test PRIVATE ${PROJECT_SOURCE_DIR})
 
 # Result tables read back, compared and merged (the compare and merge commands). Links only the
 # table library: no suites, no peers.

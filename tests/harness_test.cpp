@@ -8,9 +8,11 @@
 #include <fstream>
 #include <sstream>
 
+#include "fuzz/command_line/vocabulary.hpp"
 #include "harness/check.hpp"
 #include "harness/csv_writer.hpp"
 #include "harness/our_indexes.hpp"
+#include "harness/suite_table.hpp"
 #include "harness/timing.hpp"
 #include "harness/validation.hpp"
 
@@ -165,4 +167,16 @@ TEST(check_column, words_are_joined_in_one_order_each_once) {
     EXPECT_EQ(check::all_of({"oracle:all+identity:all", check::cross_all, check::size, check::identity_all}),
               "size+oracle:all+cross:all+identity:all");
     EXPECT_EQ(check::all_of({check::none, ""}), check::none);
+}
+
+// The command-line fuzz target does not link the suites and copies their names
+// (fuzz/command_line/vocabulary.hpp): the copy must name the runnable suites of the suite table,
+// in its order, so that `run --suite NAME` of a new suite is fuzzed too.
+TEST(command_line_vocabulary, the_fuzz_targets_copy_names_every_runnable_suite) {
+    std::vector<std::pair<std::string, std::string>> runnable, copied;
+    for (const auto& s : harness::suite_table())
+        if (s.run) runnable.emplace_back(s.name, s.description);
+    for (const auto& s : spatial_fuzz::command_line_vocabulary().runnable_suites)
+        copied.emplace_back(s.name, s.description);
+    EXPECT_EQ(copied, runnable);
 }

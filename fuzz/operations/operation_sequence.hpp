@@ -7,8 +7,10 @@
 // Two mirrors: `a_`, which every query asks, and `b_`, the other container of pairs_with; a
 // mutation goes to b_ one time in four. Operations a structure does not have (a pair-search
 // structure has no kNN; only some have motion) are skipped. After every mutation the sizes and
-// the structure's invariant check; every 16 steps and at the end the full contents.
+// the structure's invariant check; every 16 steps and at the end the full contents. How long a
+// sequence runs and how large the containers grow: sequence_limits.hpp.
 
+#include <algorithm>
 #include <array>
 #include <cstddef>
 #include <string_view>
@@ -21,6 +23,7 @@
 #include "mirror.hpp"
 #include "operation_log.hpp"
 #include "pair_answers.hpp"
+#include "sequence_limits.hpp"
 #include "spatial/core/capabilities.hpp"
 #include "spatial/core/container_concept.hpp"
 
@@ -32,36 +35,39 @@ public:
     using O = typename C::value_type;
     using T = typename C::scalar_type;
 
-    operation_sequence(fuzz_input& in, std::string_view structure)
-        : in_(in), log_(structure), a_(log_, "a"), b_(log_, "b"), values_(in) {}
+    operation_sequence(fuzz_input& in, std::string_view structure, const sequence_limits& limits)
+        : in_(in), limits_(limits), log_(structure), a_(log_, "a"), b_(log_, "b"), values_(in) {}
 
     // The mutated container is checked after each mutation (queries change nothing, and a
     // structure's own check can be as slow as a rebuild: a hashed_grid object may span 2^24
-    // cells); both fully every 16 steps.
-    void run() {
-        for (std::size_t step = 0; step < max_steps && !in_.exhausted(); ++step) {
+    // cells); both fully every 16 steps. Skipped steps (an operation the structure does not
+    // have, an insertion into a full container, a clear or range erase the limits held back)
+    // are not counted as operations.
+    sequence_summary run() {
+        sequence_summary done;
+        for (std::size_t step = 0; step < limits_.max_steps && !in_.exhausted(); ++step) {
             const std::size_t op = in_.below(operation_names.size());
             log_.begin(step, operation_names[op]);
             if (op < first_query) {
                 mirror<C>& target = in_.below(4) == 0 ? b_ : a_;
-                mutate(op, target);
+                if (mutate(op, target)) ++done.operations;
                 target.check(false);
-            } else {
-                query(op);
+                done.largest = std::max(done.largest, target.size());
+            } else if (query(op)) {
+                ++done.operations;
             }
             if (step % 16 == 15) {
                 a_.check(true);
                 b_.check(true);
             }
         }
-        log_.begin(max_steps, "final check");
+        log_.begin(limits_.max_steps, "final check");
         a_.check(true);
         b_.check(true);
+        return done;
     }
 
 private:
-    static constexpr std::size_t max_steps = 2000;
-    static constexpr std::size_t max_size = 300;  // keeps the oracle's O(n^2) pairs cheap
     static constexpr std::size_t first_query = 9;
     static constexpr std::array<std::string_view, 19> operation_names{
         "insert",     "hinted insert", "bulk insert", "erase(pos)", "erase(value)",   "erase(first, last)",
@@ -69,63 +75,93 @@ private:
         "ball",       "box",           "thin ray",    "thick ray",  "self pairs",     "pairs with",
         "rejected input"};
 
-    void mutate(std::size_t op, mirror<C>& m) {
-        const bool room = m.size() < max_size;
+    // Whether the operation was applied.
+    bool mutate(std::size_t op, mirror<C>& m) {
+        const bool room = m.size() < limits_.max_size;
         switch (op) {
-            case 0: if (room) m.insert(values_.object(m.anchors())); break;
+            case 0:
+                if (!room) return false;
+                m.insert(values_.object(m.anchors()));
+                return true;
             case 1:
-                if constexpr (spatial::spatial_container<C>)
-                    if (room) m.insert_hinted(in_.below(max_size), values_.object(m.anchors()));
-                break;
-            case 2: if (room) m.insert_bulk(batch(m, 1 + in_.below(in_.flag() ? 64 : 8))); break;
-            case 3: if (m.size() > 0) m.erase_at(in_.below(m.size())); break;
+                if constexpr (spatial::spatial_container<C>) {
+                    if (!room) return false;
+                    const std::size_t hint = in_.below(limits_.max_size);
+                    m.insert_hinted(hint, values_.object(m.anchors()));
+                    return true;
+                }
+                return false;
+            case 2:
+                if (!room) return false;
+                m.insert_bulk(batch(m, 1 + in_.below(in_.flag() ? 64 : 8)));
+                return true;
+            case 3:
+                if (m.size() == 0) return false;
+                m.erase_at(in_.below(m.size()));
+                return true;
             case 4:
-                if constexpr (spatial::spatial_container<C>) m.erase_value(existing_or_new(m));
-                break;
+                if constexpr (spatial::spatial_container<C>) {
+                    m.erase_value(existing_or_new(m));
+                    return true;
+                }
+                return false;
             case 5:
                 if constexpr (spatial::spatial_container<C>) {
+                    if (held_back()) return false;
                     const std::size_t first = in_.below(m.size() + 1);
                     m.erase_range(first, in_.below(m.size() + 2));
+                    return true;
                 }
-                break;
+                return false;
             case 6:
-                if constexpr (spatial::single_motion<C>)
-                    if (m.size() > 0) m.update_at(in_.below(m.size()), values_.object(m.anchors()), in_.flag());
-                break;
-            case 7: update_batch(m); break;
-            default: m.clear();
+                if constexpr (spatial::single_motion<C>) {
+                    if (m.size() == 0) return false;
+                    const std::size_t i = in_.below(m.size());
+                    const O to = values_.object(m.anchors());
+                    m.update_at(i, to, in_.flag());
+                    return true;
+                }
+                return false;
+            case 7: return update_batch(m);
+            default:
+                if (held_back()) return false;
+                m.clear();
+                return true;
         }
     }
+    // A clear or range erase the limits hold back this time (reads no byte when they never do).
+    bool held_back() { return in_.below(limits_.wholesale_removal_one_in) != 0; }
 
     // Arguments drawn from the input are drawn in order (named first), not as function
     // arguments, whose evaluation order is unspecified: an input means the same to every compiler.
-    void query(std::size_t op) {
+    // Whether the structure has the query (a pair-search structure has no kNN, ball or rays).
+    bool query(std::size_t op) {
         const auto q = values_.point(a_.anchors());
         if constexpr (spatial::spatial_container<C>) {
             switch (op) {
-                case 9: check_find_count(a_, log_, existing_or_new(a_)); return;
-                case 10: check_knn(a_, log_, q, in_.below(a_.size() + 3), T(0)); return;
+                case 9: check_find_count(a_, log_, existing_or_new(a_)); return true;
+                case 10: check_knn(a_, log_, q, in_.below(a_.size() + 3), T(0)); return true;
                 case 11: {
                     const std::size_t k = in_.below(a_.size() + 3);
                     check_knn(a_, log_, q, k, values_.eps());
-                    return;
+                    return true;
                 }
-                case 12: check_ball(a_, log_, q, values_.size()); return;
-                case 14: ray(q, T(0)); return;
-                case 15: ray(q, values_.size()); return;
+                case 12: check_ball(a_, log_, q, values_.size()); return true;
+                case 14: ray(q, T(0)); return true;
+                case 15: ray(q, values_.size()); return true;
                 default: break;
             }
         }
         switch (op) {
-            case 13: check_box(a_, log_, q, values_.point(a_.anchors())); return;
-            case 16: check_self_pairs(a_, log_, filter()); return;
-            case 17: check_pairs_with(a_, b_, log_, filter()); return;
-            case 18: invalid_inputs<C>(a_, log_, in_, values_).run(); return;
-            default: return;
+            case 13: check_box(a_, log_, q, values_.point(a_.anchors())); return true;
+            case 16: check_self_pairs(a_, log_, filter()); return true;
+            case 17: check_pairs_with(a_, b_, log_, filter()); return true;
+            case 18: invalid_inputs<C>(a_, log_, in_, values_).run(); return true;
+            default: return false;
         }
     }
 
-    void update_batch(mirror<C>& m) {
+    bool update_batch(mirror<C>& m) {
         if constexpr (spatial::batched_motion<C>) {
             std::vector<std::size_t> indices;
             std::vector<O> moved;
@@ -135,7 +171,9 @@ private:
                 spatial::motion_strategy::automatic, spatial::motion_strategy::refit, spatial::motion_strategy::rebuild,
                 spatial::motion_strategy::reinsert};
             m.update_batch(indices, moved, in_.pick(strategies));
+            return true;
         }
+        return false;
     }
 
     std::vector<O> batch(const mirror<C>& m, std::size_t count) {
@@ -156,6 +194,7 @@ private:
     }
 
     fuzz_input& in_;
+    sequence_limits limits_;
     operation_log log_;
     mirror<C> a_, b_;
     value_source<O> values_;
@@ -163,8 +202,8 @@ private:
 
 // The entry point of a run_*.cpp: the whole input as operations on a C.
 template <class C>
-void run_operations(fuzz_input& in, std::string_view structure) {
-    operation_sequence<C>(in, structure).run();
+sequence_summary run_operations(fuzz_input& in, std::string_view structure, const sequence_limits& limits) {
+    return operation_sequence<C>(in, structure, limits).run();
 }
 
 }  // namespace spatial_fuzz

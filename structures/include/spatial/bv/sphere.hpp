@@ -130,7 +130,11 @@ struct sphere {
     T distance_lower_bound(const point_type& p) const {
         return std::max(T(0), std::sqrt(squared_distance(p, center)) - radius);
     }
-    // The smallest ball containing both balls.
+    // The smallest ball containing both balls, its radius then taken from the ROUNDED centre:
+    // far enough to reach each ball from there (padded). The centre is rounded to the nearest
+    // representable point, which moves it by up to half an ulp of its coordinates; for two
+    // points one ulp apart that is the whole radius, and the exact radius from the exact centre
+    // left one of them outside (soak finding: a bvh<sphere> missed intersecting pairs).
     sphere merged(const sphere& o) const {
         if (is_empty()) return o;
         if (o.is_empty()) return *this;
@@ -141,7 +145,9 @@ struct sphere {
         s.radius = (d + radius + o.radius) / 2;
         const T w = (s.radius - radius) / d;  // d > 0 here
         for (std::size_t i = 0; i < D; ++i) s.center[i] = center[i] + (o.center[i] - center[i]) * w;
-        s.radius = std::nextafter(s.radius, std::numeric_limits<T>::infinity());
+        const T reach_this = std::sqrt(squared_distance(s.center, center)) + radius;
+        const T reach_other = std::sqrt(squared_distance(s.center, o.center)) + o.radius;
+        s.radius = padded(std::max(s.radius, std::max(reach_this, reach_other)));
         return s;
     }
     // Exact: a rigid motion moves the centre and keeps the radius (one ulp of slack for the
@@ -298,8 +304,18 @@ private:
         while (r * r < m) r = std::nextafter(r, std::numeric_limits<T>::infinity());
         sphere s;
         s.center = c;
-        s.radius = r;
+        s.radius = padded(r);
         return s;
+    }
+
+    // A radius grown by 8 ulps of itself and one more step (0 becomes the smallest denormal).
+    // contains() and overlaps() compare ROUNDED squared distances: a point the rounded test puts
+    // on a ball's surface may be a few ulps outside it, and two balls holding the same such
+    // point then "touch" by a few ulps too little and do not overlap. With this margin every
+    // rounding of the two tests stays inside it (soak finding: a bvh<sphere> missed the pair of
+    // two equal points in different leaves).
+    static T padded(T r) {
+        return std::nextafter(r + r * (8 * std::numeric_limits<T>::epsilon()), std::numeric_limits<T>::infinity());
     }
 };
 

@@ -413,6 +413,7 @@ private:
     };
     void run_knn(const P& x, scalar_type eps, knn_result_set<T>& best) const;
     void knn(node_index n, T rd, coords& offset, knn_query& q) const;
+    static T far_cell_distance(const coords& offset, unsigned d, T diff);
     void ball(node_index n, T rd, coords& offset, const coords& x, T r2, std::vector<iterator>& out) const;
     void box(node_index n, const P& lo, const P& hi, std::vector<iterator>& out) const;
     void collect_equal(node_index n, const coords& c, const O& x, std::vector<slot_index>& out,

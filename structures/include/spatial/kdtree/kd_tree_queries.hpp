@@ -19,8 +19,25 @@ inline void kd_tree<O, Config>::run_knn(const P& x, scalar_type eps, knn_result_
     }
 }
 
-// Arya & Mount's incremental distance: `rd` is the squared distance from x to the cell,
-// `offset[d]` the per-dimension component of it; entering the far child changes one.
+// Arya & Mount's cell distance: `rd` is the squared distance from x to the cell, `offset[d]`
+// the per-dimension component of it; entering the far child changes one. The far child's
+// distance is summed again from the offsets (far_cell_distance), not updated as
+// rd - old^2 + diff^2: with coordinates near 1e30 that difference cancels, rounds above the
+// distance of a point in the cell, and pruned it (a kNN missed a nearer point; soak finding).
+// The squared distance from x to the far child's cell: the offsets with offset[d] = diff,
+// squared and summed in the order squared_distance sums a point's coordinate differences.
+// Each |offset| is at most the rounded |difference| of a point in the cell (rounding is
+// monotone), so the sum is at most the point's squared distance, bit for bit: no point is pruned.
+template <stored_object O, class Config>
+inline auto kd_tree<O, Config>::far_cell_distance(const coords& offset, unsigned d, T diff) -> T {
+    T sum = 0;
+    for (unsigned i = 0; i < D; ++i) {
+        const T o = i == d ? diff : offset[i];
+        sum += o * o;
+    }
+    return sum;
+}
+
 template <stored_object O, class Config>
 inline void kd_tree<O, Config>::knn(node_index n, T rd, coords& offset, knn_query& q) const {
     const node& nd = nodes_[n];
@@ -40,7 +57,7 @@ inline void kd_tree<O, Config>::knn(node_index n, T rd, coords& offset, knn_quer
     const node_index near = diff <= 0 ? nd.first : nd.first + 1;
     knn(near, rd, offset, q);
     const T old = offset[d];
-    const T far_rd = rd - old * old + diff * diff;
+    const T far_rd = far_cell_distance(offset, d, diff);
     if (far_rd * q.eps_factor < q.best.worst()) {
         offset[d] = diff;
         knn(near == nd.first ? nd.first + 1 : nd.first, far_rd, offset, q);
@@ -64,7 +81,7 @@ inline void kd_tree<O, Config>::ball(node_index n, T rd, coords& offset, const c
     const node_index near = diff <= 0 ? nd.first : nd.first + 1;
     ball(near, rd, offset, x, r2, out);
     const T old = offset[d];
-    const T far_rd = rd - old * old + diff * diff;
+    const T far_rd = far_cell_distance(offset, d, diff);
     if (far_rd <= r2) {
         offset[d] = diff;
         ball(near == nd.first ? nd.first + 1 : nd.first, far_rd, offset, x, r2, out);
