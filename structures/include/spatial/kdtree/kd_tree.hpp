@@ -409,7 +409,7 @@ private:
 
     // ---- undoing a change that ran out of memory (kd_tree_backup.hpp) ----
     struct subtree_backup;
-    subtree_backup backup_subtree(node_index n) const;
+    subtree_backup backup_subtree(node_index n, std::size_t entries) const;
     void restore(subtree_backup& b) noexcept;
     struct tree_backup;
     tree_backup backup_all();

@@ -2,7 +2,7 @@
 // spatial::kd_tree — undoing a change that ran out of memory half-way (the strong guarantee of
 // docs/contract.md, "Exception safety"). Before a subtree is rebuilt (a leaf split, a scapegoat
 // rebuild), the records it may overwrite are copied aside: every node, extent and bucket of
-// the subtree, the free lists and the counters, O(subtree + free lists). New nodes and buckets
+// the subtree, the free lists' tails and the counters, O(subtree). New nodes and buckets
 // only ever grow the arrays at their ends, so truncating them and writing the copies back
 // restores the tree exactly, with the slots' bucket words. A full rebuild instead moves the
 // whole tree aside (backup_all).
@@ -10,6 +10,7 @@
 #include <utility>
 #include <vector>
 
+#include "spatial/core/free_list.hpp"
 #include "spatial/kdtree/kd_tree.hpp"
 
 namespace spatial {
@@ -19,22 +20,24 @@ struct kd_tree<O, Config>::subtree_backup {
     std::vector<std::pair<node_index, node>> nodes;
     std::vector<std::pair<node_index, extent>> extents;  // objects only
     std::vector<std::pair<node_index, bucket>> buckets;
-    std::vector<node_index> free_pairs, free_buckets;
+    detail::free_list_tail<node_index> free_pairs, free_buckets;
     std::size_t node_count = 0, bucket_count = 0, leaves = 0;
     coords bounds_lo{}, bounds_hi{};
     kd_tree_maintenance_stats maintenance{};
 };
 
+// `entries`: how many points the rebuild will place. A build over e points makes at most e
+// leaves and e - 1 pairs, so it takes at most e indices from each free list.
 template <stored_object O, class Config>
-inline auto kd_tree<O, Config>::backup_subtree(node_index n) const -> subtree_backup {
+inline auto kd_tree<O, Config>::backup_subtree(node_index n, std::size_t entries) const -> subtree_backup {
     subtree_backup b;
     b.node_count = nodes_.size();
     b.bucket_count = buckets_.size();
     b.leaves = leaves_;
     b.bounds_lo = bounds_lo_, b.bounds_hi = bounds_hi_;
     b.maintenance = maintenance_;
-    b.free_pairs = free_pairs_;
-    b.free_buckets = free_buckets_;
+    b.free_pairs = detail::free_list_tail<node_index>(free_pairs_, entries + 1);
+    b.free_buckets = detail::free_list_tail<node_index>(free_buckets_, entries + 1);
     std::vector<node_index> stack{n};
     while (!stack.empty()) {
         const node_index x = stack.back();
@@ -65,8 +68,8 @@ inline void kd_tree<O, Config>::restore(subtree_backup& b) noexcept {
         const node& leaf = nodes_[bk.owner];
         for (std::uint32_t k = 0; k < leaf.count; ++k) slots_.set_meta(bk.items[k], i);
     }
-    free_pairs_ = std::move(b.free_pairs);
-    free_buckets_ = std::move(b.free_buckets);
+    b.free_pairs.restore(free_pairs_);
+    b.free_buckets.restore(free_buckets_);
     leaves_ = b.leaves;
     bounds_lo_ = b.bounds_lo, bounds_hi_ = b.bounds_hi;
     maintenance_ = b.maintenance;

@@ -211,7 +211,7 @@ inline void kd_tree<O, Config>::rebalance_from(node_index n) {
             size_p > 2 * leaf_capacity) {
             std::vector<entry> es;
             es.reserve(size_p);
-            subtree_backup backup = backup_subtree(p);  // strong guarantee, as for a leaf split
+            subtree_backup backup = backup_subtree(p, size_p);  // strong guarantee, as for a leaf split
             try {
                 gather(p, es);
                 rebuild_subtree(p, es);

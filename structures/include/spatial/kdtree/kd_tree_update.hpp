@@ -124,7 +124,7 @@ inline auto kd_tree<O, Config>::insert_at(node_index leaf, const O& x, const coo
     // after it cannot allocate, the leaf is put back and the slot given back.
     const bool full = nodes_[leaf].count >= leaf_capacity;
     subtree_backup backup;
-    if (full) backup = backup_subtree(leaf);
+    if (full) backup = backup_subtree(leaf, leaf_capacity + 1);
     const bool reused = slots_.reuses_a_slot();
     const slot_index s = slots_.allocate(x, nodes_[leaf].first);
     grow_bounds(c);
@@ -179,7 +179,7 @@ inline void kd_tree<O, Config>::distribute(node_index n, entry* e, std::size_t c
         es.reserve(L.count + count);
         // All or nothing (the caller takes the batch out again): the leaf is put back, and
         // the batch's entries here are marked as not placed.
-        subtree_backup backup = backup_subtree(n);
+        subtree_backup backup = backup_subtree(n, L.count + count);
         try {
             gather(n, es);
             es.insert(es.end(), e, e + count);
