@@ -246,8 +246,12 @@ enum class operation {
     update_single,
     update_batched
 };
+// Strong everywhere, except a bvh's batched move by reinsertion (and the automatic strategy,
+// which may choose it): each object's reinsertion is all or nothing, the batch is not.
 template <class C>
-constexpr guarantee documented(operation) {
+constexpr guarantee documented(operation op, motion_strategy s = motion_strategy::refit) {
+    if (op == operation::update_batched && (s == motion_strategy::reinsert || s == motion_strategy::automatic))
+        return guarantee::basic;
     return guarantee::strong;
 }
 
@@ -287,8 +291,31 @@ template <class... A, class... B>
 struct concatenated<::testing::Types<A...>, ::testing::Types<B...>> {
     using type = ::testing::Types<A..., B...>;
 };
+// The sanitizer build (SPATIAL_TEST_FULL_MATRIX=0) leaves out the bvh volumes whose fits
+// allocate hundreds of times per insertion (kdop, ellipsoid, convex_hull: minutes each under
+// ASan); the release build runs every structure over points and boxes.
+#if SPATIAL_TEST_FULL_MATRIX
 using every_structure = concatenated<structures_of<P3>, structures_of<B3>>::type;
+#else
+template <class O>
+using light_structures_of = ::testing::Types<brute_force<O>, kd_tree<O>, octree<O>, uniform_grid<O>, hashed_grid<O>, bvh<O>,
+                                             bvh<O, sphere<double, 3>>, bvh<O, obb<double, 3>>, collision_grid<O>,
+                                             sweep_and_prune<O>>;
+using every_structure = concatenated<light_structures_of<P3>, light_structures_of<B3>>::type;
+#endif
 TYPED_TEST_SUITE(allocation_failure, every_structure);
+
+// Moves cannot throw where the members allow it, so that a std::vector of structures moves
+// them when it grows (std::move_if_noexcept) instead of copying. kd_tree and bvh do not yet:
+// their moved-from source must stay a usable empty tree, and their empty tree allocates its
+// root (docs/known-gaps.md); the assertion fails once they are repaired, to update this list.
+TYPED_TEST(allocation_failure, moves_cannot_throw_where_the_members_allow_it) {
+    using C = TypeParam;
+    constexpr bool empty_tree_allocates =
+        std::is_same_v<C, kd_tree<typename C::value_type>> || requires { typename C::volume_type; };
+    static_assert((std::is_nothrow_move_constructible_v<C> && std::is_nothrow_move_assignable_v<C>) !=
+                  empty_tree_allocates);
+}
 
 constexpr std::size_t grown = 40;  // past a kd-tree leaf (16), an octree cell's split, grid rehashes
 
@@ -435,7 +462,7 @@ TYPED_TEST(allocation_failure, batched_update_keeps_its_documented_guarantee) {
                                                  motion_strategy::automatic}) {
                     inject_every_failure(
                         c, batch_of, [&](C& d, batch& b) { d.update(b.begin(), b.end(), strategy); },
-                        documented<C>(operation::update_batched),
+                        documented<C>(operation::update_batched, strategy),
                         "update(first, last, " + std::string(to_string(strategy)) + ")");
                 }
             } else {
