@@ -57,6 +57,9 @@ spatial_add_test(capabilities_test capabilities_test.cpp)
 # What the operations fuzzer found (fuzz/operations, docs/fuzzing.md): one test per finding, on
 # every structure over points and boxes, against brute_force.
 spatial_add_test(fuzz_findings_test fuzz_findings_test.cpp)
+# Exception safety under allocation failure: every structure's mutations, failing at each of
+# their allocations in turn (a replaced global operator new: failing_allocation.cpp).
+spatial_add_test(allocation_failure_test allocation_failure_test.cpp failing_allocation.cpp)
 
 # The library in another project: installed into a fresh prefix, found by a consumer project
 # with find_package(spatial CONFIG), built and run (README, "Use it in your project").

@@ -65,6 +65,7 @@ public:
     }
     size_type erase(const O& x) {
         detail::require_finite_object(x, site("erase"));
+        slots_.reserve_releases(count(x));  // the only allocation, before the first release
         size_type n = 0;
         for (slot_index s = slots_.next_occupied(0); s < slots_.capacity(); s = slots_.next_occupied(s + 1))
             if (slots_.value(s) == x) {

@@ -408,6 +408,23 @@ private:
     // ---- dynamic updates (bvh_motion.hpp) ---------------------------------------------
     void refit_node(node_index n);
     void refit_upward(node_index n);
+
+    // ---- undoing a change that ran out of memory (bvh_backup.hpp) ----------------------
+    template <class Nodes>
+    void refit_or_undo(const Nodes& order);
+    void refit_upward_or_undo(node_index n);
+    void refit_upward_if_possible(node_index n) noexcept;
+    struct leaf_backup;
+    leaf_backup backup_leaf(node_index n) const;
+    void restore(leaf_backup& b) noexcept;
+    struct tree_backup;
+    tree_backup backup_all();
+    void restore(tree_backup& b) noexcept;
+    void rebuild_in_place();
+    void rebuild_in_place(parallel_policy);
+    void rebuild_if_possible() noexcept;
+    void reserve_removals(std::size_t m);
+    void remove_empty_leaf(node_index n) noexcept;
     bool needs_rebuild() const;
     slot_index insert_from(node_index start, const O& x);
     void place(slot_index s, node_index n);
@@ -439,6 +456,7 @@ private:
 }  // namespace spatial
 
 #include "spatial/bvh/bvh_storage.hpp"
+#include "spatial/bvh/bvh_backup.hpp"
 #include "spatial/bvh/bvh_build.hpp"
 #include "spatial/bvh/bvh_motion.hpp"
 #include "spatial/bvh/bvh_queries.hpp"

@@ -13,6 +13,8 @@
 
 #include <mutex>
 
+#include <new>
+
 #include "spatial/bvh/bvh.hpp"
 
 namespace spatial {
@@ -119,8 +121,39 @@ inline void bvh<O, BV, Config>::add_hull_points(const O& v) {
 }
 
 // ---- full builds -------------------------------------------------------------------------
+// Strong guarantee (both builds): the old tree is moved aside and put back if the new one
+// cannot be built (bvh_backup.hpp).
 template <stored_object O, class BV, class Config>
 inline void bvh<O, BV, Config>::rebuild() {
+    tree_backup backup = backup_all();
+    try {
+        rebuild_in_place();
+    } catch (const std::bad_alloc&) {
+        restore(backup);
+        throw;
+    }
+}
+template <stored_object O, class BV, class Config>
+inline void bvh<O, BV, Config>::rebuild(parallel_policy) {
+    tree_backup backup = backup_all();
+    try {
+        rebuild_in_place(par);
+    } catch (const std::bad_alloc&) {
+        restore(backup);
+        throw;
+    }
+}
+// After an erasure the rebuild only restores quality: without memory for it the erase still
+// succeeds and a later update retries.
+template <stored_object O, class BV, class Config>
+inline void bvh<O, BV, Config>::rebuild_if_possible() noexcept {
+    try {
+        rebuild();
+    } catch (const std::bad_alloc&) {
+    }
+}
+template <stored_object O, class BV, class Config>
+inline void bvh<O, BV, Config>::rebuild_in_place() {
     clear_nodes();
     std::vector<item> its;
     its.reserve(slots_.size());
@@ -135,9 +168,9 @@ inline void bvh<O, BV, Config>::rebuild() {
     finish_build();
 }
 template <stored_object O, class BV, class Config>
-inline void bvh<O, BV, Config>::rebuild(parallel_policy) {
+inline void bvh<O, BV, Config>::rebuild_in_place(parallel_policy) {
     if (slots_.size() < 2 * parallel_grain) {
-        rebuild();
+        rebuild_in_place();
         return;
     }
     clear_nodes();

@@ -17,6 +17,11 @@
 //    refit_path = false many objects can be replaced and ONE refit() (bottom-up over all
 //    nodes, O(n)) restores the volumes; until then queries throw std::logic_error.
 
+#include <algorithm>
+#include <new>
+#include <utility>
+
+#include "spatial/core/reserve_for_push.hpp"
 #include "spatial/bvh/bvh.hpp"
 
 namespace spatial {
@@ -46,16 +51,52 @@ inline void bvh<O, BV, Config>::bulk_insert(InputIt first, InputIt last, bool pa
         slots_.require_room_for(m, site("insert(first, last)"));
         ensure_fresh();
         slots_.reserve(slots_.capacity() + m);
+        // Strong guarantee: a rebuild or a placement that cannot allocate undoes itself, and
+        // the objects already stored are taken out again, latest first (their removals cannot
+        // fail: reserve_removals).
+        std::vector<std::pair<slot_index, bool>> stored;  // allocation order, whether reused
+        stored.reserve(m);
+        auto allocate = [&](const O& x) {
+            const bool reused = slots_.reuses_a_slot();
+            stored.emplace_back(slots_.allocate(x, 0), reused);
+            return stored.back().first;
+        };
         if (slots_.size() == 0 || m * 4 >= slots_.size()) {
-            for (auto it = first; it != last; ++it) slots_.allocate(*it, 0);
-            if (parallel) rebuild(par);
-            else rebuild();
+            try {
+                for (auto it = first; it != last; ++it) allocate(*it);
+                if (parallel) rebuild(par);
+                else rebuild();
+            } catch (const std::bad_alloc&) {
+                for (auto it = stored.rbegin(); it != stored.rend(); ++it) slots_.undo_allocate(it->first, it->second);
+                throw;
+            }
             return;
         }
-        for (auto it = first; it != last; ++it) place(slots_.allocate(*it, 0), root);
+        reserve_removals(m);
+        const std::size_t before = updates_since_build_;
+        try {
+            for (auto it = first; it != last; ++it) place(allocate(*it), root);
+        } catch (const std::bad_alloc&) {
+            // The failed placement undid itself (its slot is not in the tree).
+            slots_.undo_allocate(stored.back().first, stored.back().second);
+            stored.pop_back();
+            for (auto it = stored.rbegin(); it != stored.rend(); ++it) {
+                remove_from_leaf(it->first);
+                slots_.undo_allocate(it->first, it->second);
+            }
+            updates_since_build_ = before;
+            throw;
+        }
         updates_since_build_ += m;
-        if (needs_rebuild()) rebuild();
+        if (needs_rebuild()) rebuild_if_possible();
     }
+}
+
+// Room on the free lists for m removals of emptied leaves, so that they cannot fail.
+template <stored_object O, class BV, class Config>
+inline void bvh<O, BV, Config>::reserve_removals(std::size_t m) {
+    detail::reserve_for_push(free_blocks_, m);
+    detail::reserve_for_push(free_pairs_, m);
 }
 
 // ---- erasure ---------------------------------------------------------------------
@@ -63,10 +104,13 @@ template <stored_object O, class BV, class Config>
 inline auto bvh<O, BV, Config>::erase(const_iterator pos) -> iterator {
     ensure_fresh();
     const slot_index s = pos.slot();
+    // Cannot fail past here: room is reserved first; refits and the rebuild are best-effort.
+    slots_.reserve_releases(1);
+    reserve_removals(1);
     remove_from_leaf(s);
     slots_.release(s);
     ++updates_since_build_;
-    if (needs_rebuild()) rebuild();
+    if (needs_rebuild()) rebuild_if_possible();
     return make(slots_.next_occupied(s + 1));
 }
 
@@ -75,24 +119,27 @@ inline auto bvh<O, BV, Config>::erase(const O& x) -> size_type {
     detail::require_finite_object(x, site("erase"));
     ensure_fresh();
     const std::vector<slot_index> hits = collect_equal(x, false);
+    slots_.reserve_releases(hits.size());
+    reserve_removals(hits.size());
     for (slot_index s : hits) {
         remove_from_leaf(s);
         slots_.release(s);
     }
     updates_since_build_ += hits.size();
-    if (!hits.empty() && needs_rebuild()) rebuild();
+    if (!hits.empty() && needs_rebuild()) rebuild_if_possible();
     return hits.size();
 }
 
 template <stored_object O, class BV, class Config>
 inline void bvh<O, BV, Config>::erase_slots(std::span<const slot_index> doomed) {
     ensure_fresh();
+    reserve_removals(doomed.size());  // the free-list room for releases is container_base's
     for (slot_index s : doomed) {
         remove_from_leaf(s);
         slots_.release(s);
     }
     updates_since_build_ += doomed.size();
-    if (needs_rebuild()) rebuild();
+    if (needs_rebuild()) rebuild_if_possible();
 }
 
 // ---- motion ------------------------------------------------------------------------
@@ -103,12 +150,21 @@ inline auto bvh<O, BV, Config>::update(const_iterator pos, const O& v, bool refi
         throw std::invalid_argument(detail::site_text(site("update")) + ": the iterator does not refer to a stored element");
     const slot_index s = pos.slot();
     const node_index leaf = slots_.meta(s);
-    slots_.release(s);
-    const slot_index s2 = slots_.allocate(v, leaf);  // the free list is LIFO: s2 == s
-    if (s2 != s) replace_in_leaf(leaf, s, s2);
-    if (refit_path) refit_upward(leaf);
-    else stale_ = true;
-    return make(s2);
+    // Strong guarantee: the value is replaced in its slot (no allocation), and put back if the
+    // path's volumes cannot be refitted (which then keep their old values).
+    const O old = slots_.value(s);
+    slots_.replace(s, v);
+    if (!refit_path) {
+        stale_ = true;
+        return make(s);
+    }
+    try {
+        refit_upward_or_undo(leaf);
+    } catch (const std::bad_alloc&) {
+        slots_.replace(s, old);
+        throw;
+    }
+    return make(s);
 }
 
 template <stored_object O, class BV, class Config>
@@ -118,11 +174,33 @@ inline auto bvh<O, BV, Config>::reinsert(const_iterator pos, const O& v) -> iter
         throw std::invalid_argument(detail::site_text(site("reinsert")) + ": the iterator does not refer to a stored element");
     ensure_fresh();
     const slot_index s = pos.slot();
-    remove_from_leaf(s);
-    slots_.release(s);
-    const slot_index s2 = slots_.allocate(v, 0);  // LIFO free list: s2 == s
-    place(s2, root);
-    return make(s2);
+    // Strong guarantee: the object is placed anew BEFORE it leaves its old leaf (there it is
+    // only taken out of the block, so the leaf cannot be merged away meanwhile); if the
+    // placement cannot allocate (it undoes itself), the old value goes back where it was.
+    const node_index old_leaf = slots_.meta(s);
+    const O old = slots_.value(s);
+    reserve_removals(1);
+    slot_index* items = block(nodes_[old_leaf].first);
+    std::uint32_t at = 0;
+    while (items[at] != s) ++at;
+    std::swap(items[at], items[nodes_[old_leaf].count - 1]);
+    --nodes_[old_leaf].count;
+    slots_.replace(s, v);
+    try {
+        place(s, root);
+    } catch (const std::bad_alloc&) {
+        slots_.replace(s, old);
+        slots_.set_meta(s, old_leaf);
+        slot_index* back = block(nodes_[old_leaf].first);
+        ++nodes_[old_leaf].count;
+        std::swap(back[at], back[nodes_[old_leaf].count - 1]);
+        throw;
+    }
+    // The old leaf lost s: an emptied leaf is removed, any other refitted (best-effort: its
+    // old volume still contains what it holds).
+    if (nodes_[old_leaf].leaf && nodes_[old_leaf].count == 0 && old_leaf != root) remove_empty_leaf(old_leaf);
+    else refit_upward_if_possible(old_leaf);
+    return make(s);
 }
 
 template <stored_object O, class BV, class Config>
@@ -141,18 +219,32 @@ inline motion_strategy bvh<O, BV, Config>::update(PairIt first, PairIt last, mot
                        ? motion_strategy::reinsert
                        : motion_strategy::refit;
     if (strategy == motion_strategy::reinsert) {
+        // Basic guarantee: each reinsert is all or nothing, so a failure leaves the objects
+        // before it moved and the others where they were, each stored once.
         for (auto it = first; it != last; ++it) reinsert(it->first, it->second);
         return strategy;
     }
-    for (auto it = first; it != last; ++it) update(it->first, it->second, false);
-    if (strategy == motion_strategy::rebuild) {
-        rebuild();
-        return strategy;
+    // Strong guarantee for refit and rebuild: the old values are kept aside and put back if
+    // the refit or rebuild (which undoes itself) cannot allocate.
+    std::vector<std::pair<slot_index, O>> old;
+    old.reserve(m);
+    for (auto it = first; it != last; ++it) old.emplace_back(it->first.slot(), slots_.value(it->first.slot()));
+    for (auto it = first; it != last; ++it) slots_.replace(it->first.slot(), it->second);
+    try {
+        if (strategy == motion_strategy::rebuild) rebuild();
+        else refit();
+    } catch (const std::bad_alloc&) {
+        for (auto it = old.rbegin(); it != old.rend(); ++it) slots_.replace(it->first, it->second);
+        throw;
     }
-    refit();
+    if (strategy == motion_strategy::rebuild) return strategy;
     if (automatic && quality() > Config::refit_quality_limit * quality_at_build_) {
-        rebuild();
-        return motion_strategy::rebuild;
+        // Only quality is at stake: without memory for the rebuild the refitted tree stays.
+        try {
+            rebuild();
+            return motion_strategy::rebuild;
+        } catch (const std::bad_alloc&) {
+        }
     }
     return motion_strategy::refit;
 }
@@ -161,7 +253,8 @@ template <stored_object O, class BV, class Config>
 inline void bvh<O, BV, Config>::refit() {
     std::vector<node_index> order;
     preorder(order);
-    for (auto i = order.size(); i-- > 0;) refit_node(order[i]);
+    std::reverse(order.begin(), order.end());  // children before parents
+    refit_or_undo(order);  // strong guarantee (bvh_backup.hpp)
     stale_ = false;
 }
 
@@ -211,13 +304,19 @@ inline bool bvh<O, BV, Config>::needs_rebuild() const {
 }
 template <stored_object O, class BV, class Config>
 inline auto bvh<O, BV, Config>::insert_from(node_index start, const O& x) -> slot_index {
+    // Strong guarantee: the rebuild and the placement undo themselves; then the slot is given
+    // back.
+    const bool reused = slots_.reuses_a_slot();
     const slot_index s = slots_.allocate(x, 0);
     ++updates_since_build_;
-    if (needs_rebuild()) {
-        rebuild();
-        return s;
+    try {
+        if (needs_rebuild()) rebuild();
+        else place(s, start);
+    } catch (const std::bad_alloc&) {
+        --updates_since_build_;
+        slots_.undo_allocate(s, reused);
+        throw;
     }
-    place(s, start);
     return s;
 }
 // Goldsmith & Salmon (1987) greedy descent: into the child whose AABB surface area grows
@@ -240,11 +339,17 @@ inline void bvh<O, BV, Config>::place(slot_index s, node_index n) {
         }
         n = (grow[1] < grow[0] || (grow[1] == grow[0] && area[1] < area[0])) ? c + 1 : c;
     }
+    // All or nothing: a std::bad_alloc leaves the tree as it was (s in no leaf).
     node& L = nodes_[n];
     if (L.count < leaf_size) {
         block(L.first)[L.count++] = s;
         slots_.set_meta(s, n);
-        refit_upward(n);
+        try {
+            refit_upward_or_undo(n);
+        } catch (const std::bad_alloc&) {
+            --nodes_[n].count;  // s is the last entry
+            throw;
+        }
         return;
     }
     std::vector<item> its;
@@ -254,10 +359,16 @@ inline void bvh<O, BV, Config>::place(slot_index s, node_index n) {
         its.push_back(item_of(slots_.value(t), t));
     }
     its.push_back(it);
-    free_blocks_.push_back(L.first);
-    L.count = 0;
-    build_subtree(n, its.data(), its.size());
-    refit_upward(nodes_[n].parent);
+    leaf_backup backup = backup_leaf(n);
+    try {
+        free_blocks_.push_back(nodes_[n].first);
+        nodes_[n].count = 0;
+        build_subtree(n, its.data(), its.size());
+        refit_upward_or_undo(nodes_[n].parent);
+    } catch (const std::bad_alloc&) {
+        restore(backup);
+        throw;
+    }
 }
 // Removes slot s from its leaf (swap with the last entry); an emptied non-root leaf is
 // removed and its sibling replaces the parent. Refits the path. Does not release s.
@@ -271,15 +382,22 @@ inline void bvh<O, BV, Config>::remove_from_leaf(slot_index s) {
     if (i == L.count) return;  // not found: cannot happen for a stored slot
     b[i] = b[--L.count];
     if (L.count > 0 || n == root) {
-        refit_upward(n);
+        refit_upward_if_possible(n);
         return;
     }
+    remove_empty_leaf(n);
+}
+// An emptied non-root leaf is removed and its sibling takes its parent's place. Cannot fail:
+// the callers reserved the free-list room (reserve_removals), the refit is best-effort.
+template <stored_object O, class BV, class Config>
+inline void bvh<O, BV, Config>::remove_empty_leaf(node_index n) noexcept {
+    const node& L = nodes_[n];
     const node_index p = L.parent;
     const node_index pair = nodes_[p].first;
     const node_index sib = n == pair ? pair + 1 : pair;
     free_blocks_.push_back(L.first);
     const node_index grand = nodes_[p].parent;
-    nodes_[p] = nodes_[sib];
+    nodes_[p] = std::move(nodes_[sib]);  // sib is reset below
     nodes_[p].parent = grand;
     if (nodes_[p].leaf) {
         for (std::uint32_t k = 0; k < nodes_[p].count; ++k) slots_.set_meta(block(nodes_[p].first)[k], p);
@@ -290,7 +408,7 @@ inline void bvh<O, BV, Config>::remove_from_leaf(slot_index s) {
     nodes_[pair] = node{};
     nodes_[pair + 1] = node{};
     free_pairs_.push_back(pair);
-    refit_upward(grand);
+    refit_upward_if_possible(grand);
 }
 template <stored_object O, class BV, class Config>
 inline void bvh<O, BV, Config>::replace_in_leaf(node_index leaf, slot_index from, slot_index to) {

@@ -57,6 +57,7 @@ public:
         const std::vector<O> batch(first, last);
         for (const O& x : batch) detail::require_finite_object(x, "sweep_and_prune::insert(first, last)");
         slots_.require_room_for(batch.size(), "sweep_and_prune::insert(first, last)");
+        slots_.reserve(slots_.capacity() + batch.size());  // storing the batch cannot then fail half-way
         for (const O& x : batch) slots_.allocate(x, 1);
     }
     // O(1); the slot leaves the sweep order at the next query.
@@ -71,8 +72,7 @@ public:
         detail::require_finite_object(x, "sweep_and_prune::update");
         const slot_index s = pos.slot();
         if (pos == end() || !slots_.occupied(s)) throw std::invalid_argument("sweep_and_prune::update: not a stored element");
-        slots_.release(s);
-        slots_.allocate(x, 1);  // LIFO free list: the same slot
+        slots_.replace(s, x);  // cannot fail: the next pair search re-sorts it
         return make(s);
     }
     void clear() {

@@ -24,6 +24,7 @@
 // amortised over an iteration); range erase O(m) plus the structure's erase_slots or rebuild.
 
 #include <cstddef>
+#include <new>
 #include <span>
 #include <utility>
 #include <vector>
@@ -71,14 +72,26 @@ public:
     // ---- range erase -------------------------------------------------------------------
     // Erases [first, last). Past a quarter of the container the survivors are rebuilt once
     // (see the header comment); otherwise the structure removes each slot with its repairs.
+    // Strong guarantee under allocation failure: what can fail to allocate (the list, the
+    // free-list room) comes first; both hooks leave the structure as it was when they throw
+    // std::bad_alloc. A rebuild that cannot allocate gives its slots back and the range is
+    // removed one by one instead.
     void erase(const_iterator first, const_iterator last) {
         std::vector<slot_index> doomed;
         for (; first != last; ++first) doomed.push_back(first.slot());
         if (doomed.empty()) return;
+        slots_.reserve_releases(doomed.size());
         if (doomed.size() * 4 >= slots_.size()) {
+            std::vector<typename slot_storage<O>::meta_type> metas;
+            metas.reserve(doomed.size());
+            for (slot_index s : doomed) metas.push_back(slots_.meta(s));
             for (slot_index s : doomed) slots_.release(s);
-            self().rebuild_survivors();
-            return;
+            try {
+                self().rebuild_survivors();
+                return;
+            } catch (const std::bad_alloc&) {
+                for (std::size_t i = doomed.size(); i-- > 0;) slots_.undo_release(doomed[i], metas[i]);
+            }
         }
         self().erase_slots(std::span<const slot_index>(doomed));
     }

@@ -3,7 +3,10 @@
 // (kd_tree leaf buckets and node pairs, octree child blocks, bvh item blocks, quickhull facets
 // and conflict lists): the most recently freed index is reused first (LIFO, so recently
 // touched memory is reused while still in cache); only when none is free does the store grow.
+// free_list_tail keeps the part of a free list an operation can change, to undo it.
 
+#include <algorithm>
+#include <cstddef>
 #include <vector>
 
 namespace spatial::detail {
@@ -17,5 +20,28 @@ Index reuse_or_grow(std::vector<Index>& free_list, Grow&& grow) {
     free_list.pop_back();
     return i;
 }
+
+}  // namespace spatial::detail
+
+namespace spatial::detail {
+
+// The part of a free list that an operation can change, kept to undo it (the structures'
+// strong guarantee under std::bad_alloc): an operation that takes at most k indices from the
+// list (and pushes any number) leaves all but its last k entries as they were, so the size and
+// those k entries restore it. O(k), where copying the list would cost O(list).
+template <class Index>
+struct free_list_tail {
+    std::size_t size = 0;
+    std::vector<Index> tail;
+
+    free_list_tail() = default;
+    free_list_tail(const std::vector<Index>& list, std::size_t k)
+        : size(list.size()), tail(list.end() - static_cast<std::ptrdiff_t>(std::min(k, list.size())), list.end()) {}
+    // Cannot fail: the list held `size` entries before, so its capacity suffices.
+    void restore(std::vector<Index>& list) const noexcept {
+        list.resize(size);
+        std::copy(tail.begin(), tail.end(), list.end() - static_cast<std::ptrdiff_t>(tail.size()));
+    }
+};
 
 }  // namespace spatial::detail

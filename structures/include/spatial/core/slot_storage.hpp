@@ -21,6 +21,7 @@
 #include <vector>
 
 #include "spatial/core/input_checks.hpp"
+#include "spatial/core/reserve_for_push.hpp"
 
 namespace spatial {
 
@@ -73,17 +74,48 @@ public:
         return static_cast<slot_index>(values_.size() - 1);
     }
 
+    // The free-list entry is made first: if it cannot be allocated, the slot stays occupied
+    // (strong guarantee). After reserve_releases(m), the next m releases cannot throw.
     void release(slot_index s) {
         assert(occupied(s));
-        meta_[s] = vacant;
         free_.push_back(s);
+        meta_[s] = vacant;
         --live_;
+    }
+    // Room on the free list for m more releases, so that a structure can release slots in its
+    // no-fail commit step. Grows as m push_backs would (capacities, and so memory_bytes(), do
+    // not change with the reservation).
+    void reserve_releases(std::size_t m) { detail::reserve_for_push(free_, m); }
+    // Undoes the latest allocate(x) (nothing else changed since), for a structure whose
+    // insertion fails after the slot was taken: `reused` is what reuses_a_slot() said before
+    // it. Cannot throw: a reused slot goes back where it came from, a new one is popped.
+    bool reuses_a_slot() const noexcept { return !free_.empty(); }
+    void undo_allocate(slot_index s, bool reused) noexcept {
+        assert(occupied(s));
+        if (reused) {
+            free_.push_back(s);  // within capacity: allocate() popped it
+            meta_[s] = vacant;
+        } else {
+            assert(s + 1 == values_.size());
+            values_.pop_back();
+            meta_.pop_back();
+        }
+        --live_;
+    }
+    // Undoes the latest release(s) (nothing else changed since), restoring its meta word.
+    void undo_release(slot_index s, meta_type meta) noexcept {
+        assert(!free_.empty() && free_.back() == s);
+        free_.pop_back();
+        meta_[s] = meta;
+        ++live_;
     }
 
     // Replace all contents by `values` (slot i = values[i]); every old handle dies.
+    // Strong guarantee: the new metadata is made before anything changes.
     void assign(std::vector<Value> values, meta_type meta) {
+        std::vector<meta_type> metas(values.size(), meta);
         values_ = std::move(values);
-        meta_.assign(values_.size(), meta);
+        meta_ = std::move(metas);
         free_.clear();
         live_ = values_.size();
     }

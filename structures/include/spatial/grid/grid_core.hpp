@@ -41,6 +41,7 @@
 #include <cstdint>
 #include <iterator>
 #include <limits>
+#include <new>
 #include <stdexcept>
 #include <string>
 #include <vector>
@@ -142,13 +143,31 @@ public:
         derived().prepare_insert(all, batch.size(), extent_sum);
         for (const O& x : batch) derived().check_span(extent_of(x), site("insert(first, last)"));
         slots_.reserve(slots_.capacity() + batch.size());
-        for (const O& x : batch) add_to_cells(slots_.allocate(x, 0));
+        // Strong guarantee: if a cell list cannot grow, the objects stored so far are taken
+        // out again, latest first (each undo reverses the latest allocation exactly).
+        std::vector<std::pair<slot_index, bool>> stored;
+        stored.reserve(batch.size());
+        try {
+            for (const O& x : batch) {
+                const bool reused = slots_.reuses_a_slot();
+                stored.emplace_back(store(x), reused);
+            }
+        } catch (const std::bad_alloc&) {
+            for (auto it = stored.rbegin(); it != stored.rend(); ++it) {
+                remove_from_cells(it->first);
+                slots_.undo_allocate(it->first, it->second);
+            }
+            throw;
+        }
     }
 
     // ---- erasure ---------------------------------------------------------------------
     // O(cells of the object x their occupancy). Returns the next element.
+    // Cannot fail once the free list has room (reserved first): removing from a cell list does
+    // not allocate, and the re-grid after erasure is best-effort (after_erase).
     iterator erase(const_iterator pos) {
         const slot_index s = pos.slot();
+        slots_.reserve_releases(1);
         remove_from_cells(s);
         slots_.release(s);
         derived().after_erase();
@@ -160,6 +179,7 @@ public:
         require_finite_object(x, site("erase"));
         std::vector<slot_index> hits;
         collect_equal(x, hits, false);
+        slots_.reserve_releases(hits.size());
         for (slot_index s : hits) {
             remove_from_cells(s);
             slots_.release(s);
@@ -560,9 +580,21 @@ private:
         const extent e = extent_of(x);
         derived().prepare_insert(e, 1, max_extent(e));
         derived().check_span(e, where);
+        return make(store(x));
+    }
+    // Stores x in a slot and lists it in its cells; if a cell list cannot grow, x is taken out
+    // of the cells it reached and its slot given back (strong guarantee).
+    slot_index store(const O& x) {
+        const bool reused = slots_.reuses_a_slot();
         const slot_index s = slots_.allocate(x, 0);
-        add_to_cells(s);
-        return make(s);
+        try {
+            add_to_cells(s);
+        } catch (const std::bad_alloc&) {
+            remove_from_cells(s);  // a cell it did not reach does not list it: nothing to do there
+            slots_.undo_allocate(s, reused);
+            throw;
+        }
+        return s;
     }
 
     void collect_equal(const O& x, std::vector<slot_index>& out, bool first_only) const {

@@ -16,6 +16,7 @@
 // grid_core.hpp; the DDA and the kNN shells walk empty cells too, and fall back to a scan of the
 // occupied cells when that is cheaper, so no query exceeds O(occupied cells + n).
 
+#include <new>
 #include <algorithm>
 #include <cmath>
 #include <cstddef>
@@ -101,9 +102,19 @@ private:
         this->h_ = std::max(size, std::numeric_limits<T>::min() * 1024);
     }
     void after_erase() {}
+    // Strong guarantee: the old cells are set aside and put back if the new ones cannot be
+    // filled.
     void rebuild() {
-        this->cells_.clear();
-        this->refill_cells();
+        auto old_cells = std::move(this->cells_);
+        const auto old_lo = this->data_lo_, old_hi = this->data_hi_;
+        try {
+            this->cells_.clear();
+            this->refill_cells();
+        } catch (const std::bad_alloc&) {
+            this->cells_ = std::move(old_cells);
+            this->data_lo_ = old_lo, this->data_hi_ = old_hi;
+            throw;
+        }
     }
     void reset_cells() { this->cells_.clear(); }
     void check_span(const extent& e, detail::call_site where) const { this->check_span_limit(e, where); }

@@ -18,6 +18,7 @@
 // cells an object overlaps). Weakness (documented, measured): data with a few far outliers
 // get huge cells; use hashed_grid or a tree for such scenes.
 
+#include <new>
 #include <algorithm>
 #include <cmath>
 #include <cstddef>
@@ -90,7 +91,12 @@ private:
             reset_cells();
             this->reset_data_box();
         } else if (size_at_grid_ >= 64 && this->slots_.size() * 4 < size_at_grid_) {
-            regrid(nullptr, 0, 0);
+            // Shrinking is best-effort: without memory for the smaller grid, the erase still
+            // succeeds and the old grid (still correct, only sparser) stays until the next one.
+            try {
+                regrid(nullptr, 0, 0);
+            } catch (const std::bad_alloc&) {
+            }
         }
     }
     void rebuild() {
@@ -131,12 +137,23 @@ private:
             const double cells = std::ceil((static_cast<double>(bb.hi[i]) - static_cast<double>(bb.lo[i])) / static_cast<double>(h));
             dims[i] = static_cast<std::int64_t>(std::clamp(cells, 1.0, 1e9));
         }
-        this->origin_ = bb.lo;
-        this->h_ = h;
+        // Strong guarantee: the old grid is set aside, and put back if the new one cannot be
+        // filled (moves and swaps of the cells do not allocate).
+        auto old_cells = std::move(this->cells_);
+        const auto old_origin = this->origin_, old_lo = this->data_lo_, old_hi = this->data_hi_;
+        const T old_h = this->h_;
+        try {
+            this->origin_ = bb.lo;
+            this->h_ = h;
+            this->cells_.reset(dims);
+            this->refill_cells();
+        } catch (const std::bad_alloc&) {
+            this->cells_ = std::move(old_cells);
+            this->origin_ = old_origin, this->data_lo_ = old_lo, this->data_hi_ = old_hi, this->h_ = old_h;
+            throw;
+        }
         box_lo_ = bb.lo;
         box_hi_ = bb.hi;
-        this->cells_.reset(dims);
-        this->refill_cells();
         built_ = true;
         size_at_grid_ = static_cast<std::size_t>(n);
         ++regrids_;

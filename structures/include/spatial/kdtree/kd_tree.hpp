@@ -202,8 +202,11 @@ public:
 
     // ---- erasure ---------------------------------------------------------------------
     // O(leaf_capacity) plus amortised rebuilds. Returns the next element in iteration order.
+    // Cannot fail under allocation failure (the free-list room is reserved first; merges and
+    // the rebuild after erasure are best-effort).
     iterator erase(const_iterator pos) {
         const slot_index s = pos.slot();
+        slots_.reserve_releases(1);
         remove_slot(s, true);
         after_erase();
         return make(slots_.next_occupied(s + 1));
@@ -214,6 +217,7 @@ public:
         detail::require_finite_object(x, site("erase"));
         std::vector<slot_index> hits;
         collect_equal(root, key_of(x), x, hits, false);
+        slots_.reserve_releases(hits.size());
         for (slot_index s : hits) remove_slot(s, true);
         if (!hits.empty()) after_erase();
         return hits.size();
@@ -382,6 +386,8 @@ private:
     slot_index insert_at(node_index leaf, const O& x, const coords& c);
     void distribute(node_index n, entry* e, std::size_t count, std::uint16_t& max_depth);
     void remove_slot(slot_index s, bool allow_merge);
+    void take_out_of_leaf(slot_index s) noexcept;
+    void try_merge_empty_leaf(node_index leaf) noexcept;
     void merge_empty_leaf(node_index leaf);
     void after_erase();
     bool needs_full_rebuild() const;
@@ -395,8 +401,22 @@ private:
                              std::uint16_t depth, bool fresh, std::size_t base);
     template <class RandomIt>
     void build_fresh(RandomIt batch, std::size_t count);
+    template <class RandomIt>
+    void build_fresh_in_place(RandomIt batch, std::size_t count);
     void rebuild_all();
+    void rebuild_all_in_place();
     void rebalance_from(node_index n);
+
+    // ---- undoing a change that ran out of memory (kd_tree_backup.hpp) ----
+    struct subtree_backup;
+    subtree_backup backup_subtree(node_index n, std::size_t entries) const;
+    void restore(subtree_backup& b) noexcept;
+    struct tree_backup;
+    tree_backup backup_all();
+    void restore(tree_backup& b) noexcept;
+    // The bucket word of a slot allocated but not yet in a leaf (a failed bulk insert takes
+    // out exactly the placed ones); no bucket has this index.
+    static constexpr node_index unplaced = no_node - 1;
     std::size_t subtree_size(node_index n) const;
 
     // ---- queries (kd_tree_queries.hpp) ----
@@ -490,6 +510,7 @@ private:
 }  // namespace spatial
 
 #include "spatial/kdtree/kd_tree_storage.hpp"
+#include "spatial/kdtree/kd_tree_backup.hpp"
 #include "spatial/kdtree/kd_tree_update.hpp"
 #include "spatial/kdtree/kd_tree_build.hpp"
 #include "spatial/kdtree/kd_tree_queries.hpp"

@@ -4,6 +4,8 @@
 // the points out in leaf order, the full rebuild from the live slots, and the scapegoat rule
 // (Galperin & Rivest 1993) that picks which subtree to rebuild when a leaf gets too deep.
 
+#include <new>
+
 #include "spatial/kdtree/kd_tree.hpp"
 
 namespace spatial {
@@ -117,9 +119,22 @@ inline std::uint16_t kd_tree<O, Config>::build_node(node_index at, entry* e, std
 
 // Bulk build into an empty tree. Slots are assigned in leaf order, so each leaf's points
 // are contiguous in memory (sequential access when a query scans a leaf).
+// Strong guarantee: the empty tree is moved aside and put back if the build cannot allocate;
+// the slots are assigned last, in one step that either happens whole or not at all.
 template <stored_object O, class Config>
 template <class RandomIt>
 inline void kd_tree<O, Config>::build_fresh(RandomIt batch, std::size_t count) {
+    tree_backup backup = backup_all();
+    try {
+        build_fresh_in_place(batch, count);
+    } catch (const std::bad_alloc&) {
+        restore(backup);
+        throw;
+    }
+}
+template <stored_object O, class Config>
+template <class RandomIt>
+inline void kd_tree<O, Config>::build_fresh_in_place(RandomIt batch, std::size_t count) {
     reset_to_empty();
     free_buckets_.push_back(nodes_[root].first);
     leaves_ = 0;
@@ -144,9 +159,20 @@ inline void kd_tree<O, Config>::build_fresh(RandomIt batch, std::size_t count) {
     buckets_.shrink_to_fit();
 }
 
-// Rebuild everything from the live slots (slots keep their ids).
+// Rebuild everything from the live slots (slots keep their ids). Strong guarantee: the old
+// tree is moved aside and put back if the new one cannot be built.
 template <stored_object O, class Config>
 inline void kd_tree<O, Config>::rebuild_all() {
+    tree_backup backup = backup_all();
+    try {
+        rebuild_all_in_place();
+    } catch (const std::bad_alloc&) {
+        restore(backup);
+        throw;
+    }
+}
+template <stored_object O, class Config>
+inline void kd_tree<O, Config>::rebuild_all_in_place() {
     std::vector<entry> es;
     es.reserve(slots_.size());
     bounds_lo_.fill(std::numeric_limits<T>::infinity());
@@ -185,8 +211,14 @@ inline void kd_tree<O, Config>::rebalance_from(node_index n) {
             size_p > 2 * leaf_capacity) {
             std::vector<entry> es;
             es.reserve(size_p);
-            gather(p, es);
-            rebuild_subtree(p, es);
+            subtree_backup backup = backup_subtree(p, size_p);  // strong guarantee, as for a leaf split
+            try {
+                gather(p, es);
+                rebuild_subtree(p, es);
+            } catch (const std::bad_alloc&) {
+                restore(backup);
+                throw;
+            }
             return;
         }
         size_child = size_p;

@@ -4,6 +4,10 @@
 // slots from their leaves, merging a leaf emptied by erasure with its sibling, and the rules
 // that trigger a full rebuild after erasures.
 
+#include <new>
+#include <utility>
+
+#include "spatial/core/reserve_for_push.hpp"
 #include "spatial/kdtree/kd_tree.hpp"
 
 namespace spatial {
@@ -28,23 +32,54 @@ inline void kd_tree<O, Config>::insert(InputIt first, InputIt last) {
         slots_.reserve(slots_.capacity() + m);  // no reallocation failure half-way
         std::vector<entry> fresh;
         fresh.reserve(m);
-        for (auto it = first; it != last; ++it) {
-            fresh.push_back(make_entry(*it, slots_.allocate(*it, 0)));
-            grow_bounds(fresh.back().c);
+        // Strong guarantee: if a leaf rebuild or the full rebuild cannot allocate (each undoes
+        // itself), the batch's slots are taken out of the leaves they reached and given back,
+        // latest first. Leaf rebuilds that succeeded stay (the tree is valid with them).
+        std::vector<std::pair<slot_index, bool>> stored;  // allocation order, whether reused
+        stored.reserve(m);
+        const coords old_lo = bounds_lo_, old_hi = bounds_hi_;
+        try {
+            for (auto it = first; it != last; ++it) {
+                const bool reused = slots_.reuses_a_slot();
+                stored.emplace_back(slots_.allocate(*it, unplaced), reused);
+                fresh.push_back(make_entry(*it, stored.back().first));
+                grow_bounds(fresh.back().c);
+            }
+            if (m * 2 >= old_size) {
+                rebuild_all();
+                return;
+            }
+            std::uint16_t max_depth = 0;
+            distribute(root, fresh.data(), fresh.size(), max_depth);
+            if (max_depth > depth_limit() || needs_full_rebuild()) rebuild_all();
+        } catch (const std::bad_alloc&) {
+            for (auto it = stored.rbegin(); it != stored.rend(); ++it) {
+                if (slots_.meta(it->first) != unplaced) take_out_of_leaf(it->first);
+                slots_.undo_allocate(it->first, it->second);
+            }
+            bounds_lo_ = old_lo, bounds_hi_ = old_hi;
+            throw;
         }
-        if (m * 2 >= old_size) {
-            rebuild_all();
+    }
+}
+
+// Removes slot s from its leaf's bucket only (no merge, no release): the undo of a placement.
+template <stored_object O, class Config>
+inline void kd_tree<O, Config>::take_out_of_leaf(slot_index s) noexcept {
+    const node_index b = slots_.meta(s);
+    node& L = nodes_[buckets_[b].owner];
+    auto& items = buckets_[b].items;
+    for (std::uint32_t i = 0; i < L.count; ++i)
+        if (items[i] == s) {
+            items[i] = items[--L.count];
             return;
         }
-        std::uint16_t max_depth = 0;
-        distribute(root, fresh.data(), fresh.size(), max_depth);
-        if (max_depth > depth_limit() || needs_full_rebuild()) rebuild_all();
-    }
 }
 
 template <stored_object O, class Config>
 inline void kd_tree<O, Config>::erase_slots(std::span<const slot_index> doomed) {
     std::vector<node_index> touched;
+    touched.reserve(doomed.size());  // all allocation before the first release
     std::vector<char> marked(buckets_.size(), 0);  // O(buckets) bytes, cheaper than sorting
     for (slot_index s : doomed) {
         const node_index b = slots_.meta(s);
@@ -66,7 +101,7 @@ inline void kd_tree<O, Config>::erase_slots(std::span<const slot_index> doomed) 
     for (node_index b : touched) {  // merging may free buckets later in the list
         const node_index leaf = buckets_[b].owner;
         if (leaf == no_node || !nodes_[leaf].is_leaf || nodes_[leaf].first != b) continue;
-        if (nodes_[leaf].count == 0 && leaf != root) merge_empty_leaf(leaf);
+        if (nodes_[leaf].count == 0 && leaf != root) try_merge_empty_leaf(leaf);
     }
     after_erase();
 }
@@ -84,27 +119,38 @@ inline auto kd_tree<O, Config>::descend(node_index n, const coords& c) const -> 
 
 template <stored_object O, class Config>
 inline auto kd_tree<O, Config>::insert_at(node_index leaf, const O& x, const coords& c) -> slot_index {
-    // Allocate the slot first: if it throws (capacity), nothing else has changed. (A
-    // std::bad_alloc in the split below would leave the slot unlinked.)
+    // Strong guarantee. A leaf with room: the slot is the only allocation. A full leaf: its
+    // records are copied aside first (O(leaf_capacity)), and if the split or the rebalancing
+    // after it cannot allocate, the leaf is put back and the slot given back.
+    const bool full = nodes_[leaf].count >= leaf_capacity;
+    subtree_backup backup;
+    if (full) backup = backup_subtree(leaf, leaf_capacity + 1);
+    const bool reused = slots_.reuses_a_slot();
     const slot_index s = slots_.allocate(x, nodes_[leaf].first);
     grow_bounds(c);
-    if constexpr (has_extent) grow_extents_upward(leaf, extent_of(x));
+    if constexpr (has_extent) grow_extents_upward(leaf, extent_of(x));  // looser is still sound
     node& L = nodes_[leaf];
-    if (L.count < leaf_capacity) {
+    if (!full) {
         buckets_[L.first].items[L.count++] = s;
         return s;
     }
-    // Full leaf: rebuild it as a small subtree over its points plus the new one. Its
-    // cell is in its bucket (no walk from the root, which would cost a descent).
-    const coords lo = buckets_[L.first].cell_lo, hi = buckets_[L.first].cell_hi;
-    entry_buffer_.clear();
-    gather(leaf, entry_buffer_);
-    if constexpr (has_extent) entry_buffer_.push_back(make_entry(x, s));
-    else entry_buffer_.push_back({c, s});
-    ++maintenance_.subtree_rebuilds;
-    const std::uint16_t deepest =
-        build_node(leaf, entry_buffer_.data(), entry_buffer_.size(), lo, hi, nodes_[leaf].depth, false, 0);
-    if (deepest > depth_limit()) rebalance_from(leaf);
+    try {
+        // Full leaf: rebuild it as a small subtree over its points plus the new one. Its
+        // cell is in its bucket (no walk from the root, which would cost a descent).
+        const coords lo = buckets_[L.first].cell_lo, hi = buckets_[L.first].cell_hi;
+        entry_buffer_.clear();
+        gather(leaf, entry_buffer_);
+        if constexpr (has_extent) entry_buffer_.push_back(make_entry(x, s));
+        else entry_buffer_.push_back({c, s});
+        ++maintenance_.subtree_rebuilds;
+        const std::uint16_t deepest =
+            build_node(leaf, entry_buffer_.data(), entry_buffer_.size(), lo, hi, nodes_[leaf].depth, false, 0);
+        if (deepest > depth_limit()) rebalance_from(leaf);
+    } catch (const std::bad_alloc&) {
+        restore(backup);
+        slots_.undo_allocate(s, reused);
+        throw;
+    }
     return s;
 }
 
@@ -131,10 +177,19 @@ inline void kd_tree<O, Config>::distribute(node_index n, entry* e, std::size_t c
         const coords lo = buckets_[L.first].cell_lo, hi = buckets_[L.first].cell_hi;
         std::vector<entry> es;
         es.reserve(L.count + count);
-        gather(n, es);
-        es.insert(es.end(), e, e + count);
-        ++maintenance_.subtree_rebuilds;
-        max_depth = std::max(max_depth, build_node(n, es.data(), es.size(), lo, hi, nodes_[n].depth, false, 0));
+        // All or nothing (the caller takes the batch out again): the leaf is put back, and
+        // the batch's entries here are marked as not placed.
+        subtree_backup backup = backup_subtree(n, L.count + count);
+        try {
+            gather(n, es);
+            es.insert(es.end(), e, e + count);
+            ++maintenance_.subtree_rebuilds;
+            max_depth = std::max(max_depth, build_node(n, es.data(), es.size(), lo, hi, nodes_[n].depth, false, 0));
+        } catch (const std::bad_alloc&) {
+            restore(backup);
+            for (std::size_t i = 0; i < count; ++i) slots_.set_meta(e[i].slot, unplaced);
+            throw;
+        }
         return;
     }
     const unsigned d = nodes_[n].dim;
@@ -160,7 +215,17 @@ inline void kd_tree<O, Config>::remove_slot(slot_index s, bool allow_merge) {
         }
     slots_.release(s);
     if constexpr (has_extent) refit_leaf(leaf);
-    if (allow_merge && L.count == 0 && leaf != root) merge_empty_leaf(leaf);
+    if (allow_merge && L.count == 0 && leaf != root) try_merge_empty_leaf(leaf);
+}
+
+// Merging is best-effort: without room on the free lists the empty leaf stays (a valid tree),
+// so that erasure never fails for it.
+template <stored_object O, class Config>
+inline void kd_tree<O, Config>::try_merge_empty_leaf(node_index leaf) noexcept {
+    try {
+        merge_empty_leaf(leaf);
+    } catch (const std::bad_alloc&) {
+    }
 }
 
 // An empty leaf whose sibling is a leaf: the parent becomes a leaf holding the sibling's
@@ -171,6 +236,10 @@ inline void kd_tree<O, Config>::merge_empty_leaf(node_index leaf) {
     const node_index first = nodes_[p].first;
     const node_index sib = leaf == first ? first + 1 : first;
     if (!nodes_[sib].is_leaf) return;
+    // Room on the free lists first (as their push_backs below would grow them), so that the
+    // merge cannot fail half-way.
+    detail::reserve_for_push(free_buckets_, 1);
+    detail::reserve_for_push(free_pairs_, 1);
     const unsigned d = nodes_[p].dim;
     const node_index eb = nodes_[leaf].first, sb = nodes_[sib].first;
     bucket& keep = buckets_[sb];
@@ -190,7 +259,13 @@ inline void kd_tree<O, Config>::merge_empty_leaf(node_index leaf) {
 
 template <stored_object O, class Config>
 inline void kd_tree<O, Config>::after_erase() {
-    if (needs_full_rebuild()) rebuild_all();
+    // Best-effort: without memory for the rebuild (which then undoes itself) the erase still
+    // succeeds, and the tree, valid but less balanced, is rebuilt by a later erase.
+    if (!needs_full_rebuild()) return;
+    try {
+        rebuild_all();
+    } catch (const std::bad_alloc&) {
+    }
 }
 
 // Galperin & Rivest's deletion rule, plus a leaf-occupancy rule that bounds the garbage

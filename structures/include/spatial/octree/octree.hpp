@@ -97,6 +97,9 @@ private:
     using coords = std::array<T, D>;
     using node_index = std::uint32_t;
     static constexpr node_index no_node = std::numeric_limits<node_index>::max();
+    // The meta word of a slot allocated but not yet in a node (a bulk insert that fails
+    // half-way takes out exactly the placed ones). No node has this index (new_block's limit).
+    static constexpr node_index unplaced = no_node - 1;
     // Relative slack on distance lower bounds: an object's exact distance (e.g. a sphere's)
     // may round a few ulps below the distance to a box containing it.
     static constexpr T bound_slack = 1 - 16 * std::numeric_limits<T>::epsilon();
@@ -157,9 +160,12 @@ public:
 
     // ---- erasure ---------------------------------------------------------------------
     // O(1) plus the merge check (O(2^D) per level merged). Returns the next element.
+    // Cannot fail once the free list has room (reserved first): removal does not allocate and
+    // merging is best-effort (collapse_from).
     iterator erase(const_iterator pos) {
         const slot_index s = pos.slot();
         const node_index n = slots_.meta(s);
+        slots_.reserve_releases(1);
         remove_item(n, s);
         slots_.release(s);
         collapse_from(n);
@@ -171,6 +177,7 @@ public:
         detail::require_finite_object(x, site("erase"));
         std::vector<slot_index> hits;
         collect_equal(x, hits, false);
+        slots_.reserve_releases(hits.size());
         for (slot_index s : hits) erase(make(s));
         return hits.size();
     }
@@ -287,6 +294,7 @@ private:
     bool ensure_root_contains(const extent& e);
     void grow_once(const extent& e);
     void rebuild_all(const extent* extra = nullptr);
+    void build_over(const std::vector<slot_index>& live, const extent& box, bool any);
 
     // ---- lookup (octree_queries.hpp) ----
     void collect_equal(const O& x, std::vector<slot_index>& out, bool first_only) const;

@@ -3,6 +3,8 @@
 // cell contains a new object, or rebuilding the whole tree around the bounding box of
 // everything stored.
 
+#include <new>
+
 #include "spatial/octree/octree.hpp"
 
 namespace spatial {
@@ -84,6 +86,32 @@ inline void octree<O, Config>::rebuild_all(const extent* extra) {
         any = true;
         merge_into(box, e);
     }
+    // Strong guarantee: the old tree (nodes, positions, each slot's node) is set aside and put
+    // back if the new one cannot be built. Moves of the vectors do not allocate.
+    std::vector<node_index> old_meta;
+    old_meta.reserve(live.size());
+    for (slot_index s : live) old_meta.push_back(slots_.meta(s));
+    std::vector<std::uint32_t> old_pos = pos_;
+    std::vector<node> old_nodes = std::move(nodes_);
+    std::vector<node_index> old_free = std::move(free_blocks_);
+    const node_index old_root = root_;
+    try {
+        nodes_.reserve(old_nodes.capacity());  // the capacities the in-place rebuild kept
+        free_blocks_.reserve(old_free.capacity());
+        build_over(live, box, any);
+    } catch (const std::bad_alloc&) {
+        nodes_ = std::move(old_nodes);
+        free_blocks_ = std::move(old_free);
+        root_ = old_root;
+        pos_ = std::move(old_pos);
+        for (std::size_t i = 0; i < live.size(); ++i) slots_.set_meta(live[i], old_meta[i]);
+        throw;
+    }
+}
+
+// The tree over `live` in a cubic root around `box` (none if !any), into emptied nodes.
+template <stored_object O, class Config>
+inline void octree<O, Config>::build_over(const std::vector<slot_index>& live, const extent& box, bool any) {
     nodes_.clear();
     free_blocks_.clear();
     root_ = no_node;

@@ -4,6 +4,9 @@
 // placing an object at the deepest node whose loose cell contains it, distributing a bulk
 // batch top-down, collapsing nodes after erasure.
 
+#include <new>
+
+#include "spatial/core/reserve_for_push.hpp"
 #include "spatial/octree/octree.hpp"
 
 namespace spatial {
@@ -20,15 +23,29 @@ inline void octree<O, Config>::insert(InputIt first, InputIt last) {
     extent box = extent_of(batch.front());
     for (const O& x : batch) merge_into(box, extent_of(x));
     for (std::size_t i = 0; i < D; ++i) box.c[i] = box.lo[i] + (box.hi[i] - box.lo[i]) / 2;
-    if (!rebuild) ensure_root_contains(box);
-    std::vector<slot_index> fresh;
+    if (!rebuild) ensure_root_contains(box);  // a grown root holds the same objects
+    // Strong guarantee: if anything below cannot allocate, the batch's objects are taken out
+    // of the nodes they reached and their slots given back, latest first. Splits already made
+    // stay (the tree is valid with them).
+    std::vector<std::pair<slot_index, bool>> fresh;  // slot, whether it was a reused one
     fresh.reserve(batch.size());
-    for (const O& x : batch) fresh.push_back(allocate(x));
-    if (rebuild) {
-        rebuild_all();
-        return;
+    std::vector<slot_index> slots;
+    slots.reserve(batch.size());
+    try {
+        for (const O& x : batch) {
+            const bool reused = slots_.reuses_a_slot();
+            fresh.emplace_back(allocate(x), reused);
+            slots.push_back(fresh.back().first);
+        }
+        if (rebuild) rebuild_all();
+        else distribute(root_, slots);
+    } catch (const std::bad_alloc&) {
+        for (auto it = fresh.rbegin(); it != fresh.rend(); ++it) {
+            if (slots_.meta(it->first) != unplaced) remove_item(slots_.meta(it->first), it->first);
+            slots_.undo_allocate(it->first, it->second);
+        }
+        throw;
     }
-    distribute(root_, fresh);
 }
 
 template <stored_object O, class Config>
@@ -39,9 +56,9 @@ inline void octree<O, Config>::swap_contents(octree& o) {
 // ================= node and item bookkeeping ==========================================
 template <stored_object O, class Config>
 inline auto octree<O, Config>::allocate(const O& x) -> slot_index {
-    const slot_index s = slots_.allocate(x, 0);
-    if (pos_.size() <= s) pos_.resize(std::max<std::size_t>(s + 1, slots_.capacity()));
-    return s;
+    // pos_ grows first: a slot must never exist without its position entry.
+    if (!slots_.reuses_a_slot() && pos_.size() <= slots_.capacity()) pos_.resize(slots_.capacity() + 1);
+    return slots_.allocate(x, unplaced);
 }
 
 template <stored_object O, class Config>
@@ -107,16 +124,27 @@ inline bool octree<O, Config>::split(node_index n) {
         nd.split_retry = 2 * m;  // retry only after doubling: O(1) amortised per insert
         return false;
     }
-    make_children(n);
-    node& me = nodes_[n];  // make_children may have reallocated nodes_
-    std::vector<slot_index> keep;
-    for (std::size_t i = 0; i < m; ++i) {
-        const slot_index s = me.items[i];
-        if (target[i] == fanout) keep.push_back(s);
-        else add_item(me.first_child + target[i], s);
+    // Strong guarantee: the children's lists and the kept list are filled aside, and the
+    // child block taken, before the node changes; the commit below cannot fail. (The lists
+    // get the capacity their push_backs would have given.)
+    std::array<std::vector<slot_index>, fanout + 1> lists;  // [fanout]: the objects that stay
+    {
+        std::array<std::size_t, fanout + 1> counts{};
+        for (std::size_t i = 0; i < m; ++i) ++counts[target[i]];
+        for (std::size_t b = 0; b <= fanout; ++b) detail::reserve_for_push(lists[b], counts[b]);
+        for (std::size_t i = 0; i < m; ++i) lists[target[i]].push_back(nd.items[i]);
     }
-    nodes_[n].items = std::move(keep);
-    for (std::size_t i = 0; i < nodes_[n].items.size(); ++i) pos_[nodes_[n].items[i]] = static_cast<std::uint32_t>(i);
+    make_children(n);
+    const node_index first_child = nodes_[n].first_child;  // make_children may have reallocated nodes_
+    for (std::size_t b = 0; b <= fanout; ++b) {
+        const node_index c = b == fanout ? n : first_child + static_cast<node_index>(b);
+        nodes_[c].items = std::move(lists[b]);
+        const auto& items = nodes_[c].items;
+        for (std::size_t i = 0; i < items.size(); ++i) {
+            pos_[items[i]] = static_cast<std::uint32_t>(i);
+            slots_.set_meta(items[i], c);
+        }
+    }
     nodes_[n].split_retry = 0;
     return true;
 }
@@ -138,6 +166,7 @@ inline void octree<O, Config>::split_recursive(node_index n) {
 // Descends from `start` (whose loose cell contains e) to the deepest node that takes x.
 template <stored_object O, class Config>
 inline auto octree<O, Config>::place(node_index start, const O& x, const extent& e) -> slot_index {
+    const bool reused = slots_.reuses_a_slot();
     const slot_index s = allocate(x);
     node_index n = start;
     while (!nodes_[n].is_leaf()) {
@@ -146,8 +175,16 @@ inline auto octree<O, Config>::place(node_index start, const O& x, const extent&
         if (!loose_contains(nodes_[c], e)) break;
         n = c;
     }
-    add_item(n, s);
-    if (nodes_[n].is_leaf() && nodes_[n].items.size() > leaf_capacity) split_recursive(n);
+    // Strong guarantee: if the node's list or a split cannot allocate, x is taken out again
+    // (each split is all-or-nothing, so the tree is valid whichever split failed).
+    try {
+        add_item(n, s);
+        if (nodes_[n].is_leaf() && nodes_[n].items.size() > leaf_capacity) split_recursive(n);
+    } catch (const std::bad_alloc&) {
+        if (slots_.meta(s) != unplaced) remove_item(slots_.meta(s), s);
+        slots_.undo_allocate(s, reused);
+        throw;
+    }
     return s;
 }
 
@@ -185,6 +222,9 @@ inline bool octree<O, Config>::try_collapse(node_index x) {
         total += c.items.size();
     }
     if (total > leaf_capacity) return false;
+    // Room first (the node's list, the free block entry), so the merge cannot fail half-way.
+    detail::reserve_for_push(nd.items, total - nd.items.size());
+    detail::reserve_for_push(free_blocks_, 1);
     const node_index first = nd.first_child;
     for (std::size_t b = 0; b < fanout; ++b) {
         node& c = nodes_[first + b];
@@ -201,8 +241,13 @@ inline bool octree<O, Config>::try_collapse(node_index x) {
 
 template <stored_object O, class Config>
 inline void octree<O, Config>::collapse_from(node_index n) {
-    node_index x = nodes_[n].is_leaf() ? nodes_[n].parent : n;
-    while (x != no_node && try_collapse(x)) x = nodes_[x].parent;
+    // Merging is best-effort: without memory for a merged list the tree keeps its (valid)
+    // children, and an erase never fails for it.
+    try {
+        node_index x = nodes_[n].is_leaf() ? nodes_[n].parent : n;
+        while (x != no_node && try_collapse(x)) x = nodes_[x].parent;
+    } catch (const std::bad_alloc&) {
+    }
 }
 
 // The range-erase hooks of container_base: a range under a quarter of the tree is erased
