@@ -26,6 +26,7 @@
 
 #include "harness/adapters.hpp"
 #include "harness/peer_registry.hpp"
+#include "harness/tuning_sweep.hpp"
 
 namespace {
 
@@ -222,7 +223,8 @@ void check_all(point_index<T, D>& index, const live_set<T, D>& live, std::mt1993
 
 template <class T, std::size_t D>
 std::string trace_name(const point_index<T, D>& index, std::uint64_t seed) {
-    return index.name() + " seed=" + std::to_string(seed);
+    const std::string configuration = index.configuration().empty() ? "" : "[" + index.configuration() + "]";
+    return index.name() + configuration + " seed=" + std::to_string(seed);
 }
 
 // ---------------------------------------------------------------------------------------
@@ -253,7 +255,9 @@ void expect_holds_nothing(point_index<T, D>& index, const pt<T, D>& q, std::size
 enum class peers { all, dynamic };
 template <class T, std::size_t D, class Body>
 void for_each_seeded_peer(std::uint64_t offset, peers which, Body&& body) {
-    for (const auto& index : harness::make_peer_indices<T, D>()) {
+    // Every configuration of the tuning sweep too: a swept configuration is timed only if
+    // validated, and validated here like the default.
+    for (const auto& index : harness::make_peer_indices<T, D>(true)) {
         if (which == peers::dynamic && !index->can(capability::dynamic)) continue;
         const std::uint64_t seed = base_seed + offset + D;
         SCOPED_TRACE(trace_name(*index, seed));
@@ -294,8 +298,8 @@ TYPED_TEST(adapters_test, every_configured_peer_is_registered) {
 TYPED_TEST(adapters_test, capabilities_are_as_registered) {
     using T = typename TypeParam::scalar;
     constexpr std::size_t D = TypeParam::dim;
-    for (const auto& index : harness::make_peer_indices<T, D>()) {
-        SCOPED_TRACE(index->name());
+    for (const auto& index : harness::make_peer_indices<T, D>(true)) {
+        SCOPED_TRACE(index->name() + " " + index->configuration());
         const harness::structure_info* entry = harness::find_peer(index->name());
         ASSERT_NE(entry, nullptr);
         ASSERT_FALSE(entry->capabilities.empty()) << "its registry line lists no capabilities";
@@ -352,8 +356,8 @@ TYPED_TEST(adapters_test, lattice_ties_and_closed_balls) {
         pts.push_back(p);
     }
     const auto live = as_live(pts);
-    for (const auto& index : harness::make_peer_indices<T, D>()) {
-        SCOPED_TRACE(index->name());
+    for (const auto& index : harness::make_peer_indices<T, D>(true)) {
+        SCOPED_TRACE(index->name() + " " + index->configuration());
         index->build(pts);
         pt<T, D> centre;
         for (std::size_t i = 0; i < D; ++i) centre[i] = T(side / 2);
@@ -571,3 +575,42 @@ TYPED_TEST(adapters_test, memory_and_node_counters) {
 }
 
 }  // namespace
+
+// A setting a peer cannot run is an error naming the peer and the setting, not a silent
+// default; a sweep configuration naming a setting its registry line lacks is a logic error.
+TEST(tuning_sweep, bad_settings_are_errors_that_name_them) {
+    const harness::key_values no_setting{};
+    EXPECT_THROW(harness::count_setting(no_setting, "bucket_size", "cgal_kd_tree"), std::invalid_argument);
+    for (const char* bad : {"0", "-3", "ten", "32x", ""}) {
+        const harness::key_values settings{{"leaf_max_size", bad}};
+        try {
+            harness::count_setting(settings, "leaf_max_size", "nanoflann");
+            ADD_FAILURE() << "leaf_max_size=" << bad << " was accepted";
+        } catch (const std::invalid_argument& e) {
+            EXPECT_NE(std::string(e.what()).find("nanoflann: setting leaf_max_size="), std::string::npos) << e.what();
+        }
+    }
+    EXPECT_THROW(harness::switch_setting({{"points_cache", "yes"}}, "points_cache", "cgal_kd_tree"), std::invalid_argument);
+    EXPECT_THROW(harness::configurations("cgal_kd_tree", {{"bucket_size", "10"}}, true), std::logic_error);
+#if defined(SPATIAL_HAVE_CGAL) && SPATIAL_HAVE_CGAL
+    EXPECT_THROW((harness::make_cgal_kd_tree_index<double, 3>({{"bucket_size", "0"}, {"points_cache", "off"}})),
+                 std::invalid_argument);
+#endif
+}
+
+// Each swept configuration is one index, labelled with what it changes; the default is first
+// and unlabelled, and the sweep names every setting it changes in the registry's terms.
+TEST(tuning_sweep, configurations_overlay_the_registry_settings) {
+    const auto c = harness::configurations("cgal_kd_tree", harness::find_peer("cgal_kd_tree")->settings, true);
+    ASSERT_EQ(c.size(), 1 + harness::tuning_sweep("cgal_kd_tree").size());
+    EXPECT_EQ(c[0].params, "");
+    EXPECT_EQ(harness::params_of(c[0].settings), "bucket_size=10;points_cache=off");
+    bool found = false;
+    for (const auto& x : c)
+        if (x.params == "bucket_size=32;points_cache=on") {
+            found = true;
+            EXPECT_EQ(harness::params_of(x.settings), "bucket_size=32;points_cache=on");
+        }
+    EXPECT_TRUE(found);
+    EXPECT_EQ(harness::configurations("cgal_kd_tree", harness::find_peer("cgal_kd_tree")->settings, false).size(), 1u);
+}

@@ -4,16 +4,21 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
+#include <cmath>
 #include <filesystem>
 #include <fstream>
+#include <random>
 #include <sstream>
 
 #include "fuzz/command_line/vocabulary.hpp"
 #include "harness/check.hpp"
 #include "harness/csv_writer.hpp"
 #include "harness/our_indexes.hpp"
+#include "harness/structure_registry.hpp"
 #include "harness/suite_table.hpp"
 #include "harness/timing.hpp"
+#include "harness/tuning_sweep.hpp"
 #include "harness/validation.hpp"
 
 using namespace harness;
@@ -179,4 +184,45 @@ TEST(command_line_vocabulary, the_fuzz_targets_copy_names_every_runnable_suite) 
     for (const auto& s : spatial_fuzz::command_line_vocabulary().runnable_suites)
         copied.emplace_back(s.name, s.description);
     EXPECT_EQ(copied, runnable);
+}
+
+// Every leaf capacity of the kd_tree's tuning sweep answers kNN and radius queries exactly
+// like brute force (the sweep times them next to the default: they must be right too).
+TEST(tuning_sweep, every_kd_tree_leaf_capacity_answers_like_brute_force) {
+    const std::uint64_t seed = 20261126;
+    SCOPED_TRACE("seed " + std::to_string(seed));
+    std::mt19937_64 rng(seed);
+    std::uniform_real_distribution<double> u(0, 1);
+    std::vector<spatial::point<double, 3>> pts(3000);
+    for (auto& p : pts) p = {u(rng), u(rng), std::floor(u(rng) * 8) / 8};  // ties on z planes
+    harness::brute_force_index<double, 3> oracle;
+    oracle.build(pts);
+    const auto* info = harness::find_structure("kd_tree");
+    ASSERT_NE(info, nullptr);
+    for (const auto& c : harness::configurations("kd_tree", info->settings, true)) {
+        SCOPED_TRACE(harness::params_of(c.settings));
+        auto tree = harness::make_kd_tree_index_with_leaf_capacity<double, 3>(
+            harness::count_setting(c.settings, "leaf_capacity", "kd_tree"));
+        tree->build(pts);
+        std::vector<harness::neighbor<double>> got, want;
+        for (int q = 0; q < 200; ++q) {
+            const spatial::point<double, 3> x{u(rng), u(rng), u(rng)};
+            for (std::size_t k : {std::size_t{1}, std::size_t{10}, std::size_t{50}}) {
+                tree->knn(x, k, 0.0, got);
+                oracle.knn(x, k, 0.0, want);
+                ASSERT_EQ(got.size(), want.size());
+                for (std::size_t i = 0; i < got.size(); ++i) ASSERT_EQ(got[i].distance_squared, want[i].distance_squared);
+            }
+            tree->radius(x, 0.1, got);
+            oracle.radius(x, 0.1, want);
+            auto distances = [](const std::vector<harness::neighbor<double>>& v) {
+                std::vector<double> d;
+                for (const auto& found : v) d.push_back(found.distance_squared);
+                std::sort(d.begin(), d.end());
+                return d;
+            };
+            ASSERT_EQ(distances(got), distances(want));
+        }
+    }
+    EXPECT_THROW((harness::make_kd_tree_index_with_leaf_capacity<double, 3>(12)), std::invalid_argument);
 }

@@ -32,6 +32,7 @@
 #include "harness/suite_cases.hpp"
 #include "harness/suite_context.hpp"
 #include "harness/timing.hpp"
+#include "harness/tuning_sweep.hpp"
 #include "harness/validation.hpp"
 
 namespace harness {
@@ -49,14 +50,20 @@ struct preset_config {
     std::size_t dynamic_max_n;
     std::size_t brute_max_n;      // brute_force as a timed structure up to this n
     std::size_t churn_rounds;
+    // The tuning sweep (tuning_sweep.hpp: peers' and kd_tree's configurations besides their
+    // defaults) runs on 3D double point sets of at least this many points, and on real data:
+    // the sizes that decide issue 18's targets (the quick preset's largest), every size in full.
+    std::size_t sweep_min_n;
 };
 
 preset_config preset(const std::string& name) {
     const std::vector<std::string> all{"uniform", "clusters", "sphere", "plane", "line", "lattice", "duplicates"};
-    if (name == "smoke") return {{1000, 10000}, 100, 2, 1, 50, 1e7, {"uniform", "lattice", "duplicates"}, true, 10000, 10000, 1000};
-    if (name == "quick") return {{1000, 10000, 100000, 1000000}, 2000, 5, 3, 200, 2e8, all, true, 1000000, 100000, 20000};
+    if (name == "smoke")
+        return {{1000, 10000}, 100, 2, 1, 50, 1e7, {"uniform", "lattice", "duplicates"}, true, 10000, 10000, 1000, 10000};
+    if (name == "quick")
+        return {{1000, 10000, 100000, 1000000}, 2000, 5, 3, 200, 2e8, all, true, 1000000, 100000, 20000, 1000000};
     if (name == "full")
-        return {{1000, 10000, 100000, 1000000, 10000000}, 5000, 7, 3, 300, 2e8, all, true, 10000000, 100000, 100000};
+        return {{1000, 10000, 100000, 1000000, 10000000}, 5000, 7, 3, 300, 2e8, all, true, 10000000, 100000, 100000, 0};
     throw std::invalid_argument("unknown preset '" + name + "' (expected smoke, quick or full)");
 }
 
@@ -138,6 +145,28 @@ void add_registered(const context& ctx, std::vector<std::unique_ptr<point_index<
     else for_each_structure<point_type, in::knn>(add);
 }
 
+// The kd_tree in each configuration of its tuning sweep (its default is add_registered's).
+// Only 3D double instantiates the other leaf capacities: the sweep runs there (preset_config).
+template <class T, std::size_t D>
+void add_kd_tree_sweep(const context& ctx, std::vector<std::unique_ptr<point_index<T, D>>>& out) {
+    if constexpr (D == 3 && std::is_same_v<T, double>) {
+        const structure_info* info = find_structure("kd_tree");
+        if (!ctx.wants("kd_tree") || !info) return;
+        const auto all = configurations("kd_tree", info->settings, true);
+        for (auto c = all.begin() + 1; c != all.end(); ++c) {
+            out.push_back(make_kd_tree_index_with_leaf_capacity<T, D>(count_setting(c->settings, "leaf_capacity", "kd_tree")));
+            out.back()->set_configuration(c->params);
+        }
+    }
+}
+
+// A structure as its rows name it: "cgal_kd_tree" for a default configuration,
+// "cgal_kd_tree[bucket_size=32;points_cache=on]" for a swept one (messages and map keys).
+template <class T, std::size_t D>
+std::string labelled(const point_index<T, D>& s) {
+    return s.configuration().empty() ? s.name() : s.name() + "[" + s.configuration() + "]";
+}
+
 // What the static and the dynamic measurement of one workload share: the suite's context,
 // the workload, and its rows (no bounding volume column in this suite).
 template <class T, std::size_t D>
@@ -208,9 +237,14 @@ public:
                 {"approx_knn", 10, 2, "k=10;eps=2"},
                 {"approx_knn", 10, 5, "k=10;eps=5"}};
 
+        // The tuning sweep: not in the structures suite (every structure at its default).
+        const bool real = wc_.label.rfind("real:", 0) == 0;
+        const bool sweep = !ctx_.opt.all_structures && D == 3 && std::is_same_v<T, double> &&
+                           (n >= ctx_.cfg.sweep_min_n || real);
         std::vector<std::unique_ptr<point_index<T, D>>> structures;
         add_registered(ctx_, structures, n, false);
-        for (auto& p : make_peer_indices<T, D>())
+        if (sweep) add_kd_tree_sweep(ctx_, structures);
+        for (auto& p : make_peer_indices<T, D>(sweep))
             if (!p->can(capability::dynamic_variant) && ctx_.wants(p->name())) structures.push_back(std::move(p));
         // The oracle is timed last (the others are compared with the first, kd_tree).
         std::stable_partition(structures.begin(), structures.end(), [](const auto& s) { return !is_oracle(s->name()); });
@@ -225,9 +259,12 @@ private:
                std::to_string(D) + "d " + scalar_name<T>();
     }
 
-    // Keeps the row, and its value and check for the kd_tree / peer ratios.
-    void record(result_row r) {
-        figures_[{r.workload, r.n, r.dim, r.scalar, r.operation, r.params, r.metric}][r.structure] = {r.value, r.check};
+    // Keeps the row of `s` (its params: `op_params`, then its configuration), and its value and
+    // check for the kd_tree / peer ratios.
+    void record(const point_index<T, D>& s, const std::string& op_params, result_row r) {
+        r.params = joined_params(op_params, s.configuration());
+        figures_[{r.workload, r.n, r.dim, r.scalar, r.operation, op_params, r.metric}][{s.name(), s.configuration()}] = {
+            r.value, r.check};
         ctx_.rows.push_back(std::move(r));
     }
 
@@ -245,7 +282,7 @@ private:
             run_one(s, op, wc_.queries[i], out);
             checksum += raw_checksum(out);
             if (i == 0 && out.size() > 1 && injected_fault(s.name())) out.back() = out.front();
-            const std::string what = tag(s.name(), op.operation + "(" + op.params + ")") + ", query " + std::to_string(i);
+            const std::string what = tag(labelled(s), op.operation + "(" + op.params + ")") + ", query " + std::to_string(i);
             for (T d : checked_distances(s, wc_.queries[i], out, what)) answers[i].push_back(static_cast<double>(d));
         }
         return answers;
@@ -321,7 +358,7 @@ private:
         // Builds, interleaved; the last repetition leaves every structure built with n points.
         std::vector<timed_work> build_work;
         for (auto& s : structures)
-            build_work.push_back({tag(s->name(), "build") + ", size after build",
+            build_work.push_back({tag(labelled(*s), "build") + ", size after build",
                                   [&s, pts] {
                                       s->build(pts);
                                       return static_cast<double>(s->size());
@@ -331,17 +368,18 @@ private:
         std::vector<std::map<std::string, double>> knn_us(structures.size());
         for (const auto& op : ops_) measure_operation(structures, op, knn_us);
         for (std::size_t i = 0; i < structures.size(); ++i) {
-            const std::string name = structures[i]->name();
-            const double bytes = static_cast<double>(structures[i]->memory_bytes());
+            const auto& s = *structures[i];
+            const std::string name = s.name();
+            const double bytes = static_cast<double>(s.memory_bytes());
             // A build is checked by its size and by the answers of the tree it built.
-            const auto built = built_check_.find(name);
+            const auto built = built_check_.find(labelled(s));
             const std::string verified = built == built_check_.end() ? check::size : built->second;
-            record(timed_row(verified, name, "build", "", "build_time", builds[i], "s"));
-            record(row(verified, name, "build", "", "memory_bytes", bytes, "B"));
-            record(row(verified, name, "build", "", "bytes_per_point", bytes / static_cast<double>(n), "B"));
+            record(s, "", timed_row(verified, name, "build", "", "build_time", builds[i], "s"));
+            record(s, "", row(verified, name, "build", "", "memory_bytes", bytes, "B"));
+            record(s, "", row(verified, name, "build", "", "bytes_per_point", bytes / static_cast<double>(n), "B"));
             std::ostringstream msg;
             msg.precision(3);
-            msg << tag(name, "") << ": build " << builds[i].median_seconds << " s, " << bytes / static_cast<double>(n)
+            msg << tag(labelled(s), "") << ": build " << builds[i].median_seconds << " s, " << bytes / static_cast<double>(n)
                 << " B/pt";
             for (const auto& [params, us] : knn_us[i]) msg << ", " << params << " " << us << " us";
             ctx_.prog.say(msg.str());
@@ -365,8 +403,8 @@ private:
             const std::size_t queries = is_brute ? std::min<std::size_t>(wc_.queries.size(), 200) : wc_.queries.size();
             double checksum = 0;
             answers.push_back(answer_all(s, op, queries, checksum));
-            verified.push_back(validate(s.name(), op, answers.back()));
-            work.push_back({tag(s.name(), op.operation + "(" + op.params + ")"),
+            verified.push_back(validate(labelled(s), op, answers.back()));
+            work.push_back({tag(labelled(s), op.operation + "(" + op.params + ")"),
                             [this, &s, &op, queries, out = std::vector<neighbor<T>>()]() mutable {
                                 double sum = 0;
                                 for (std::size_t q = 0; q < queries; ++q) {
@@ -385,18 +423,19 @@ private:
             verified[0] = check::all_of({verified[0], check::cross_all});
         const std::vector<timing_result> times = time_interleaved(work, 1, ctx_.cfg.repetitions);
         for (std::size_t w = 0; w < who.size(); ++w) {
-            const std::string name = structures[who[w]]->name();
+            const auto& s = *structures[who[w]];
+            const std::string name = s.name();
             const double per_op_ns = 1e9 / static_cast<double>(count[w]);
-            record(timed_row(verified[w], name, op.operation, op.params, "time_per_op", times[w], "ns", per_op_ns));
+            record(s, op.params, timed_row(verified[w], name, op.operation, op.params, "time_per_op", times[w], "ns", per_op_ns));
             if (op.operation == "approx_knn") {
                 const auto& exact = reference_.at("knn|k=10");
                 double rec = 0;
                 for (std::size_t q = 0; q < count[w]; ++q) rec += recall(as_t(answers[w][q]), as_t(exact[q]));
-                record(row(verified[w], name, op.operation, op.params, "recall", rec / static_cast<double>(count[w]),
-                           "ratio"));
+                record(s, op.params,
+                       row(verified[w], name, op.operation, op.params, "recall", rec / static_cast<double>(count[w]), "ratio"));
             }
             if (op.operation == "knn") knn_us[who[w]][op.params] = times[w].median_seconds * 1e6 / static_cast<double>(count[w]);
-            if (op.operation == "knn" && op.k == 10) built_check_[name] = check::all_of({check::size, verified[w]});
+            if (op.operation == "knn" && op.k == 10) built_check_[labelled(s)] = check::all_of({check::size, verified[w]});
         }
     }
 
@@ -420,26 +459,56 @@ private:
             }
             const std::string verified = validate("kd_tree (statistics)", op, answers);
             const double per = static_cast<double>(nodes) / static_cast<double>(wc_.queries.size());
-            record(row(verified, "kd_tree", op.operation, op.params, "nodes_visited", per, "count"));
+            record(s, op.params, row(verified, "kd_tree", op.operation, op.params, "nodes_visited", per, "count"));
         }
     }
 
-    // kd_tree time divided by each peer's, per figure (the issue's performance targets).
+    // kd_tree (its default configuration) divided by each peer configuration, per figure (the
+    // issue's performance targets), and by the best peer: the fastest validated configuration
+    // of any peer for that figure, in a `best_peer_ratio` row that names it (structure, and its
+    // whole configuration after the operation's params: issue 18's reference).
     void ratios() {
         for (const auto& [key, by_structure] : figures_) {
             if (key.metric != "time_per_op" && key.metric != "build_time" && key.metric != "bytes_per_point") continue;
-            auto ours = by_structure.find("kd_tree");
+            auto ours = by_structure.find({"kd_tree", ""});
             if (ours == by_structure.end()) continue;
-            for (const auto& [peer, figure] : by_structure) {
-                if (peer == "kd_tree" || figure.value <= 0) continue;
-                const std::string metric = key.metric == "bytes_per_point" ? "memory_ratio" : "time_ratio";
+            const std::string metric = key.metric == "bytes_per_point" ? "memory_ratio" : "time_ratio";
+            const std::pair<std::string, std::string>* best = nullptr;
+            double best_value = 0;
+            for (const auto& [who, figure] : by_structure) {
+                const structure_info* peer = find_peer(who.first);
+                if (!peer || figure.value <= 0) continue;
                 // A ratio is as validated as the two figures it divides.
                 const bool both = ours->second.check != check::none && figure.check != check::none;
-                result_row r = row(both ? check::derived : check::none, peer, key.operation, key.params, metric,
-                                   ours->second.value / figure.value, "ratio");
+                result_row r = row(both ? check::derived : check::none, who.first, key.operation,
+                                   joined_params(key.params, who.second), metric, ours->second.value / figure.value, "ratio");
                 ctx_.rows.push_back(std::move(r));
+                if (key.metric != "bytes_per_point" && figure.check != check::none && (!best || figure.value < best_value)) {
+                    best = &who;
+                    best_value = figure.value;
+                }
             }
+            if (!best || ours->second.check == check::none) continue;
+            ctx_.rows.push_back(row(check::derived, best->first, key.operation,
+                                    joined_params(key.params, full_configuration(best->first, best->second)),
+                                    "best_peer_ratio", ours->second.value / best_value, "ratio"));
         }
+    }
+
+    // A peer configuration written out in full: its registry settings with the swept ones
+    // ("bucket_size=32;points_cache=on") in their place, so a best-peer row names every setting.
+    static std::string full_configuration(const std::string& peer, const std::string& swept) {
+        key_values full = find_peer(peer)->settings;
+        std::size_t start = 0;
+        while (start < swept.size()) {
+            const std::size_t end = std::min(swept.find(';', start), swept.size());
+            const std::string item = swept.substr(start, end - start);
+            const std::size_t eq = item.find('=');
+            for (auto& [k, v] : full)
+                if (k == item.substr(0, eq)) v = item.substr(eq + 1);
+            start = end + 1;
+        }
+        return params_of(full);
     }
 
     T radius_ = 0;
@@ -451,8 +520,9 @@ private:
         double value;
         std::string check;
     };
-    std::map<figure_key, std::map<std::string, checked_figure>> figures_;
-    std::map<std::string, std::string> built_check_;  // structure -> check of its build rows
+    // figure -> (structure, configuration) -> its value
+    std::map<figure_key, std::map<std::pair<std::string, std::string>, checked_figure>> figures_;
+    std::map<std::string, std::string> built_check_;  // labelled structure -> check of its build rows
 };
 
 // ---------------------------------------------------------------------------------------

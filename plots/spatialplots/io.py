@@ -124,6 +124,20 @@ def known_rows(rows, registry, table):
     return [row for row in rows if registry.structure(row.structure) is not None]
 
 
+def tuning_rows(rows, registry):
+    """Split rows into (curve rows, tuning rows).  A tuning row measures a configuration of a
+    tuning sweep (its params name one of its structure's registry settings, e.g.
+    `k=10;bucket_size=32`) or names the run's fastest peer configuration (best_peer_ratio): one
+    size, one case each, which the complexity curves and summaries leave out (the tables and
+    the paper's best-peer table report them)."""
+    curves, tuning = [], []
+    for row in rows:
+        settings = registry.settings(row.structure)
+        named = {item.split("=", 1)[0] for item in row.params.split(";") if item}
+        (tuning if row.metric == "best_peer_ratio" or named & set(settings) else curves).append(row)
+    return curves, tuning
+
+
 def table_names(results_dir):
     """Sorted *.csv names in results_dir; None (with a note) when there is nothing to plot."""
     if not os.path.isdir(results_dir):
@@ -137,14 +151,19 @@ def table_names(results_dir):
 
 
 def read_results(results_dir, registry, names=None):
-    """All usable rows of results_dir/*.csv whose suite and structure are in the registry."""
+    """All usable rows of results_dir/*.csv whose suite and structure are in the registry,
+    without the tuning-sweep rows (tuning_rows)."""
     if names is None:
         names = table_names(results_dir) or []
     rows = []
     for name in names:
-        rows.extend(known_rows(read_csv_file(os.path.join(results_dir, name)), registry, name))
+        curves, tuning = tuning_rows(known_rows(read_csv_file(os.path.join(results_dir, name)), registry, name),
+                                     registry)
+        if tuning:
+            note(f"{name}: {len(tuning)} tuning-sweep row(s) kept out of the curves")
+        rows.extend(curves)
     return rows
 
 
 __all__ = ["REQUIRED_COLUMNS", "REGISTRY_FILE", "Row", "RegistryError", "note", "read_registry",
-           "read_csv_file", "known_rows", "table_names", "read_results"]
+           "read_csv_file", "known_rows", "tuning_rows", "table_names", "read_results"]

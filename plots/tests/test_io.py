@@ -11,7 +11,7 @@ from spatialplots.registry import Registry, RegistryError
 
 REGISTRY = support.registry_dict(
     [support.suite("knn", baseline="kd_tree")],
-    [support.structure("kd_tree"), support.structure("brute_force", kind="oracle")])
+    [support.structure("kd_tree", settings={"leaf_capacity": "16"}), support.structure("brute_force", kind="oracle")])
 
 
 class TablesTest(support.ResultsTestCase):
@@ -50,6 +50,17 @@ class TablesTest(support.ResultsTestCase):
         self.assert_png("knn_knn_k10_3d_double.png")
         rows = self.parsed(rows, "knn.csv")
         self.assertEqual({r.structure for r in rows}, {"kd_tree"})
+
+    def test_tuning_sweep_rows_stay_out_of_the_curves(self):
+        rows = [row(n=n, value=5.0 * n) for n in NS] + [
+            row(n=NS[-1], params="k=10;leaf_capacity=32", value=1.0),
+            row(n=NS[-1], params="k=10;leaf_capacity=32", metric="best_peer_ratio", value=0.9, unit="ratio")]
+        write_csv(self.results, "knn.csv", rows)
+        code, _, stderr = self.plot()
+        self.assertEqual(code, 0, stderr)
+        self.assertIn("knn.csv: 2 tuning-sweep row(s) kept out of the curves", stderr)
+        self.assert_png("knn_knn_k10_3d_double.png")
+        self.assertFalse([name for name in support.pngs(self.out) if "leaf_capacity" in name])
 
     def test_missing_results_directory(self):
         code, _, stderr = support.run_main("--results", os.path.join(self.results, "absent"),

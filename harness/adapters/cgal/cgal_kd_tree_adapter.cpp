@@ -4,9 +4,13 @@
 // cost ~10 s to compile, and CGAL::CGAL adds -frounding-math, which stays private to the
 // spatial_adapter_cgal library).
 //
-// Tree: CGAL::Kd_tree<traits, Sliding_midpoint, extended nodes, no points cache> — CGAL's
-// defaults (bucket size 10). Sliding midpoint: Maneewongvatana & Mount, "It's okay to be
-// skinny, if your friends are fat", CGC Workshop 1999. Build O(n log n) expected.
+// Tree: CGAL::Kd_tree<traits, Sliding_midpoint, extended nodes, points cache on or off>.
+// Its settings (registry line: CGAL's defaults, bucket size 10 and no cache; the tuning sweep,
+// harness/tuning_sweep.hpp, runs the others): bucket_size, the splitter's leaf size, and
+// points_cache, CGAL's copy of every point's coordinates in leaf order (EnablePointsCache:
+// leaves scan contiguous coordinates instead of following pointers, for D * n more values).
+// Sliding midpoint: Maneewongvatana & Mount, "It's okay to be skinny, if your friends are
+// fat", CGC Workshop 1999. Build O(n log n) expected.
 //
 // Conventions converted here (CGAL -> point_index):
 //   * eps: Orthogonal_k_neighbor_search prunes when d_rect^2 * (1 + eps)^2 >= worst^2, i.e.
@@ -47,6 +51,7 @@
 #include <CGAL/Splitters.h>
 
 #include "harness/adapters.hpp"
+#include "harness/tuning_sweep.hpp"
 
 namespace harness {
 namespace {
@@ -66,14 +71,14 @@ struct construct_coord_iterator {
     const T* operator()(const cgal_point<T, D>& p, int) const { return p.coords.data() + D; }
 };
 
-template <class T, std::size_t D>
+template <class T, std::size_t D, class PointsCache>
 class cgal_kd_tree_index final : public point_index<T, D> {
     using point_type = typename point_index<T, D>::point_type;
     using stored_point = cgal_point<T, D>;
     using traits = CGAL::Search_traits<T, stored_point, const T*, construct_coord_iterator<T, D>,
                                        CGAL::Dimension_tag<static_cast<int>(D)>>;
     using splitter = CGAL::Sliding_midpoint<traits>;
-    using tree_type = CGAL::Kd_tree<traits, splitter, CGAL::Tag_true, CGAL::Tag_false>;
+    using tree_type = CGAL::Kd_tree<traits, splitter, CGAL::Tag_true, PointsCache>;
     using distance_type = CGAL::Euclidean_distance<traits>;
     using knn_search = CGAL::Orthogonal_k_neighbor_search<traits, distance_type, splitter, tree_type>;
     using sphere_type = CGAL::Fuzzy_sphere<traits>;
@@ -100,7 +105,7 @@ class cgal_kd_tree_index final : public point_index<T, D> {
     };
 
 public:
-    cgal_kd_tree_index() : tree_(std::make_unique<tree_type>()) {}
+    explicit cgal_kd_tree_index(unsigned bucket_size) : bucket_size_(bucket_size), tree_(new_tree()) {}
     cgal_kd_tree_index(const cgal_kd_tree_index&) = delete;
     cgal_kd_tree_index& operator=(const cgal_kd_tree_index&) = delete;
 
@@ -111,7 +116,7 @@ public:
     }
 
     void build(std::span<const point_type> pts) override {
-        tree_ = std::make_unique<tree_type>();  // a fresh tree frees the old nodes and points
+        tree_ = new_tree();  // a fresh tree frees the old nodes and points
         by_id_.clear();
         by_id_.shrink_to_fit();
         alive_.clear();
@@ -150,6 +155,7 @@ public:
                      (leaves - 1) * sizeof(typename tree_type::Internal_node);
             bytes += sizeof(CGAL::Kd_tree_rectangle<T, CGAL::Dimension_tag<static_cast<int>(D)>>);
             bytes += tree_->size() * sizeof(const stored_point*);
+            if constexpr (PointsCache::value) bytes += tree_->size() * D * sizeof(T);  // the points cache
         }
         bytes += by_id_.capacity() * sizeof(point_type) + alive_.capacity() * sizeof(unsigned char);
         return bytes;
@@ -225,6 +231,8 @@ public:
     void prepare_dynamic() override { ensure_table(); }
 
 private:
+    std::unique_ptr<tree_type> new_tree() const { return std::make_unique<tree_type>(splitter(bucket_size_)); }
+
     // erase() must hand CGAL the point's coordinates (remove() descends by them), so dynamic
     // operations need id -> point. It is built by prepare_dynamic() (or, failing that, by the
     // first dynamic operation) from CGAL's point array, O(n) once, so static workloads do not
@@ -260,6 +268,7 @@ private:
         ++live_;
     }
 
+    unsigned bucket_size_;
     std::unique_ptr<tree_type> tree_;
     std::vector<point_type> by_id_;     // id -> point, valid where alive_[id]
     std::vector<unsigned char> alive_;  // id -> live flag
@@ -273,10 +282,15 @@ private:
 }  // namespace
 
 template <class T, std::size_t D>
-std::unique_ptr<point_index<T, D>> make_cgal_kd_tree_index() {
-    return std::make_unique<cgal_kd_tree_index<T, D>>();
+std::unique_ptr<point_index<T, D>> make_cgal_kd_tree_index(const key_values& settings) {
+    const std::size_t bucket = count_setting(settings, "bucket_size", "cgal_kd_tree");
+    if (bucket > std::numeric_limits<unsigned>::max())
+        throw std::invalid_argument("cgal_kd_tree: bucket_size " + std::to_string(bucket) + " is too large");
+    if (switch_setting(settings, "points_cache", "cgal_kd_tree"))
+        return std::make_unique<cgal_kd_tree_index<T, D, CGAL::Tag_true>>(static_cast<unsigned>(bucket));
+    return std::make_unique<cgal_kd_tree_index<T, D, CGAL::Tag_false>>(static_cast<unsigned>(bucket));
 }
 
-SPATIAL_INSTANTIATE_POINT_PEER_FACTORY(make_cgal_kd_tree_index);
+SPATIAL_INSTANTIATE_CONFIGURABLE_POINT_PEER_FACTORY(make_cgal_kd_tree_index);
 
 }  // namespace harness

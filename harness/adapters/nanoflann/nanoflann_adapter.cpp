@@ -40,12 +40,11 @@
 #pragma GCC diagnostic pop
 
 #include "harness/adapters.hpp"
+#include "harness/tuning_sweep.hpp"
 
 namespace harness {
 namespace {
 
-// nanoflann's default leaf size (KDTreeSingleIndexAdaptorParams() uses 10).
-constexpr std::size_t leaf_max_size = 10;
 
 // Dataset adaptor: nanoflann reads coordinates through it. It points at a vector the
 // adapter owns, so the adapter (heap-allocated by the factory, never moved) outlives it.
@@ -92,7 +91,8 @@ class nanoflann_static_index final : public point_index<T, D> {
                                                           static_cast<std::int32_t>(D), std::uint32_t>;
 
 public:
-    nanoflann_static_index() { cloud_.pts = &points_; }
+    // leaf_max_size: the registry's setting (nanoflann's default, 10) or a tuning sweep's.
+    explicit nanoflann_static_index(std::size_t leaf_max_size) : leaf_max_size_(leaf_max_size) { cloud_.pts = &points_; }
     nanoflann_static_index(const nanoflann_static_index&) = delete;
     nanoflann_static_index& operator=(const nanoflann_static_index&) = delete;
 
@@ -106,7 +106,7 @@ public:
         points_.assign(pts.begin(), pts.end());
         // nanoflann 1.4's constructor builds the index.
         tree_ = std::make_unique<tree_type>(static_cast<int>(D), cloud_,
-                                            nanoflann::KDTreeSingleIndexAdaptorParams(leaf_max_size));
+                                            nanoflann::KDTreeSingleIndexAdaptorParams(leaf_max_size_));
     }
 
     // The point copy the dataset adaptor exposes + nanoflann's usedMemory (node pool, used
@@ -148,6 +148,7 @@ public:
 
 private:
     std::vector<point_type> points_;
+    std::size_t leaf_max_size_;
     cloud_type cloud_;
     std::unique_ptr<tree_type> tree_;
     // Per-query scratch, kept to avoid an allocation per query.
@@ -197,7 +198,7 @@ class nanoflann_dynamic_index final : public point_index<T, D> {
     static constexpr std::size_t max_points = std::numeric_limits<std::uint32_t>::max();
 
 public:
-    nanoflann_dynamic_index() {
+    explicit nanoflann_dynamic_index(std::size_t leaf_max_size) : leaf_max_size_(leaf_max_size) {
         cloud_.pts = &slot_points_;
         reset_forest();
     }
@@ -293,7 +294,7 @@ public:
 private:
     void reset_forest() {
         forest_ = std::make_unique<forest>(static_cast<int>(D), cloud_,
-                                           nanoflann::KDTreeSingleIndexAdaptorParams(leaf_max_size), max_points);
+                                           nanoflann::KDTreeSingleIndexAdaptorParams(leaf_max_size_), max_points);
     }
 
     void check_insertable(std::uint32_t first_id, std::size_t count) const {
@@ -321,6 +322,7 @@ private:
     std::vector<std::uint32_t> slot_ids_;     // slot -> caller id
     std::vector<std::uint32_t> id_slots_;     // caller id -> slot, no_slot when not live
     std::size_t live_ = 0;
+    std::size_t leaf_max_size_;
     cloud_type cloud_;
     std::unique_ptr<forest> forest_;
     // Per-query scratch.
@@ -332,17 +334,17 @@ private:
 }  // namespace
 
 template <class T, std::size_t D>
-std::unique_ptr<point_index<T, D>> make_nanoflann_index() {
-    return std::make_unique<nanoflann_static_index<T, D>>();
+std::unique_ptr<point_index<T, D>> make_nanoflann_index(const key_values& settings) {
+    return std::make_unique<nanoflann_static_index<T, D>>(count_setting(settings, "leaf_max_size", "nanoflann"));
 }
 
 template <class T, std::size_t D>
-std::unique_ptr<point_index<T, D>> make_nanoflann_dynamic_index() {
-    return std::make_unique<nanoflann_dynamic_index<T, D>>();
+std::unique_ptr<point_index<T, D>> make_nanoflann_dynamic_index(const key_values& settings) {
+    return std::make_unique<nanoflann_dynamic_index<T, D>>(count_setting(settings, "leaf_max_size", "nanoflann_dynamic"));
 }
 
-SPATIAL_INSTANTIATE_POINT_PEER_FACTORY(make_nanoflann_index);
+SPATIAL_INSTANTIATE_CONFIGURABLE_POINT_PEER_FACTORY(make_nanoflann_index);
 
-SPATIAL_INSTANTIATE_POINT_PEER_FACTORY(make_nanoflann_dynamic_index);
+SPATIAL_INSTANTIATE_CONFIGURABLE_POINT_PEER_FACTORY(make_nanoflann_dynamic_index);
 
 }  // namespace harness

@@ -18,23 +18,27 @@
 
 #include <cstddef>
 #include <memory>
+#include <stdexcept>
+#include <string>
 #include <vector>
 
+#include "harness/peer_registry.hpp"
 #include "harness/point_index.hpp"
+#include "harness/tuning_sweep.hpp"
 
 namespace harness {
 
-// nanoflann 1.4 KDTreeSingleIndexAdaptor (static index, L2_Simple_Adaptor, leaf_max_size 10).
-// name() "nanoflann"; capabilities knn | approximate_knn | radius.
+// nanoflann 1.4 KDTreeSingleIndexAdaptor (static index, L2_Simple_Adaptor; settings:
+// leaf_max_size). name() "nanoflann"; capabilities knn | approximate_knn | radius.
 // build() copies the points into the adapter (the dataset adaptor references the copy) and
 // builds the tree. Conversions: nanoflann's eps multiplies SQUARED distance, so it is given
 // (1 + eps)^2 - 1; radiusSearch keeps d^2 < radius, so it is given nextafter(r^2, +inf) to
 // make the ball closed; k = 0 returns nothing (nanoflann's result set needs capacity >= 1).
 template <class T, std::size_t D>
-std::unique_ptr<point_index<T, D>> make_nanoflann_index();
+std::unique_ptr<point_index<T, D>> make_nanoflann_index(const key_values& settings);
 
 // nanoflann 1.4 KDTreeSingleIndexDynamicAdaptor (logarithmic method: a forest of static
-// trees of sizes 2^i, lazy deletion). name() "nanoflann_dynamic"; capabilities knn |
+// trees of sizes 2^i, lazy deletion; settings: leaf_max_size). name() "nanoflann_dynamic"; capabilities knn |
 // approximate_knn | radius | dynamic | bulk_insert.
 // nanoflann 1.4.3 identifies points by a dataset index that it assumes is DENSE and
 // NEVER REUSED (addPoints writes its bookkeeping at position `number of points added so
@@ -44,10 +48,10 @@ std::unique_ptr<point_index<T, D>> make_nanoflann_index();
 // maps id <-> slot. Erased slots stay in nanoflann's trees (its deletion is lazy), so
 // memory grows with the number of insertions, not of live points; memory_bytes shows it.
 template <class T, std::size_t D>
-std::unique_ptr<point_index<T, D>> make_nanoflann_dynamic_index();
+std::unique_ptr<point_index<T, D>> make_nanoflann_dynamic_index(const key_values& settings);
 
-// CGAL 5.5 Kd_tree (Sliding_midpoint splitter, bucket size 10, extended nodes) over a
-// point type that carries its id. name() "cgal_kd_tree"; capabilities knn |
+// CGAL 5.5 Kd_tree (Sliding_midpoint splitter, extended nodes; settings: bucket_size,
+// points_cache on|off) over a point type that carries its id. name() "cgal_kd_tree"; capabilities knn |
 // approximate_knn | radius | dynamic | bulk_insert.
 // build() inserts all points and calls tree.build() so the build is timed (CGAL would
 // otherwise build lazily inside the first query). knn: Orthogonal_k_neighbor_search, whose
@@ -58,7 +62,7 @@ std::unique_ptr<point_index<T, D>> make_nanoflann_dynamic_index();
 // table that prepare_dynamic() builds (untimed; else the first dynamic operation does), so
 // static workloads do not pay for it. last_nodes_visited() is reported for knn.
 template <class T, std::size_t D>
-std::unique_ptr<point_index<T, D>> make_cgal_kd_tree_index();
+std::unique_ptr<point_index<T, D>> make_cgal_kd_tree_index(const key_values& settings);
 
 // Boost.Geometry 1.74 rtree over (point, id) values, node capacity 16: "boost_rtree" is an
 // R*-tree bulk-loaded by the packing constructor (knn | radius; the static workloads),
@@ -78,19 +82,41 @@ std::unique_ptr<point_index<T, D>> make_boost_rtree_quadratic_index();
     template std::unique_ptr<point_index<float, 3>> factory<float, 3>();      \
     template std::unique_ptr<point_index<double, 2>> factory<double, 2>();    \
     template std::unique_ptr<point_index<double, 3>> factory<double, 3>()
+// The same for a factory that takes its settings (registry line, or a tuning sweep's).
+#define SPATIAL_INSTANTIATE_CONFIGURABLE_POINT_PEER_FACTORY(factory)                                  \
+    template std::unique_ptr<point_index<float, 2>> factory<float, 2>(const key_values&);          \
+    template std::unique_ptr<point_index<float, 3>> factory<float, 3>(const key_values&);          \
+    template std::unique_ptr<point_index<double, 2>> factory<double, 2>(const key_values&);        \
+    template std::unique_ptr<point_index<double, 3>> factory<double, 3>(const key_values&)
 
-// Every peer index compiled into this build, in a fixed order (static before dynamic).
+// Appends the peer `name` made by `factory` in its registry configuration and, when `sweep`,
+// in each configuration of its tuning sweep (tuning_sweep.hpp), each labelled with it.
+template <class T, std::size_t D, class Factory>
+void add_peer_configurations(std::vector<std::unique_ptr<point_index<T, D>>>& out, const std::string& name,
+                             Factory factory, bool sweep) {
+    const structure_info* info = find_peer(name);
+    if (!info) throw std::logic_error("make_peer_indices: no registry line for peer " + name);
+    for (auto& c : configurations(name, info->settings, sweep)) {
+        out.push_back(factory(c.settings));
+        out.back()->set_configuration(std::move(c.params));
+    }
+}
+
+// Every peer index compiled into this build, in a fixed order (static before dynamic): each
+// in its registry configuration and, when `sweep`, in every configuration of its tuning sweep.
 template <class T, std::size_t D>
-std::vector<std::unique_ptr<point_index<T, D>>> make_peer_indices() {
+std::vector<std::unique_ptr<point_index<T, D>>> make_peer_indices(bool sweep = false) {
     std::vector<std::unique_ptr<point_index<T, D>>> out;
+    (void)sweep;
 #if defined(SPATIAL_HAVE_NANOFLANN) && SPATIAL_HAVE_NANOFLANN
-    out.push_back(make_nanoflann_index<T, D>());
-    out.push_back(make_nanoflann_dynamic_index<T, D>());
+    add_peer_configurations(out, "nanoflann", make_nanoflann_index<T, D>, sweep);
+    add_peer_configurations(out, "nanoflann_dynamic", make_nanoflann_dynamic_index<T, D>, sweep);
 #endif
 #if defined(SPATIAL_HAVE_CGAL) && SPATIAL_HAVE_CGAL
-    out.push_back(make_cgal_kd_tree_index<T, D>());
+    add_peer_configurations(out, "cgal_kd_tree", make_cgal_kd_tree_index<T, D>, sweep);
 #endif
 #if defined(SPATIAL_HAVE_BOOST_GEOMETRY) && SPATIAL_HAVE_BOOST_GEOMETRY
+    // Node capacity and split are template arguments of Boost's rtree: one configuration each.
     out.push_back(make_boost_rtree_index<T, D>());
     out.push_back(make_boost_rtree_quadratic_index<T, D>());
 #endif

@@ -4,8 +4,10 @@
 // NOT counted in memory_bytes (a user of the container would hold their own iterators).
 
 #include <algorithm>
+#include <memory>
 #include <numeric>
 #include <optional>
+#include <stdexcept>
 #include <string>
 #include <vector>
 
@@ -162,8 +164,32 @@ private:
 template <class T, std::size_t D>
 using kd_tree_index = container_index<spatial::kd_tree<spatial::point<T, D>>, T, D>;
 template <class T, std::size_t D>
-using kd_tree_stats_index = container_index<
-    spatial::kd_tree<spatial::point<T, D>, spatial::kd_tree_config<16, spatial::median_of_widest_spread, true>>, T, D>;
+using kd_tree_stats_index =
+    container_index<spatial::kd_tree<spatial::point<T, D>,
+                                     spatial::kd_tree_config<spatial::kd_tree_config<>::leaf_capacity,
+                                                             spatial::kd_tree_config<>::splitter, true>>,
+                    T, D>;
+
+// The kd_tree at another leaf capacity, for the tuning sweep (harness/tuning_sweep.hpp): the
+// capacity is a template argument, so only the capacities listed here exist (each one more
+// instantiation of the tree); another is std::invalid_argument.
+template <class T, std::size_t D>
+std::unique_ptr<point_index<T, D>> make_kd_tree_index_with_leaf_capacity(std::size_t leaf_capacity) {
+    auto make = [&]<std::size_t L>() -> std::unique_ptr<point_index<T, D>> {
+        return std::make_unique<container_index<
+            spatial::kd_tree<spatial::point<T, D>, spatial::kd_tree_config<L, spatial::kd_tree_config<>::splitter>>, T, D>>(
+            "kd_tree");
+    };
+    switch (leaf_capacity) {
+        case 8: return make.template operator()<8>();
+        case 16: return make.template operator()<16>();
+        case 32: return make.template operator()<32>();
+        case 64: return make.template operator()<64>();
+        default:
+            throw std::invalid_argument("kd_tree: leaf_capacity " + std::to_string(leaf_capacity) +
+                                        " is not one of the swept capacities 8, 16, 32, 64");
+    }
+}
 
 template <class T, std::size_t D>
 struct brute_force_index : container_index<spatial::brute_force<spatial::point<T, D>>, T, D> {

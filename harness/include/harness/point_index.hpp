@@ -82,6 +82,11 @@ public:
 
     // Name written to the CSV `structure` column (kd_tree, nanoflann, cgal_kd_tree, ...).
     virtual std::string name() const = 0;
+    // The configuration this instance runs when it is not its registry line's default: a
+    // tuning sweep's member ("bucket_size=32;points_cache=on", harness/tuning_sweep.hpp), which
+    // the rows append to their params. "" for the default.
+    const std::string& configuration() const { return configuration_; }
+    void set_configuration(std::string c) { configuration_ = std::move(c); }
     // Bit set of `capability` values.
     virtual unsigned capabilities() const = 0;
     bool can(capability c) const { return (capabilities() & static_cast<unsigned>(c)) != 0; }
@@ -132,6 +137,9 @@ protected:
     [[noreturn]] void unsupported(const char* what) const {
         throw std::logic_error(name() + " does not support " + what);
     }
+
+private:
+    std::string configuration_;
 };
 
 }  // namespace harness

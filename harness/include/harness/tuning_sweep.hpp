@@ -1,0 +1,122 @@
+#pragma once
+// harness::tuning_sweep — the ONE table of the configurations a tuning sweep runs, for the
+// peers and for our own structures, so that every comparison is tuned against tuned (issue 18:
+// a peer at its default bucket or leaf size is not the peer at its best).
+//
+// A structure's default configuration is its registry line's `settings` (structure_registry.hpp,
+// peer_registry.hpp); a sweep runs it and each configuration listed here, which names only the
+// settings it changes. Rows of a swept configuration carry it in their `params` after the
+// operation's own (e.g. `k=10;bucket_size=32;points_cache=on`); the default's rows keep the
+// params they have at every size, so the complexity curves stay one series per structure.
+// Where the suites sweep (the sizes that decide the targets) is each suite's preset.
+//
+// Adding a configuration: one line here; the adapter or factory reads the setting from the
+// full settings it is given (registry defaults overlaid with the line) and throws
+// std::invalid_argument for a value it cannot run. tests/adapters_test.cpp then runs it against
+// brute force like every other configuration.
+
+#include <cstddef>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+#include "harness/structure_registry.hpp"
+
+namespace harness {
+
+// The configurations swept besides the default, per structure or peer name (none: not swept).
+inline const std::vector<key_values>& tuning_sweep(const std::string& name) {
+    // CGAL Kd_tree: bucket size of its Sliding_midpoint splitter, and its points cache
+    // (coordinates copied into the leaves; CGAL's docs: faster queries for more memory).
+    static const std::vector<key_values> cgal_kd_tree = [] {
+        std::vector<key_values> v;
+        for (const char* bucket : {"5", "10", "20", "32", "50", "100"})
+            for (const char* cache : {"off", "on"})
+                if (std::string(bucket) != "10" || std::string(cache) != "off")
+                    v.push_back({{"bucket_size", bucket}, {"points_cache", cache}});
+        return v;
+    }();
+    // nanoflann: leaf_max_size of KDTreeSingleIndexAdaptorParams (its docs suggest 10-50).
+    static const std::vector<key_values> nanoflann{
+        {{"leaf_max_size", "5"}}, {{"leaf_max_size", "20"}}, {{"leaf_max_size", "50"}}};
+    // Ours: the kd_tree's leaf capacity (compile-time: harness/our_indexes.hpp instantiates these).
+    static const std::vector<key_values> kd_tree{
+        {{"leaf_capacity", "8"}}, {{"leaf_capacity", "32"}}, {{"leaf_capacity", "64"}}};
+    static const std::vector<key_values> none;
+    if (name == "cgal_kd_tree") return cgal_kd_tree;
+    if (name == "nanoflann") return nanoflann;
+    if (name == "kd_tree") return kd_tree;
+    return none;
+}
+
+// `settings` joined as params: "key=value;key=value" in their order ("" when empty).
+inline std::string params_of(const key_values& settings) {
+    std::string out;
+    for (const auto& [key, value] : settings) out += (out.empty() ? "" : ";") + key + "=" + value;
+    return out;
+}
+
+// Two params strings joined (either may be empty).
+inline std::string joined_params(const std::string& a, const std::string& b) {
+    return a.empty() ? b : b.empty() ? a : a + ";" + b;
+}
+
+// One configuration to run: the full settings its factory reads, and what its rows append to
+// their params ("" for the default).
+struct tuned_configuration {
+    key_values settings;
+    std::string params;
+};
+
+// The default configuration of `defaults` (a registry line's settings), then, when `sweep`,
+// each configuration of tuning_sweep(name) overlaid on it. A swept key the registry line lacks
+// is a mistake in this table, reported here rather than silently run as the default.
+inline std::vector<tuned_configuration> configurations(const std::string& name, const key_values& defaults,
+                                                       bool sweep) {
+    std::vector<tuned_configuration> out{{defaults, ""}};
+    if (!sweep) return out;
+    for (const key_values& changed : tuning_sweep(name)) {
+        key_values full = defaults;
+        for (const auto& [key, value] : changed) {
+            auto it = full.begin();
+            while (it != full.end() && it->first != key) ++it;
+            if (it == full.end())
+                throw std::logic_error("tuning_sweep: " + name + " has no setting '" + key + "' in its registry line");
+            it->second = value;
+        }
+        out.push_back({full, params_of(changed)});
+    }
+    return out;
+}
+
+// The value of `key` in `settings`; std::invalid_argument naming the structure when it is absent.
+inline const std::string& setting(const key_values& settings, const std::string& key, const std::string& structure) {
+    for (const auto& [k, v] : settings)
+        if (k == key) return v;
+    throw std::invalid_argument(structure + ": no setting '" + key + "'");
+}
+
+// A setting read as a positive count (a leaf or bucket size); std::invalid_argument otherwise.
+inline std::size_t count_setting(const key_values& settings, const std::string& key, const std::string& structure) {
+    const std::string& v = setting(settings, key, structure);
+    std::size_t used = 0;
+    unsigned long long x = 0;
+    try {
+        x = std::stoull(v, &used);
+    } catch (const std::exception&) {
+        used = 0;
+    }
+    if (used != v.size() || x == 0 || v.front() == '-')
+        throw std::invalid_argument(structure + ": setting " + key + "=" + v + " is not a positive count");
+    return static_cast<std::size_t>(x);
+}
+
+// A setting read as on/off; std::invalid_argument otherwise.
+inline bool switch_setting(const key_values& settings, const std::string& key, const std::string& structure) {
+    const std::string& v = setting(settings, key, structure);
+    if (v == "on") return true;
+    if (v == "off") return false;
+    throw std::invalid_argument(structure + ": setting " + key + "=" + v + " is neither on nor off");
+}
+
+}  // namespace harness
