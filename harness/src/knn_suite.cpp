@@ -463,8 +463,8 @@ private:
         }
     }
 
-    // kd_tree (its default configuration) divided by each peer configuration, per figure (the
-    // issue's performance targets), and by the best peer: the fastest validated configuration
+    // kd_tree (its default configuration) divided by every other structure and peer
+    // configuration, per figure (the issue's performance targets), and by the best peer: the fastest validated configuration
     // of any peer for that figure, in a `best_peer_ratio` row that names it (structure, and its
     // whole configuration after the operation's params: issue 18's reference).
     void ratios() {
@@ -476,14 +476,15 @@ private:
             const std::pair<std::string, std::string>* best = nullptr;
             double best_value = 0;
             for (const auto& [who, figure] : by_structure) {
+                if (who.first == "kd_tree" || figure.value <= 0) continue;
                 const structure_info* peer = find_peer(who.first);
-                if (!peer || figure.value <= 0) continue;
                 // A ratio is as validated as the two figures it divides.
                 const bool both = ours->second.check != check::none && figure.check != check::none;
                 result_row r = row(both ? check::derived : check::none, who.first, key.operation,
                                    joined_params(key.params, who.second), metric, ours->second.value / figure.value, "ratio");
                 ctx_.rows.push_back(std::move(r));
-                if (key.metric != "bytes_per_point" && figure.check != check::none && (!best || figure.value < best_value)) {
+                if (peer && peer->kind == "peer" && key.metric != "bytes_per_point" && figure.check != check::none &&
+                    (!best || figure.value < best_value)) {
                     best = &who;
                     best_value = figure.value;
                 }
