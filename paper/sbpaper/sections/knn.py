@@ -80,6 +80,39 @@ def across_workloads(ctx, n):
             quotes.ratio(ctx.book, f"{base}.lattice", [groups.get("lattice", [])])
 
 
+def _configuration(row):
+    """The winning peer and its settings, from a best_peer_ratio row's params (the operation's
+    own params come first and are dropped)."""
+    settings = [item for item in row["params"].split(";") if item and not item.startswith(("k=", "eps=", "r="))]
+    return name(row["structure"]) + (" (" + ", ".join(s.replace("_", r"\_") for s in settings) + ")" if settings else "")
+
+
+def best_peer(ctx, n):
+    """kd_tree over the fastest configuration of any peer in the same run (the tuning sweep's
+    best_peer_ratio rows), per workload at the reference size and per real point set."""
+    body = []
+    workloads = ctx.rows.values_of("workload", suite=SUITE, metric="best_peer_ratio", dim="3", scalar="double")
+    for workload in workloads:
+        where = dict(suite=SUITE, metric="best_peer_ratio", workload=workload, dim="3", scalar="double")
+        sizes = ctx.rows.values_of("n", **where)
+        at = n if n in sizes else (max(sizes) if workload.startswith("real:") and sizes else None)
+        if at is None:
+            continue
+        cells = [name(workload)]
+        for params, tag in (("k=1", "k1"), ("k=10", "k10")):
+            rows = [r for r in ctx.rows.find(n=at, operation="knn", **where)
+                    if r["params"] == params or r["params"].startswith(params + ";")]
+            key = f"knn.best.{key_part(workload)}.{tag}"
+            quotes.ratio(ctx.book, key, [rows])
+            cells += [ref(key), _configuration(rows[0]) if rows else "---"]
+        body.append(cells)
+    if not body:
+        ctx.book.missing("knn.best.table", "best_peer_ratio rows (a run with the tuning sweep)")
+        return
+    ctx.table("knn_best_peer.tex", tabular("lrlrl", ["workload", "$k=1$", "fastest peer", "$k=10$", "fastest peer"],
+                                           body))
+
+
 def real_data(ctx):
     groups = {}
     for row in ctx.rows.find(suite=SUITE, operation="knn", metric="time_ratio",
@@ -152,6 +185,7 @@ def generate(ctx):
     quotes.size(ctx.book, "knn.n", _query_rows(ctx, "knn", "k=10", "kd_tree", n))
     reference(ctx, n)
     across_workloads(ctx, n)
+    best_peer(ctx, n)
     real_data(ctx)
     recall(ctx, n)
     exponents(ctx)
