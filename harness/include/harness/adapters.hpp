@@ -23,6 +23,7 @@
 #include <vector>
 
 #include "harness/peer_registry.hpp"
+#include "harness/configured.hpp"
 #include "harness/point_index.hpp"
 #include "harness/tuning_sweep.hpp"
 
@@ -88,19 +89,6 @@ std::unique_ptr<point_index<T, D>> make_boost_rtree_quadratic_index();
     template std::unique_ptr<point_index<float, 3>> factory<float, 3>(const key_values&);          \
     template std::unique_ptr<point_index<double, 2>> factory<double, 2>(const key_values&);        \
     template std::unique_ptr<point_index<double, 3>> factory<double, 3>(const key_values&)
-
-// Appends the peer `name` made by `factory` in its registry configuration and, when `sweep`,
-// in each configuration of its tuning sweep (tuning_sweep.hpp), each labelled with it.
-template <class T, std::size_t D, class Factory>
-void add_peer_configurations(std::vector<std::unique_ptr<point_index<T, D>>>& out, const std::string& name,
-                             Factory factory, bool sweep) {
-    const structure_info* info = find_peer(name);
-    if (!info) throw std::logic_error("make_peer_indices: no registry line for peer " + name);
-    for (auto& c : configurations(name, info->settings, sweep)) {
-        out.push_back(factory(c.settings));
-        out.back()->set_configuration(std::move(c.params));
-    }
-}
 
 // Every peer index compiled into this build, in a fixed order (static before dynamic): each
 // in its registry configuration and, when `sweep`, in every configuration of its tuning sweep.

@@ -12,14 +12,19 @@
 //
 // Adding a configuration: one line here; the adapter or factory reads the setting from the
 // full settings it is given (registry defaults overlaid with the line) and throws
-// std::invalid_argument for a value it cannot run. tests/adapters_test.cpp then runs it against
-// brute force like every other configuration.
+// std::invalid_argument for a value it cannot run. tests/adapters_test.cpp (point peers),
+// adapters_raycast_test.cpp and adapters_collide_test.cpp then run it against brute force like
+// every other configuration; harness/best_peer.hpp compares ours with the fastest of them.
 
+#include <algorithm>
 #include <cstddef>
+#include <memory>
 #include <stdexcept>
 #include <string>
+#include <utility>
 #include <vector>
 
+#include "harness/peer_registry.hpp"
 #include "harness/structure_registry.hpp"
 
 namespace harness {
@@ -61,6 +66,22 @@ inline std::string joined_params(const std::string& a, const std::string& b) {
     return a.empty() ? b : b.empty() ? a : a + ";" + b;
 }
 
+// A configuration written out in full: `defaults` (a registry line's settings) with the swept
+// ones of `swept` ("bucket_size=32;points_cache=on") in their place, so that a best-peer row
+// names every setting of the configuration that won.
+inline std::string full_configuration(key_values defaults, const std::string& swept) {
+    std::size_t start = 0;
+    while (start < swept.size()) {
+        const std::size_t end = std::min(swept.find(';', start), swept.size());
+        const std::string item = swept.substr(start, end - start);
+        const std::size_t eq = item.find('=');
+        for (auto& [k, v] : defaults)
+            if (k == item.substr(0, eq)) v = item.substr(eq + 1);
+        start = end + 1;
+    }
+    return params_of(defaults);
+}
+
 // One configuration to run: the full settings its factory reads, and what its rows append to
 // their params ("" for the default).
 struct tuned_configuration {
@@ -87,6 +108,20 @@ inline std::vector<tuned_configuration> configurations(const std::string& name, 
         out.push_back({full, params_of(changed)});
     }
     return out;
+}
+
+// Appends the peer `name` made by `factory` (taking the full settings) in its registry
+// configuration and, when `sweep`, in each configuration of its tuning sweep, each labelled
+// with what it changes.
+template <class Index, class Factory>
+void add_peer_configurations(std::vector<std::unique_ptr<Index>>& out, const std::string& name, Factory factory,
+                             bool sweep) {
+    const structure_info* info = find_peer(name);
+    if (!info) throw std::logic_error("add_peer_configurations: no registry line for peer " + name);
+    for (auto& c : configurations(name, info->settings, sweep)) {
+        out.push_back(factory(c.settings));
+        out.back()->set_configuration(std::move(c.params));
+    }
 }
 
 // The value of `key` in `settings`; std::invalid_argument naming the structure when it is absent.
