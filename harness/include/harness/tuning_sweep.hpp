@@ -47,10 +47,17 @@ inline const std::vector<key_values>& tuning_sweep(const std::string& name) {
     // Ours: the kd_tree's leaf capacity (compile-time: harness/our_indexes.hpp instantiates these).
     static const std::vector<key_values> kd_tree{
         {{"leaf_capacity", "8"}}, {{"leaf_capacity", "32"}}, {{"leaf_capacity", "64"}}};
+    // Embree's BVH builder (rtcSetSceneBuildQuality, harness/adapters/embree/
+    // embree_build_quality.hpp): low builds fastest (for dynamic scenes), medium is its default
+    // (SAH binning), high adds spatial splits on triangle meshes (Stich, Friedrich and
+    // Dietrich, "Spatial Splits in Bounding Volume Hierarchies", HPG 2009): slower builds for
+    // fewer overlapping nodes. embree_robust keeps RTC_SCENE_FLAG_ROBUST in each.
+    static const std::vector<key_values> embree{{{"build_quality", "low"}}, {{"build_quality", "high"}}};
     static const std::vector<key_values> none;
     if (name == "cgal_kd_tree") return cgal_kd_tree;
     if (name == "nanoflann") return nanoflann;
     if (name == "kd_tree") return kd_tree;
+    if (name == "embree" || name == "embree_robust") return embree;
     return none;
 }
 
