@@ -53,11 +53,23 @@ inline const std::vector<key_values>& tuning_sweep(const std::string& name) {
     // Dietrich, "Spatial Splits in Bounding Volume Hierarchies", HPG 2009): slower builds for
     // fewer overlapping nodes. embree_robust keeps RTC_SCENE_FLAG_ROBUST in each.
     static const std::vector<key_values> embree{{{"build_quality", "low"}}, {{"build_quality", "high"}}};
+    // Embree's rtcCollide: low is the scene at LOW with the geometry at REFIT (the two-level
+    // build whose update refits instead of rebuilding), high the SAH builder with splits.
+    static const std::vector<key_values> embree_collide{{{"build_quality", "low"}}, {{"build_quality", "high"}}};
+    // CGAL box_intersection_d: the cutoff below which the streamed segment tree (Zomorodian and
+    // Edelsbrunner, "Fast software for box intersections", SoCG 2000) stops splitting and scans
+    // a block pairwise. CGAL's manual names it the algorithm's tuning parameter; its default, 10,
+    // is the registry's; larger cutoffs trade recursion for scanning, up to a plain scan.
+    static const std::vector<key_values> cgal_box_intersection{{{"cutoff", "100"}},   {{"cutoff", "1000"}},
+                                                               {{"cutoff", "3000"}},  {{"cutoff", "10000"}},
+                                                               {{"cutoff", "30000"}}, {{"cutoff", "100000"}}};
     static const std::vector<key_values> none;
     if (name == "cgal_kd_tree") return cgal_kd_tree;
     if (name == "nanoflann") return nanoflann;
     if (name == "kd_tree") return kd_tree;
     if (name == "embree" || name == "embree_robust") return embree;
+    if (name == "embree_collide") return embree_collide;
+    if (name == "cgal_box_intersection") return cgal_box_intersection;
     return none;
 }
 
