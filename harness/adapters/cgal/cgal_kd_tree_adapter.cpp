@@ -85,16 +85,18 @@ class cgal_kd_tree_index final : public point_index<T, D> {
 
     // Output iterator body for range search: CGAL reports points; we append (d^2, id).
     // A plain struct, not a lambda: CGAL copy-assigns its output iterators.
+    // Points beyond `limit` (a squared distance) are dropped (see radius()).
     struct append_with_distance {
         const point_type* q;
         std::vector<neighbor<T>>* out;
+        T limit = std::numeric_limits<T>::infinity();
         void operator()(const stored_point& p) const {
             T d2 = 0;
             for (std::size_t i = 0; i < D; ++i) {
                 const T c = (*q)[i] - p.coords[i];
                 d2 += c * c;
             }
-            out->push_back({d2, p.id});
+            if (d2 <= limit) out->push_back({d2, p.id});
         }
     };
 
@@ -122,6 +124,7 @@ public:
         alive_.clear();
         alive_.shrink_to_fit();
         table_ready_ = false;
+        stale_ = false;
         build_count_ = pts.size();
         built_from_ = pts;
         live_ = pts.size();
@@ -167,6 +170,7 @@ public:
         last_nodes_ = 0;
         const std::size_t count = std::min(k, live_);
         if (count == 0) return;
+        refresh();
         knn_search search(*tree_, stored_point{q.coords, 0}, static_cast<unsigned>(count), eps, true,
                           distance_type(), true);
         out.reserve(count);
@@ -181,15 +185,33 @@ public:
         last_nodes_ = -1;  // CGAL's range search does not count nodes
         if (std::isnan(r)) throw std::invalid_argument("cgal_kd_tree: radius is NaN");
         if (r < T(0) || live_ == 0) return;
-        const sphere_type ball(stored_point{q.coords, 0}, r, T(0));
-        tree_->search(boost::make_function_output_iterator(append_with_distance{&q, &out}), ball);
+        refresh();
+        if constexpr (PointsCache::value) {
+            // CGAL 5.5's Fuzzy_sphere tests the points it reads from the points cache with
+            // d^2 < r^2 (contains_point_given_as_coordinates: an OPEN ball), where contains(),
+            // used without the cache, keeps d^2 <= r^2. So the ball gets the smallest radius
+            // whose square exceeds r^2, and the answer is cut back to the closed ball here.
+            // (r^2 infinite: every finite point is inside either way.)
+            const T r2 = r * r;
+            T wider = r;
+            if (std::isfinite(r2)) {
+                if (r2 == T(0)) wider = std::sqrt(std::numeric_limits<T>::denorm_min());
+                while (!(wider * wider > r2)) wider = std::nextafter(wider, std::numeric_limits<T>::infinity());
+            }
+            const sphere_type ball(stored_point{q.coords, 0}, wider, T(0));
+            tree_->search(boost::make_function_output_iterator(append_with_distance{&q, &out, r2}), ball);
+        } else {
+            const sphere_type ball(stored_point{q.coords, 0}, r, T(0));
+            tree_->search(boost::make_function_output_iterator(append_with_distance{&q, &out}), ball);
+        }
     }
 
     void insert(std::uint32_t id, const point_type& p) override {
         ensure_table();
         check_insertable(id, 1);
         mark_live(id, p);
-        tree_->insert(stored_point{p.coords, id});
+        if constexpr (PointsCache::value) stale_ = true;  // see refresh()
+        else tree_->insert(stored_point{p.coords, id});
     }
 
     // CGAL's range insert: one invalidation of the built tree, one append.
@@ -205,14 +227,16 @@ public:
             mark_live(id, pts[i]);
             batch[i] = stored_point{pts[i].coords, id};
         }
-        tree_->insert(batch.begin(), batch.end());
+        if constexpr (PointsCache::value) stale_ = true;  // see refresh()
+        else tree_->insert(batch.begin(), batch.end());
     }
 
     void erase(std::uint32_t id) override {
         ensure_table();
         if (id >= alive_.size() || !alive_[id])
             throw std::invalid_argument("cgal_kd_tree: erase of id " + std::to_string(id) + ", which is not live");
-        tree_->remove(stored_point{by_id_[id].coords, id}, same_id{id});
+        if constexpr (PointsCache::value) stale_ = true;  // see refresh()
+        else tree_->remove(stored_point{by_id_[id].coords, id}, same_id{id});
         alive_[id] = 0;
         --live_;
     }
@@ -232,6 +256,27 @@ public:
 
 private:
     std::unique_ptr<tree_type> new_tree() const { return std::make_unique<tree_type>(splitter(bucket_size_)); }
+
+    // CGAL 5.5's Kd_tree cannot change in place with the points cache: remove() swaps the
+    // removed point with its leaf's last one in the point array but not in the cache, and
+    // invalidate_build() (insert() calls it) keeps the old cache, to which the next build()
+    // appends; either way queries then read other points' coordinates. So with the cache an
+    // insertion or removal only marks the tree stale, and the next query builds a new tree of
+    // the live points: the O(n log n) rebuild CGAL's own lazy rebuild after insert() costs too
+    // (the dynamic workloads exclude this peer: capability::rebuilds_on_query).
+    void refresh() {
+        if constexpr (PointsCache::value) {
+            if (!stale_) return;
+            tree_ = new_tree();
+            std::vector<stored_point> live;
+            live.reserve(live_);
+            for (std::size_t id = 0; id < alive_.size(); ++id)
+                if (alive_[id]) live.push_back(stored_point{by_id_[id].coords, static_cast<std::uint32_t>(id)});
+            tree_->insert(live.begin(), live.end());
+            if (!live.empty()) tree_->build();
+            stale_ = false;
+        }
+    }
 
     // erase() must hand CGAL the point's coordinates (remove() descends by them), so dynamic
     // operations need id -> point. It is built by prepare_dynamic() (or, failing that, by the
@@ -273,6 +318,7 @@ private:
     std::vector<point_type> by_id_;     // id -> point, valid where alive_[id]
     std::vector<unsigned char> alive_;  // id -> live flag
     bool table_ready_ = true;           // an empty adapter has an (empty) table
+    bool stale_ = false;                // points cache only: rebuild before the next query
     std::size_t build_count_ = 0;
     std::span<const point_type> built_from_;  // the last build's points (point_of)
     std::size_t live_ = 0;

@@ -56,10 +56,14 @@ std::unique_ptr<point_index<T, D>> make_nanoflann_dynamic_index(const key_values
 // approximate_knn | radius | dynamic | bulk_insert.
 // build() inserts all points and calls tree.build() so the build is timed (CGAL would
 // otherwise build lazily inside the first query). knn: Orthogonal_k_neighbor_search, whose
-// eps already multiplies distance. radius: Fuzzy_sphere with epsilon 0, which is closed.
+// eps already multiplies distance. radius: Fuzzy_sphere with epsilon 0, which is closed
+// without the points cache; with it, CGAL 5.5 keeps d^2 < r^2 (an open ball), so the ball gets
+// the smallest radius whose square exceeds r^2 and the answer is cut back to d^2 <= r^2.
 // insert(): tree.insert() — CGAL drops the tree and rebuilds it lazily at the next query.
 // erase(): tree.remove() with an equality on the id, so the right one of several
-// coincident points is removed; it needs the point's coordinates, kept in an id -> point
+// coincident points is removed (with the points cache, which CGAL 5.5 cannot keep right
+// through remove() or a rebuild in place, insert() and erase() only update the adapter's
+// table and the next query builds a new tree of the live points); it needs the point's coordinates, kept in an id -> point
 // table that prepare_dynamic() builds (untimed; else the first dynamic operation does), so
 // static workloads do not pay for it. last_nodes_visited() is reported for knn.
 template <class T, std::size_t D>
