@@ -14,11 +14,13 @@
 #include <random>
 #include <set>
 #include <span>
+#include <stdexcept>
 #include <string>
 #include <vector>
 
 #include "harness/collide_adapters.hpp"
 #include "harness/peer_registry.hpp"
+#include "harness/tuning_sweep.hpp"
 
 namespace {
 
@@ -191,6 +193,79 @@ TEST(adapters_collide, every_configured_peer_is_registered_once) {
     if (peers.empty()) GTEST_SKIP() << "no collision peer configured";
 }
 
+// The sweep makes each peer once per configuration (its registry one first, unlabelled); each
+// swept one is labelled with what it changes, in the registry's terms. The tests below run
+// every configuration (make_peer_collide_indices(true)): the suite times a swept
+// configuration only after validating it, and it is tested here like the default.
+TEST(adapters_collide, the_sweep_makes_every_configuration_once) {
+    const auto defaults = harness::make_peer_collide_indices(false);
+    const auto all = harness::make_peer_collide_indices(true);
+    std::size_t expected = 0;
+    for (const auto& p : defaults) {
+        EXPECT_EQ(p->configuration(), "") << p->name();
+        expected += 1 + harness::tuning_sweep(p->name()).size();
+    }
+    EXPECT_EQ(all.size(), expected);
+    std::set<std::string> labels;
+    for (const auto& p : all)
+        EXPECT_TRUE(labels.insert(harness::labelled(*p)).second) << harness::labelled(*p) << " twice";
+#if defined(SPATIAL_HAVE_CGAL) && SPATIAL_HAVE_CGAL
+    for (const char* label :
+         {"cgal_box_intersection", "cgal_box_intersection[cutoff=100]", "cgal_box_intersection[cutoff=100000]"})
+        EXPECT_TRUE(labels.count(label)) << label;
+#endif
+#if defined(SPATIAL_HAVE_EMBREE) && SPATIAL_HAVE_EMBREE
+    for (const char* label :
+         {"embree_collide", "embree_collide[build_quality=low]", "embree_collide[build_quality=high]"})
+        EXPECT_TRUE(labels.count(label)) << label;
+#endif
+}
+
+// A setting a peer cannot run is an error naming the peer and the setting, not a silent default.
+TEST(adapters_collide, bad_settings_are_errors_that_name_them) {
+#if defined(SPATIAL_HAVE_CGAL) && SPATIAL_HAVE_CGAL
+    for (const char* bad : {"0", "-10", "ten", "10x", ""}) {
+        try {
+            (void)harness::make_cgal_box_intersection_collide_index({{"cutoff", bad}});
+            ADD_FAILURE() << "cutoff=" << bad << " was accepted";
+        } catch (const std::invalid_argument& e) {
+            EXPECT_NE(std::string(e.what()).find("cgal_box_intersection: setting cutoff="), std::string::npos)
+                << e.what();
+        }
+    }
+    EXPECT_THROW((void)harness::make_cgal_box_intersection_collide_index({}), std::invalid_argument);
+#endif
+#if defined(SPATIAL_HAVE_EMBREE) && SPATIAL_HAVE_EMBREE
+    for (const char* bad : {"refit", "LOW", ""}) {
+        try {
+            (void)harness::make_embree_collide_index({{"build_quality", bad}});
+            ADD_FAILURE() << "build_quality=" << bad << " was accepted";
+        } catch (const std::invalid_argument& e) {
+            EXPECT_NE(std::string(e.what()).find("embree_collide: setting build_quality="), std::string::npos)
+                << e.what();
+        }
+    }
+    EXPECT_THROW((void)harness::make_embree_collide_index({}), std::invalid_argument);
+#endif
+}
+
+// Enough boxes that CGAL's segment tree splits at every swept cutoff but the largest (which
+// scans): each configuration's self and bipartite pairs against brute force.
+TEST(adapters_collide, every_configuration_on_thousands_of_boxes) {
+    std::mt19937_64 rng(20261126);
+    const std::vector<collide_box> boxes = random_boxes(rng, 6000, 40, 0, false);
+    const std::vector<collide_box> others = random_boxes(rng, 2500, 40, 0, false);
+    const auto want_self = oracle_self(boxes, false);
+    const auto want_bipartite = oracle_bipartite(boxes, others, false);
+    ASSERT_GT(want_self.size(), 1000u);
+    for (auto& peer : harness::make_peer_collide_indices(true)) {
+        SCOPED_TRACE(harness::labelled(*peer));
+        peer->build(boxes);
+        EXPECT_SAME_PAIRS(peer->self_pairs(), want_self);
+        EXPECT_SAME_PAIRS(peer->pairs_with(others), want_bipartite);
+    }
+}
+
 TEST(adapters_collide, random_boxes_self_bipartite_and_after_updates_match_brute_force) {
     struct workload {
         std::size_t n, others;
@@ -201,8 +276,8 @@ TEST(adapters_collide, random_boxes_self_bipartite_and_after_updates_match_brute
         {2, 3, 4, 0, false},       {40, 25, 6, 0, false},     {300, 120, 10, 0, false}, {300, 200, 10, 0, true},
         {250, 100, 8, -3.5, true}, {200, 150, 8, 1e8, false}, {150, 80, 5, -1e8, true},
     };
-    for (auto& peer : harness::make_peer_collide_indices()) {
-        SCOPED_TRACE(peer->name());
+    for (auto& peer : harness::make_peer_collide_indices(true)) {
+        SCOPED_TRACE(harness::labelled(*peer));
         for (const std::uint64_t seed : {1u, 2u, 3u, 4u, 5u}) {
             for (const workload& w : workloads) {
                 SCOPED_TRACE("seed " + std::to_string(seed) + ", n " + std::to_string(w.n) + ", others " +
@@ -247,8 +322,8 @@ TEST(adapters_collide, touching_lattice_reports_every_face_edge_and_corner_conta
                 b.lo[k] += 5;
                 b.hi[k] += 5;
             }
-        for (auto& peer : harness::make_peer_collide_indices()) {
-            SCOPED_TRACE(peer->name());
+        for (auto& peer : harness::make_peer_collide_indices(true)) {
+            SCOPED_TRACE(harness::labelled(*peer));
             peer->build(lattice);
             EXPECT_SAME_PAIRS(peer->self_pairs(), want);
             const std::vector<index_pair> corner = peer->pairs_with(shifted);
@@ -269,8 +344,8 @@ TEST(adapters_collide, update_far_from_the_built_scene) {
         std::mt19937_64 rng(seed);
         std::vector<collide_box> boxes = random_boxes(rng, 200, 6, 0, seed % 2 == 0);
         const std::vector<collide_box> others = random_boxes(rng, 60, 6, 1e6, false);
-        for (auto& peer : harness::make_peer_collide_indices()) {
-            SCOPED_TRACE(peer->name());
+        for (auto& peer : harness::make_peer_collide_indices(true)) {
+            SCOPED_TRACE(harness::labelled(*peer));
             std::vector<collide_box> moving = boxes;
             peer->build(moving);
             check_all_queries(*peer, moving, others);
@@ -290,8 +365,8 @@ TEST(adapters_collide, identical_and_zero_extent_boxes) {
     std::vector<collide_box> cubes(15, make_box(-1, -1, -1, 2, 2, 2));
     const std::vector<collide_box> probe = {make_box(0.5, 0.5, 0.5, 0, 0, 0), make_box(0.5, 0.5, 0.6, 0, 0, 0),
                                             make_box(1, 1, 1, 0, 0, 0)};
-    for (auto& peer : harness::make_peer_collide_indices()) {
-        SCOPED_TRACE(peer->name());
+    for (auto& peer : harness::make_peer_collide_indices(true)) {
+        SCOPED_TRACE(harness::labelled(*peer));
         peer->build(same);
         EXPECT_EQ(peer->self_pairs().size(), 20u * 19u / 2u);
         EXPECT_SAME_PAIRS(peer->pairs_with(probe), oracle_bipartite(same, probe, false));
@@ -306,8 +381,8 @@ TEST(adapters_collide, empty_and_single_box) {
     const std::vector<collide_box> none;
     const std::vector<collide_box> one = {make_box(0, 0, 0, 1, 1, 1)};
     const std::vector<collide_box> others = {make_box(1, 1, 1, 1, 1, 1), make_box(2, 2, 2, 1, 1, 1)};
-    for (auto& peer : harness::make_peer_collide_indices()) {
-        SCOPED_TRACE(peer->name());
+    for (auto& peer : harness::make_peer_collide_indices(true)) {
+        SCOPED_TRACE(harness::labelled(*peer));
         peer->build(none);
         EXPECT_TRUE(peer->self_pairs().empty());
         EXPECT_TRUE(peer->pairs_with(others).empty());

@@ -22,6 +22,7 @@
 #include <random>
 #include <set>
 #include <span>
+#include <stdexcept>
 #include <string>
 #include <utility>
 #include <vector>
@@ -29,8 +30,10 @@
 #include "datasets/mesh_generators.hpp"
 #include "harness/mesh_loading.hpp"
 #include "harness/our_ray_indexes.hpp"
+#include "harness/peer_registry.hpp"
 #include "harness/ray_adapters.hpp"
 #include "harness/ray_validation.hpp"
+#include "harness/tuning_sweep.hpp"
 #include "spatial/brute/brute_force.hpp"
 #include "test_support.hpp"
 
@@ -372,9 +375,11 @@ TYPED_TEST(ray_peers, agree_with_brute_force_on_sphere_and_soup) {
         const spatial::brute_force<spatial::objects::triangle<T, 3>> oracle(tris.begin(), tris.end());
         const auto rays = incoherent_rays<T>(600, seed + 1);
         const double scale = harness::scene_scale(mesh);
-        auto peers = harness::make_peer_ray_indices<T>();
+        // Every configuration of the tuning sweep too: the suite times a swept configuration
+        // only after validating it, and it is tested here like the default.
+        auto peers = harness::make_peer_ray_indices<T>(true);
         for (auto& peer : peers) {
-            SCOPED_TRACE(peer->name());
+            SCOPED_TRACE(harness::labelled(*peer));
             peer->build(mesh, tris);
             EXPECT_EQ(peer->size(), tris.size());
             EXPECT_GT(peer->memory_bytes(), tris.size() * 3 * sizeof(float));
@@ -430,7 +435,7 @@ TYPED_TEST(ray_peers, closed_mesh_never_leaks) {
     const auto mesh = datasets::icosphere(3);
     const auto tris = datasets::to_triangles<T>(mesh);
     const spatial::brute_force<spatial::objects::triangle<T, 3>> oracle(tris.begin(), tris.end());
-    auto casters = harness::make_peer_ray_indices<T>();
+    auto casters = harness::make_peer_ray_indices<T>(true);
     for (auto& c : casters) c->build(mesh, tris);
 
     struct aimed_ray {
@@ -493,17 +498,18 @@ TYPED_TEST(ray_peers, closed_mesh_never_leaks) {
         }
         for (auto& c : casters) {
             harness::ray_hit<T> hit;
-            ASSERT_TRUE(c->intersect(o, d, std::numeric_limits<T>::infinity(), hit)) << c->name() << " misses, ray " << i;
+            ASSERT_TRUE(c->intersect(o, d, std::numeric_limits<T>::infinity(), hit))
+                << harness::labelled(*c) << " misses, ray " << i;
             const bool is_embree = c->name().rfind("embree", 0) == 0;
             const double tol = is_embree || std::is_same_v<T, float> ? 1e-5 : 1e-9;
             const bool same = std::abs(static_cast<double>(hit.t) - static_cast<double>(info.hit_time)) <=
                               tol * std::max(1.0, static_cast<double>(info.hit_time));
             if (is_embree && aimed) {
-                leaks[c->name()] += !same;
+                leaks[harness::labelled(*c)] += !same;
                 continue;
             }
-            EXPECT_TRUE(same) << c->name() << " ray " << i << (aimed ? " (aimed)" : " (inside)") << ": t " << hit.t
-                              << ", oracle " << info.hit_time;
+            EXPECT_TRUE(same) << harness::labelled(*c) << " ray " << i << (aimed ? " (aimed)" : " (inside)") << ": t "
+                              << hit.t << ", oracle " << info.hit_time;
         }
     }
     for (const auto& [name, count] : leaks)
@@ -515,13 +521,64 @@ TYPED_TEST(ray_peers, empty_scene_misses) {
     using T = TypeParam;
     const triangle_mesh empty;
     const std::vector<spatial::objects::triangle<T, 3>> none;
-    for (auto& c : harness::make_peer_ray_indices<T>()) {
+    for (auto& c : harness::make_peer_ray_indices<T>(true)) {
         c->build(empty, none);
         harness::ray_hit<T> hit;
-        EXPECT_FALSE(c->intersect({{0, 0, 0}}, {{1, 0, 0}}, std::numeric_limits<T>::infinity(), hit)) << c->name();
-        EXPECT_FALSE(c->occluded({{0, 0, 0}}, {{1, 0, 0}}, std::numeric_limits<T>::infinity())) << c->name();
+        EXPECT_FALSE(c->intersect({{0, 0, 0}}, {{1, 0, 0}}, std::numeric_limits<T>::infinity(), hit))
+            << harness::labelled(*c);
+        EXPECT_FALSE(c->occluded({{0, 0, 0}}, {{1, 0, 0}}, std::numeric_limits<T>::infinity()))
+            << harness::labelled(*c);
         EXPECT_EQ(c->size(), 0u);
     }
+}
+
+// The sweep makes each peer once per configuration (its registry one first, unlabelled), and
+// each swept one is labelled with what it changes in the registry's terms.
+TEST(ray_peer_settings, the_sweep_makes_every_configuration_once) {
+    const auto defaults = harness::make_peer_ray_indices<double>(false);
+    const auto all = harness::make_peer_ray_indices<double>(true);
+    std::size_t expected = 0;
+    for (const auto& p : defaults) {
+        EXPECT_EQ(p->configuration(), "") << p->name();
+        expected += 1 + harness::tuning_sweep(p->name()).size();
+    }
+    EXPECT_EQ(all.size(), expected);
+    std::set<std::string> labels;
+    for (const auto& p : all) {
+        EXPECT_NE(harness::find_peer(p->name()), nullptr) << p->name() << " has no registry line";
+        EXPECT_TRUE(labels.insert(harness::labelled(*p)).second) << harness::labelled(*p) << " twice";
+    }
+#if defined(SPATIAL_HAVE_EMBREE) && SPATIAL_HAVE_EMBREE
+    for (const char* label : {"embree", "embree[build_quality=low]", "embree[build_quality=high]", "embree_robust",
+                              "embree_robust[build_quality=low]", "embree_robust[build_quality=high]"})
+        EXPECT_TRUE(labels.count(label)) << label;
+#endif
+}
+
+// A setting Embree cannot run is an error naming the peer and the setting, not a silent
+// default.
+TEST(ray_peer_settings, bad_settings_are_errors_that_name_them) {
+#if defined(SPATIAL_HAVE_EMBREE) && SPATIAL_HAVE_EMBREE
+    const std::vector<std::pair<harness::key_values, std::string>> bad{
+        {{{"build_quality", "best"}}, "embree: setting build_quality=best"},
+        {{{"build_quality", ""}}, "embree: setting build_quality="},
+        {{{"build_quality", "refit"}, {"flags", "robust"}}, "embree_robust: setting build_quality=refit"},
+        {{{"build_quality", "medium"}, {"flags", "fast"}}, "embree_robust: setting flags=fast"},
+        {{}, "embree: no setting 'build_quality'"},
+    };
+    for (const auto& [settings, message] : bad) {
+        try {
+            (void)harness::make_embree_ray_index<double>(settings);
+            ADD_FAILURE() << harness::params_of(settings) << " was accepted";
+        } catch (const std::invalid_argument& e) {
+            EXPECT_NE(std::string(e.what()).find(message), std::string::npos) << e.what();
+        }
+    }
+    EXPECT_EQ(harness::make_embree_ray_index<float>({{"build_quality", "high"}, {"flags", "robust"}})->name(),
+              "embree_robust");
+#else
+    GTEST_SKIP() << "Embree not built";
+#endif
 }
 
 // Our containers behind ray_index (what the raycast suite times): same answers as the

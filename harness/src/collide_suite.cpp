@@ -19,12 +19,14 @@
 #include <chrono>
 #include <cmath>
 #include <functional>
+#include <map>
 #include <memory>
 #include <sstream>
 #include <string>
 #include <vector>
 
 #include "datasets/random.hpp"
+#include "harness/best_peer.hpp"
 #include "harness/collide_adapters.hpp"
 #include "harness/collide_oracles.hpp"
 #include "harness/csv_writer.hpp"
@@ -38,6 +40,7 @@
 #include "harness/suite_cases.hpp"
 #include "harness/suite_context.hpp"
 #include "harness/timing.hpp"
+#include "harness/tuning_sweep.hpp"
 #include "harness/validation.hpp"
 #include "spatial/brute/brute_force.hpp"
 #include "spatial/collide/pair_changes.hpp"
@@ -57,15 +60,20 @@ struct preset_config {
     std::size_t brute_max_n;   // full O(n^2) check up to this n
     std::size_t slow_max_n;    // structures without a dedicated broad phase (sweep_and_prune,
                                // kd_tree, octree, hashed_grid, brute_force) up to this n
+    // The tuning sweep (harness/tuning_sweep.hpp: CGAL's cutoff, Embree's build quality) runs
+    // on static boxes of at least this many: the sizes that decide the targets (quick's
+    // largest; every size in full; smoke's largest, so that the smoke run exercises it).
+    std::size_t sweep_min_n;
 };
 
 preset_config preset(const std::string& name) {
-    if (name == "smoke") return {{1000, 5000}, {2000}, {2000}, 5, 2, 64, 5000, 5000};
+    if (name == "smoke") return {{1000, 5000}, {2000}, {2000}, 5, 2, 64, 5000, 5000, 5000};
     // quick (the main job): the 1e5 moving-box target and everything up to 1e5 except the BVH
     // volume study at 1e5 (k-DOP builds take 2-10 s there); full: the 1e6 static target too
     // (results/collide_1e6.csv: --preset full --workload boxes --n 1000000).
-    if (name == "quick") return {{10000, 100000}, {10000, 100000}, {10000}, 30, 3, 200, 20000, 100000};
-    if (name == "full") return {{10000, 100000, 1000000}, {10000, 100000}, {10000, 100000}, 30, 3, 400, 20000, 100000};
+    if (name == "quick") return {{10000, 100000}, {10000, 100000}, {10000}, 30, 3, 200, 20000, 100000, 100000};
+    if (name == "full")
+        return {{10000, 100000, 1000000}, {10000, 100000}, {10000, 100000}, 30, 3, 400, 20000, 100000, 0};
     throw std::invalid_argument("unknown preset '" + name + "' (expected smoke, quick or full)");
 }
 
@@ -178,8 +186,9 @@ struct participant {
 
 // Every participant for n boxes: the registry's structures of the static or the moving part
 // (harness/structure_registry.hpp; moving runs the bvh once per motion strategy), slow ones up
-// to slow_max_n and the oracle up to brute_max_n (a tenth and a quarter when moving).
-std::vector<participant> participants(const context& ctx, std::size_t n, bool moving) {
+// to slow_max_n and the oracle up to brute_max_n (a tenth and a quarter when moving); the
+// peers in every configuration of their tuning sweep too when `sweep`.
+std::vector<participant> participants(const context& ctx, std::size_t n, bool moving, bool sweep = false) {
     std::vector<participant> out;
     const std::size_t slow_max = ctx.cfg.slow_max_n / (moving ? 10 : 1), oracle_max = ctx.cfg.brute_max_n / (moving ? 4 : 1);
     auto add = [&]<class E>() {
@@ -191,7 +200,7 @@ std::vector<participant> participants(const context& ctx, std::size_t n, bool mo
     };
     if (moving) for_each_structure<collide_box3, in::collide_moving>(add);
     else for_each_structure<collide_box3, in::collide_static>(add);
-    for (auto& p : make_peer_collide_indices())  // their limits: harness/peer_registry.hpp
+    for (auto& p : make_peer_collide_indices(sweep))  // their limits: harness/peer_registry.hpp
         if (peer_within_limits(p->name(), n, slow_max, oracle_max)) out.push_back({std::move(p), "-"});
     std::vector<participant> kept;
     for (auto& p : out)
@@ -220,12 +229,12 @@ std::vector<index_pair> validated_self_pairs(const context& ctx, std::vector<par
         p.build(boxes);
         auto pairs = p.self_pairs();
         if (!pairs.empty() && injected_fault(p.name())) pairs.pop_back();
-        const std::string where = p.name() + " on boxes n=" + fmt_n(boxes.size());
+        const std::string where = labelled(p) + " on boxes n=" + fmt_n(boxes.size());
         if (i == 0) {
             verified = validate_pairs(ctx, boxes, pairs, datasets::derive_seed(ctx.opt.seed, 0xC1u), where);
             reference = std::move(pairs);
         } else if (pairs != reference) {
-            throw validation_error(where + ": " + std::to_string(pairs.size()) + " pairs, " + ps[0].index->name() +
+            throw validation_error(where + ": " + std::to_string(pairs.size()) + " pairs, " + labelled(*ps[0].index) +
                                    " reports " + std::to_string(reference.size()) + " (or different ones)");
         }
     }
@@ -237,7 +246,7 @@ void run_static_boxes(context& ctx, std::size_t n) {
     const std::string workload = "boxes";
     const std::string params = "overlaps_per_box=2";
     const auto boxes = random_cubes(n, ctx.opt.seed);
-    auto ps = participants(ctx, n, false);
+    auto ps = participants(ctx, n, false, n >= ctx.cfg.sweep_min_n);
     if (ps.empty()) return;
     std::string verified;
     const std::vector<index_pair> reference = validated_self_pairs(ctx, ps, boxes, verified);
@@ -249,7 +258,7 @@ void run_static_boxes(context& ctx, std::size_t n) {
     std::vector<timed_work> work;
     for (auto& p : ps) {
         collide_index& index = *p.index;
-        const std::string where = index.name() + " on boxes n=" + fmt_n(n);
+        const std::string where = labelled(index) + " on boxes n=" + fmt_n(n);
         work.push_back({where + ", build",
                         [&index, &boxes] {
                             index.build(boxes);
@@ -260,20 +269,45 @@ void run_static_boxes(context& ctx, std::size_t n) {
     }
     const std::size_t reps = n >= 1000000 ? std::max<std::size_t>(1, ctx.cfg.repetitions - 1) : ctx.cfg.repetitions;
     const auto t = time_interleaved(work, 0, reps);
+    // figure (operation) -> every participant's median, for the best_peer_ratio rows.
+    std::map<std::string, std::vector<configured_figure>> figures;
     for (std::size_t i = 0; i < ps.size(); ++i) {
         const timing_result &build = t[2 * i], &query = t[2 * i + 1];
         std::vector<double> total(build.samples.size());
         for (std::size_t r = 0; r < total.size(); ++r) total[r] = build.samples[r] + query.samples[r];
-        const std::string& name = ps[i].index->name();
+        const collide_index& index = *ps[i].index;
+        const std::string& name = index.name();
+        // A swept configuration's rows carry it after the params; the default's keep theirs.
+        const std::string own = joined_params(params, index.configuration());
         // A build is checked by the pairs of the index it built.
         const row_sink rows{ctx, name, ps[i].bv, workload, n, verified};
-        rows.add_timed("build", params, build);
-        rows.add_timed("self_pairs", params, query);
-        rows.add_timed("build_and_self_pairs", params, summarize(std::move(total)));
-        rows.add("self_pairs", params, "pairs", static_cast<double>(reference.size()), "count");
-        rows.add("build", params, "memory", static_cast<double>(ps[i].index->memory_bytes()), "bytes");
-        ctx.prog.say("collide boxes n=" + fmt_n(n) + " " + name + ": build " + std::to_string(build.median_seconds) +
-                     " s, pairs " + std::to_string(query.median_seconds) + " s (" + std::to_string(reference.size()) + " pairs)");
+        const timing_result both = summarize(std::move(total));
+        rows.add_timed("build", own, build);
+        rows.add_timed("self_pairs", own, query);
+        rows.add_timed("build_and_self_pairs", own, both);
+        rows.add("self_pairs", own, "pairs", static_cast<double>(reference.size()), "count");
+        rows.add("build", own, "memory", static_cast<double>(index.memory_bytes()), "bytes");
+        const bool validated = verified != check::none;
+        figures["build"].push_back({name, index.configuration(), build.median_seconds, validated});
+        figures["self_pairs"].push_back({name, index.configuration(), query.median_seconds, validated});
+        figures["build_and_self_pairs"].push_back({name, index.configuration(), both.median_seconds, validated});
+        ctx.prog.say("collide boxes n=" + fmt_n(n) + " " + labelled(index) + ": build " +
+                     std::to_string(build.median_seconds) + " s, pairs " + std::to_string(query.median_seconds) +
+                     " s (" + std::to_string(reference.size()) + " pairs)");
+    }
+    // Issue 18's reference figure per static figure: collision_grid (the target's structure,
+    // its default configuration) divided by the fastest validated configuration of any peer
+    // (harness/best_peer.hpp), naming that peer and its every setting after the params.
+    for (const auto& [operation, all] : figures) {
+        const auto ours = std::find_if(all.begin(), all.end(), [](const auto& f) {
+            return f.structure == "collision_grid" && f.configuration.empty();
+        });
+        if (ours == all.end()) continue;
+        if (const auto best = best_peer(*ours, all))
+            ctx.rows.push_back(ctx.scope(workload, n)
+                                   .with_check(check::derived)
+                                   .figure(best->structure, "-", operation, joined_params(params, best->configuration),
+                                           "best_peer_ratio", best->ratio, "ratio"));
     }
 }
 

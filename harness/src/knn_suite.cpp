@@ -160,13 +160,6 @@ void add_kd_tree_sweep(const context& ctx, std::vector<std::unique_ptr<point_ind
     }
 }
 
-// A structure as its rows name it: "cgal_kd_tree" for a default configuration,
-// "cgal_kd_tree[bucket_size=32;points_cache=on]" for a swept one (messages and map keys).
-template <class T, std::size_t D>
-std::string labelled(const point_index<T, D>& s) {
-    return s.configuration().empty() ? s.name() : s.name() + "[" + s.configuration() + "]";
-}
-
 // What the static and the dynamic measurement of one workload share: the suite's context,
 // the workload, and its rows (no bounding volume column in this suite).
 template <class T, std::size_t D>
@@ -490,26 +483,11 @@ private:
                 }
             }
             if (!best || ours->second.check == check::none) continue;
-            ctx_.rows.push_back(row(check::derived, best->first, key.operation,
-                                    joined_params(key.params, full_configuration(best->first, best->second)),
-                                    "best_peer_ratio", ours->second.value / best_value, "ratio"));
+            ctx_.rows.push_back(
+                row(check::derived, best->first, key.operation,
+                    joined_params(key.params, full_configuration(find_peer(best->first)->settings, best->second)),
+                    "best_peer_ratio", ours->second.value / best_value, "ratio"));
         }
-    }
-
-    // A peer configuration written out in full: its registry settings with the swept ones
-    // ("bucket_size=32;points_cache=on") in their place, so a best-peer row names every setting.
-    static std::string full_configuration(const std::string& peer, const std::string& swept) {
-        key_values full = find_peer(peer)->settings;
-        std::size_t start = 0;
-        while (start < swept.size()) {
-            const std::size_t end = std::min(swept.find(';', start), swept.size());
-            const std::string item = swept.substr(start, end - start);
-            const std::size_t eq = item.find('=');
-            for (auto& [k, v] : full)
-                if (k == item.substr(0, eq)) v = item.substr(eq + 1);
-            start = end + 1;
-        }
-        return params_of(full);
     }
 
     T radius_ = 0;

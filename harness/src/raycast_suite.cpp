@@ -30,20 +30,22 @@
 
 #include "datasets/mesh_generators.hpp"
 #include "datasets/random.hpp"
+#include "harness/best_peer.hpp"
 #include "harness/csv_writer.hpp"
 #include "harness/fault_injection.hpp"
 #include "harness/format.hpp"
 #include "harness/mesh_loading.hpp"
+#include "harness/object_ray_index.hpp"
 #include "harness/our_ray_indexes.hpp"
 #include "harness/progress.hpp"
 #include "harness/ray_adapters.hpp"
-#include "harness/object_ray_index.hpp"
 #include "harness/ray_validation.hpp"
 #include "harness/run_info.hpp"
 #include "harness/structure_registry.hpp"
 #include "harness/suite_cases.hpp"
 #include "harness/suite_context.hpp"
 #include "harness/timing.hpp"
+#include "harness/tuning_sweep.hpp"
 #include "harness/validation.hpp"
 #include "spatial/brute/brute_force.hpp"
 #include "spatial/bvh/bvh.hpp"
@@ -79,12 +81,17 @@ struct preset_config {
     std::size_t build_repetitions;
     std::size_t oracle_rays;         // rays of each kind checked against brute force
     std::size_t brute_max_n;         // brute_force timed (on oracle_rays rays) up to this n
+    // The tuning sweep (harness/tuning_sweep.hpp: Embree's build qualities besides the
+    // default) runs on generated meshes of at least this many triangles (the size asked for)
+    // and on every real mesh: the sizes that decide the targets (quick's largest; every size
+    // in full; smoke's largest, so that the smoke run exercises it).
+    std::size_t sweep_min_n;
 };
 
 preset_config preset(const std::string& name) {
-    if (name == "smoke") return {{1000, 4000}, 2048, 48, 2, 1, 48, 4000};
-    if (name == "quick") return {{1000, 10000, 100000}, 16384, 128, 5, 3, 200, 10000};
-    if (name == "full") return {{1000, 10000, 100000, 1000000}, 65536, 256, 5, 3, 128, 10000};
+    if (name == "smoke") return {{1000, 4000}, 2048, 48, 2, 1, 48, 4000, 4000};
+    if (name == "quick") return {{1000, 10000, 100000}, 16384, 128, 5, 3, 200, 10000, 100000};
+    if (name == "full") return {{1000, 10000, 100000, 1000000}, 65536, 256, 5, 3, 128, 10000, 0};
     throw std::invalid_argument("unknown preset '" + name + "' (expected smoke, quick or full)");
 }
 
@@ -182,10 +189,26 @@ ray_answer cast(ray_index<T>& s, const ray& r) {
     return {true, hit.t};
 }
 
+// Issue 18's reference figure: bvh (its default configuration) divided by the fastest
+// validated configuration of any peer (harness/best_peer.hpp), when both were measured: a
+// `best_peer_ratio` row naming that peer and its every setting after the operation's params.
+void add_best_peer_ratio(context& ctx, const row_scope& scope, const std::string& operation, const std::string& params,
+                         const std::vector<configured_figure>& figures) {
+    const auto ours = std::find_if(figures.begin(), figures.end(),
+                                   [](const auto& f) { return f.structure == "bvh" && f.configuration.empty(); });
+    if (ours == figures.end()) return;
+    const auto best = best_peer(*ours, figures);
+    if (!best) return;
+    ctx.rows.push_back(scope.with_check(check::derived)
+                           .figure(best->structure, "", operation, joined_params(params, best->configuration),
+                                   "best_peer_ratio", best->ratio, "ratio"));
+}
+
 class mesh_measurement {
 public:
-    mesh_measurement(context& ctx, std::string label, datasets::triangle_mesh mesh)
-        : ctx_(ctx), label_(std::move(label)), mesh_(std::move(mesh)) {}
+    // sweep: the peers in every configuration of their tuning sweep too (preset_config).
+    mesh_measurement(context& ctx, std::string label, datasets::triangle_mesh mesh, bool sweep)
+        : ctx_(ctx), label_(std::move(label)), mesh_(std::move(mesh)), sweep_(sweep) {}
 
     void run() {
         triangles_ = datasets::to_triangles<T>(mesh_);
@@ -203,7 +226,7 @@ public:
         oracle_answers();
         std::vector<std::unique_ptr<ray_index<T>>> structures;
         add_registered<triangle3, in::raycast, container_ray_index>(structures, triangles_.size(), ctx_.cfg.brute_max_n);
-        for (auto& p : make_peer_ray_indices<T>()) structures.push_back(std::move(p));
+        for (auto& p : make_peer_ray_indices<T>(sweep_)) structures.push_back(std::move(p));
         std::erase_if(structures, [&](const auto& s) { return !ctx_.wants(s->name()); });
         // The oracle answers a sample of the rays only (rays_for): it goes last.
         std::stable_partition(structures.begin(), structures.end(), [](const auto& s) { return !is_oracle(s->name()); });
@@ -278,8 +301,8 @@ private:
             if (verdict == ray_agreement::different) {
                 std::ostringstream os;
                 os.precision(17);
-                os << where(s.name(), set) << ", ray " << ray_index_in_set << " (origin " << r.origin << ", direction "
-                   << r.direction << "): ";
+                os << where(labelled(s), set) << ", ray " << ray_index_in_set << " (origin " << r.origin
+                   << ", direction " << r.direction << "): ";
                 os << (mine.hit ? "hit at t=" + std::to_string(mine.t) : std::string("miss")) << ", but " << against
                    << " says " << (want.hit ? "hit at t=" + std::to_string(want.t) : std::string("miss"));
                 throw validation_error(os.str());
@@ -323,7 +346,7 @@ private:
     std::vector<timing_result> build_all(std::vector<std::unique_ptr<ray_index<T>>>& structures) {
         std::vector<timed_work> work;
         for (auto& s : structures)
-            work.push_back({s->name() + " on " + label_ + " n=" + fmt_n(triangles_.size()) + ", size after build",
+            work.push_back({labelled(*s) + " on " + label_ + " n=" + fmt_n(triangles_.size()) + ", size after build",
                             [this, &s] {
                                 s->build(mesh_, triangles_);
                                 return static_cast<double>(s->size());
@@ -340,21 +363,30 @@ private:
         // checks; those of the first set stand for them all).
         std::vector<std::string> built(structures.size());
         for (std::size_t k = 0; k < sets_.size(); ++k) measure_set(structures, k, have_reference, summary, built);
+        std::vector<configured_figure> build_figures;
         for (std::size_t i = 0; i < structures.size(); ++i) {
             const auto& s = *structures[i];
-            const row_scope scope = rows().with_check(check::all_of({check::size, built[i]}));
+            const std::string build_check = check::all_of({check::size, built[i]});
+            const row_scope scope = rows().with_check(build_check);
             const timing_result& b = builds[i];
             const double bytes = static_cast<double>(s.memory_bytes());
-            add(scope.timed(s.name(), s.bv(), "build", "", "build_time", b, "s"));
-            add(scope.figure(s.name(), s.bv(), "build", "", "memory_bytes", bytes, "B"));
-            add(scope.figure(s.name(), s.bv(), "build", "", "bytes_per_triangle", bytes / static_cast<double>(triangles_.size()), "B"));
-            for (const auto& [metric, value] : s.build_metrics()) add(scope.figure(s.name(), s.bv(), "build", "", metric, value, "ratio"));
+            // A swept configuration's rows carry it in their params; the default's keep theirs.
+            const std::string params = s.configuration();
+            add(scope.timed(s.name(), s.bv(), "build", params, "build_time", b, "s"));
+            add(scope.figure(s.name(), s.bv(), "build", params, "memory_bytes", bytes, "B"));
+            add(scope.figure(s.name(), s.bv(), "build", params, "bytes_per_triangle",
+                             bytes / static_cast<double>(triangles_.size()), "B"));
+            for (const auto& [metric, value] : s.build_metrics())
+                add(scope.figure(s.name(), s.bv(), "build", params, metric, value, "ratio"));
+            build_figures.push_back({s.name(), s.configuration(), b.median_seconds, build_check != check::none});
             std::ostringstream msg;
             msg.precision(3);
-            msg << s.name() << " on " << label_ << " n=" << fmt_n(triangles_.size()) << ": build " << b.median_seconds
-                << " s, " << bytes / static_cast<double>(triangles_.size()) << " B/tri" << summary[i];
+            msg << labelled(s) << " on " << label_ << " n=" << fmt_n(triangles_.size()) << ": build "
+                << b.median_seconds << " s, " << bytes / static_cast<double>(triangles_.size()) << " B/tri"
+                << summary[i];
             ctx_.prog.say(msg.str());
         }
+        add_best_peer_ratio(ctx_, rows(), "build", "", build_figures);
     }
 
     // Ray set k: every structure answers once and is validated (the reference, first, against
@@ -385,7 +417,7 @@ private:
                                    validated[0].per_ray.size() == set.rays.size();
             verified[i] = check::all_of({oracle_check, every_ray ? check::cross_all : check::none});
             if (every_ray) verified[0] = check::all_of({oracle_check, check::cross_all});
-            work.push_back({where(s.name(), set),
+            work.push_back({where(labelled(s), set),
                             [&s, &set, &rays = which[i]] {
                                 double sum = 0;
                                 for (std::size_t r : rays) sum += checksum_of(cast(s, set.rays[r]));
@@ -394,15 +426,19 @@ private:
                             validated[i].checksum});
         }
         const std::vector<timing_result> times = time_interleaved(work, 1, ctx_.cfg.repetitions);
+        std::vector<configured_figure> ray_figures;
         for (std::size_t i = 0; i < S; ++i) {
             const auto& s = *structures[i];
             const row_scope scope = rows().with_check(verified[i]);
             if (k == 0) built[i] = verified[i];
             const double per_ray_ns = 1e9 / static_cast<double>(which[i].size());
+            const std::string params = joined_params(set.params, s.configuration());
             auto figure = [&](const std::string& metric, double value) {
-                add(scope.figure(s.name(), s.bv(), "ray", set.params, metric, value, "count"));
+                add(scope.figure(s.name(), s.bv(), "ray", params, metric, value, "count"));
             };
-            add(scope.timed(s.name(), s.bv(), "ray", set.params, "time_per_op", times[i], "ns", per_ray_ns));
+            add(scope.timed(s.name(), s.bv(), "ray", params, "time_per_op", times[i], "ns", per_ray_ns));
+            ray_figures.push_back(
+                {s.name(), s.configuration(), times[i].median_seconds * per_ray_ns, verified[i] != check::none});
             figure("rays", static_cast<double>(which[i].size()));
             figure("hits", static_cast<double>(validated[i].hits));
             figure("ambiguous_rays", static_cast<double>(excused[i]));
@@ -415,6 +451,7 @@ private:
             msg << ")";
             summary[i] += msg.str();
         }
+        add_best_peer_ratio(ctx_, rows(), "ray", set.params, ray_figures);
     }
 
     using tree = spatial::bvh<triangle3>;
@@ -516,6 +553,7 @@ private:
     context& ctx_;
     std::string label_;
     datasets::triangle_mesh mesh_;
+    bool sweep_;
     std::vector<triangle3> triangles_;
     datasets::mesh_bounds bounds_;
     double scale_ = 1;
@@ -582,8 +620,16 @@ public:
         const std::string oracle_check =
             sample_.size() == rays_.size() ? check::oracle_all : check::oracle_sample(sample_.size());
         const std::string verified = check::all_of({oracle_check, structures.size() > 1 ? check::cross_all : check::none});
-        for (std::size_t i = 0; i < structures.size(); ++i)
+        std::vector<configured_figure> ray_figures, build_figures;
+        for (std::size_t i = 0; i < structures.size(); ++i) {
             record(*structures[i], build_times[i], ray_times[i], hits[i], verified);
+            const double per_ray_ns = 1e9 / static_cast<double>(rays_.size());
+            ray_figures.push_back({structures[i]->name(), "", ray_times[i].median_seconds * per_ray_ns, true});
+            build_figures.push_back({structures[i]->name(), "", build_times[i].median_seconds, true});
+        }
+        // Embree's user geometry has no setting swept: its registry configuration is the peer's.
+        add_best_peer_ratio(ctx_, ctx_.scope(workload_, n_), "ray", params_, ray_figures);
+        add_best_peer_ratio(ctx_, ctx_.scope(workload_, n_), "build", "", build_figures);
     }
 
 private:
@@ -726,7 +772,10 @@ std::vector<suite_case> raycast_cases(context& ctx) {
             std::function<void()> run;
             if (w == "boxes") run = [&ctx, w, n] { object_measurement<spatial::objects::box<T, 3>>(ctx, w, n).run(); };
             else if (w == "points") run = [&ctx, w, n] { object_measurement<point3>(ctx, w, n).run(); };
-            else run = [&ctx, w, n, seed] { mesh_measurement(ctx, w, datasets::generate_mesh(w, n, seed)).run(); };
+            else
+                run = [&ctx, w, n, seed] {
+                    mesh_measurement(ctx, w, datasets::generate_mesh(w, n, seed), n >= ctx.cfg.sweep_min_n).run();
+                };
             // Per triangle or object, every participant at once (memory_budget.hpp): ours, Embree's
             // and CGAL's trees, the mesh and its copies (tables: 100-200 B per triangle each).
             constexpr std::size_t bytes_per_object_all_participants = 512;
@@ -734,7 +783,8 @@ std::vector<suite_case> raycast_cases(context& ctx) {
         }
     for (const auto& f : real_mesh_files(ctx.opt)) {
         const std::string label = "real:" + f.filename().string();
-        cases.push_back({"raycast/" + label, [&ctx, label, f] { mesh_measurement(ctx, label, load_triangle_mesh(f)).run(); }});
+        cases.push_back({"raycast/" + label,
+                         [&ctx, label, f] { mesh_measurement(ctx, label, load_triangle_mesh(f), true).run(); }});
     }
     return cases;
 }

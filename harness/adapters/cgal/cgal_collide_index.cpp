@@ -15,6 +15,11 @@
 // id and self-pairs (a, a')), (b) differs between the built set and `others`, and (c) maps
 // back to the index by pointer arithmetic.
 //
+// Cutoff (setting `cutoff`, a positive count): below it a block of boxes is scanned pairwise
+// instead of split further. CGAL's default is 10, the registry's; the tuning sweep
+// (harness/tuning_sweep.hpp) runs larger ones, which trade the segment tree's recursion for
+// scanning.
+//
 // Closedness: we pass Box_intersection_d::CLOSED explicitly (it is also CGAL's default):
 // boxes sharing only a face, edge or corner intersect, zero-extent boxes take part. CGAL
 // compares the doubles exactly, so its answer is the closed-box answer with no filtering;
@@ -25,12 +30,14 @@
 
 #include <algorithm>
 #include <cstdint>
+#include <limits>
 #include <stdexcept>
 #include <string>
 #include <utility>
 #include <vector>
 
 #include "harness/collide_adapters.hpp"
+#include "harness/tuning_sweep.hpp"
 
 namespace harness {
 namespace {
@@ -41,11 +48,9 @@ CGAL::Bbox_3 bbox_of(const collide_box& b) {
     return {b.lo[0], b.lo[1], b.lo[2], b.hi[0], b.hi[1], b.hi[2]};
 }
 
-// CGAL's default cutoff (below it, a block of boxes is scanned pairwise).
-constexpr std::ptrdiff_t cgal_cutoff = 10;
-
 class cgal_collide_index final : public collide_index {
 public:
+    explicit cgal_collide_index(std::ptrdiff_t cutoff) : cutoff_(cutoff) {}
     std::string name() const override { return "cgal_box_intersection"; }
 
     void build(std::span<const collide_box> boxes) override {
@@ -75,7 +80,7 @@ public:
             if (exact && !exact(i, j)) return;
             out.emplace_back(i, j);
         };
-        CGAL::box_self_intersection_d(sequence_.begin(), sequence_.end(), report, cgal_cutoff,
+        CGAL::box_self_intersection_d(sequence_.begin(), sequence_.end(), report, cutoff_,
                                       CGAL::Box_intersection_d::CLOSED);
         sort_unique_pairs(out);
         return out;
@@ -101,7 +106,7 @@ public:
             out.emplace_back(i, j);
         };
         CGAL::box_intersection_d(sequence_.begin(), sequence_.end(), other_sequence.begin(), other_sequence.end(),
-                                 report, cgal_cutoff, CGAL::Box_intersection_d::CLOSED);
+                                 report, cutoff_, CGAL::Box_intersection_d::CLOSED);
         sort_unique_pairs(out);
         return out;
     }
@@ -111,14 +116,19 @@ public:
     }
 
 private:
+    std::ptrdiff_t cutoff_;
     std::vector<collide_box> boxes_;  // our copy: the handles point here
     std::vector<cgal_box> sequence_;  // CGAL's working sequence, reordered by every query
 };
 
 }  // namespace
 
-std::unique_ptr<collide_index> make_cgal_box_intersection_collide_index() {
-    return std::make_unique<cgal_collide_index>();
+std::unique_ptr<collide_index> make_cgal_box_intersection_collide_index(const key_values& settings) {
+    const std::size_t cutoff = count_setting(settings, "cutoff", "cgal_box_intersection");
+    if (cutoff > static_cast<std::size_t>(std::numeric_limits<std::ptrdiff_t>::max()))
+        throw std::invalid_argument("cgal_box_intersection: setting cutoff=" + std::to_string(cutoff) +
+                                    " is too large");
+    return std::make_unique<cgal_collide_index>(static_cast<std::ptrdiff_t>(cutoff));
 }
 
 }  // namespace harness

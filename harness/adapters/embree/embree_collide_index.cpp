@@ -24,8 +24,8 @@
 // call; 3.13 calls back once per candidate pair).
 //
 // update(): rtcCommitGeometry (Embree re-reads the bounds of a committed user geometry; there
-// is no buffer to rtcUpdateGeometryBuffer) and rtcCommitScene, which rebuilds the BVH: see
-// embree_refit_on_update below for the build quality chosen and why.
+// is no buffer to rtcUpdateGeometryBuffer) and rtcCommitScene, which rebuilds the BVH, or
+// refits it under build_quality=low (below).
 //
 // Coordinates must lie within float range (|x| < 3.4e38): beyond it the rounded bounds would
 // be infinite.
@@ -40,21 +40,22 @@
 #include <vector>
 
 #include "harness/collide_adapters.hpp"
+#include "harness/tuning_sweep.hpp"
 #include "spatial/bv/rounding.hpp"
+#include "embree_build_quality.hpp"
 #include "embree_device.hpp"
 
 namespace harness {
 namespace {
 
-// The scene's build quality. false: MEDIUM, Embree's default, a single-level SAH BVH rebuilt
-// from the bounds at every commit. true: scene LOW with the geometry at
-// RTC_BUILD_QUALITY_REFIT (Embree uses per-geometry quality only in LOW's two-level mode).
-// Measured here (1e5 boxes, ~2 overlaps each, every box moved by 10% of its size, 2 busy
-// cores): update + self_pairs 0.10-0.15 s with REFIT, 0.10-0.12 s with MEDIUM, whose
-// queries are ~1.5x faster (0.03-0.035 s against 0.045-0.07 s) and whose tree does not
-// degrade over many steps, as a refitted one does; REFIT's BVH is smaller (2.5 MB against
-// 9 MB). Both give identical pairs. MEDIUM it is.
-constexpr bool embree_refit_on_update = false;
+// The setting build_quality (embree_build_quality.hpp). medium (the registry's, Embree's
+// default): a single-level SAH BVH rebuilt from the bounds at every commit. high: Embree's
+// higher-quality builder (its spatial splits apply to triangle meshes, not to user geometry).
+// low: the scene at LOW with the geometry at RTC_BUILD_QUALITY_REFIT (Embree uses the
+// per-geometry quality only in LOW's two-level mode), so update() refits the geometry's BVH
+// instead of rebuilding it: cheaper updates, a tree that degrades as the boxes move, as any
+// refitted one does. All give identical pairs; which is fastest where is the tuning sweep's
+// to measure (harness/tuning_sweep.hpp).
 
 // geometryUserPtr of a geometry: the boxes its bounds come from.
 void bounds_of(const RTCBoundsFunctionArguments* args) {
@@ -96,7 +97,7 @@ void record_collisions(void* user, RTCCollision* collisions, unsigned int count)
 
 class embree_collide_index final : public collide_index {
 public:
-    embree_collide_index() = default;
+    explicit embree_collide_index(RTCBuildQuality quality) : quality_(quality) {}
     ~embree_collide_index() override {
         release();
     }
@@ -171,10 +172,8 @@ private:
         if (!scene) device_.fail("rtcNewScene");
         RTCGeometry g = rtcNewGeometry(device_.get(), RTC_GEOMETRY_TYPE_USER);
         if (!g) device_.fail("rtcNewGeometry(USER)");
-        if (embree_refit_on_update) {
-            rtcSetSceneBuildQuality(scene, RTC_BUILD_QUALITY_LOW);
-            rtcSetGeometryBuildQuality(g, RTC_BUILD_QUALITY_REFIT);
-        }
+        rtcSetSceneBuildQuality(scene, quality_);
+        if (quality_ == RTC_BUILD_QUALITY_LOW) rtcSetGeometryBuildQuality(g, RTC_BUILD_QUALITY_REFIT);
         rtcSetGeometryUserPrimitiveCount(g, static_cast<unsigned>(boxes->size()));
         rtcSetGeometryUserData(g, const_cast<std::span<const collide_box>*>(boxes));
         rtcSetGeometryBoundsFunction(g, &bounds_of, nullptr);
@@ -194,6 +193,7 @@ private:
         scene_ = nullptr;
     }
 
+    RTCBuildQuality quality_;
     embree_device device_{"embree_collide"};
     RTCScene scene_ = nullptr;
     RTCGeometry geometry_ = nullptr;
@@ -202,8 +202,8 @@ private:
 
 }  // namespace
 
-std::unique_ptr<collide_index> make_embree_collide_index() {
-    return std::make_unique<embree_collide_index>();
+std::unique_ptr<collide_index> make_embree_collide_index(const key_values& settings) {
+    return std::make_unique<embree_collide_index>(embree_build_quality(settings, "embree_collide"));
 }
 
 }  // namespace harness

@@ -5,9 +5,14 @@
 // Configuration, chosen to compare like with like:
 //   * one device per index with "threads=1": our builders are single-threaded, and the
 //     machine (2 cores) is shared; queries are single rays (rtcIntersect1 / rtcOccluded1);
-//   * default build quality (RTC_BUILD_QUALITY_MEDIUM); default scene flags ("embree"), or
-//     RTC_SCENE_FLAG_ROBUST ("embree_robust": "avoid optimizations that reduce arithmetic
-//     accuracy"), whose price and effect on leaks at shared edges the suite measures;
+//   * settings (harness/peer_registry.hpp, tuning_sweep.hpp): build_quality low | medium |
+//     high (embree_build_quality.hpp; the registry's medium is Embree's default, and the
+//     tuning sweep runs the other two: high's spatial splits build slower for fewer
+//     overlapping nodes, low builds fastest), set on the scene and the geometry (Embree
+//     reads the geometry's only in low's two-level mode); flags: absent ("embree", default
+//     scene flags) or robust (RTC_SCENE_FLAG_ROBUST, "embree_robust": "avoid optimizations
+//     that reduce arithmetic accuracy"), whose price and effect on leaks at shared edges the
+//     suite measures;
 //   * shared buffers: Embree reads the caller's index triples in place; only the vertices
 //     are converted (to float, padded by one float because Embree loads vertices with 16-byte
 //     SIMD reads).
@@ -22,6 +27,8 @@
 #include <vector>
 
 #include "harness/ray_adapters.hpp"
+#include "harness/tuning_sweep.hpp"
+#include "embree_build_quality.hpp"
 #include "embree_device.hpp"
 
 namespace harness {
@@ -33,7 +40,7 @@ public:
     using typename ray_index<T>::point_type;
     using typename ray_index<T>::triangle_type;
 
-    explicit embree_ray_index(bool robust) : robust_(robust) {}
+    embree_ray_index(bool robust, RTCBuildQuality quality) : robust_(robust), quality_(quality) {}
     ~embree_ray_index() override {
         release_scene();
     }
@@ -53,9 +60,11 @@ public:
         scene_ = rtcNewScene(device_.get());
         if (!scene_) device_.fail("rtcNewScene");
         if (robust_) rtcSetSceneFlags(scene_, RTC_SCENE_FLAG_ROBUST);
+        rtcSetSceneBuildQuality(scene_, quality_);
         if (size_ > 0) {
             RTCGeometry geometry = rtcNewGeometry(device_.get(), RTC_GEOMETRY_TYPE_TRIANGLE);
             if (!geometry) device_.fail("rtcNewGeometry");
+            rtcSetGeometryBuildQuality(geometry, quality_);
             rtcSetSharedGeometryBuffer(geometry, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT3, vertices_.data(), 0,
                                        3 * sizeof(float), mesh.vertices.size());
             rtcSetSharedGeometryBuffer(geometry, RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT3, mesh.triangles.data(), 0,
@@ -124,6 +133,7 @@ private:
     }
 
     bool robust_;
+    RTCBuildQuality quality_;
     embree_device device_{"embree"};
     RTCScene scene_ = nullptr;
     std::vector<float> vertices_;
@@ -134,11 +144,20 @@ private:
 }  // namespace
 
 template <class T>
-std::unique_ptr<ray_index<T>> make_embree_ray_index(bool robust) {
-    return std::make_unique<embree_ray_index<T>>(robust);
+std::unique_ptr<ray_index<T>> make_embree_ray_index(const key_values& settings) {
+    // flags: the registry line of embree_robust has flags=robust; embree's has none.
+    bool robust = false;
+    for (const auto& [key, value] : settings)
+        if (key == "flags") {
+            if (value != "robust")
+                throw std::invalid_argument("embree_robust: setting flags=" + value + " is not robust");
+            robust = true;
+        }
+    return std::make_unique<embree_ray_index<T>>(robust,
+                                                 embree_build_quality(settings, robust ? "embree_robust" : "embree"));
 }
 
-template std::unique_ptr<ray_index<float>> make_embree_ray_index<float>(bool);
-template std::unique_ptr<ray_index<double>> make_embree_ray_index<double>(bool);
+template std::unique_ptr<ray_index<float>> make_embree_ray_index<float>(const key_values&);
+template std::unique_ptr<ray_index<double>> make_embree_ray_index<double>(const key_values&);
 
 }  // namespace harness

@@ -23,6 +23,7 @@
 #include <vector>
 
 #include "harness/peer_registry.hpp"
+#include "harness/configured.hpp"
 #include "harness/point_index.hpp"
 #include "harness/tuning_sweep.hpp"
 
@@ -55,10 +56,14 @@ std::unique_ptr<point_index<T, D>> make_nanoflann_dynamic_index(const key_values
 // approximate_knn | radius | dynamic | bulk_insert.
 // build() inserts all points and calls tree.build() so the build is timed (CGAL would
 // otherwise build lazily inside the first query). knn: Orthogonal_k_neighbor_search, whose
-// eps already multiplies distance. radius: Fuzzy_sphere with epsilon 0, which is closed.
+// eps already multiplies distance. radius: Fuzzy_sphere with epsilon 0, which is closed
+// without the points cache; with it, CGAL 5.5 keeps d^2 < r^2 (an open ball), so the ball gets
+// the smallest radius whose square exceeds r^2 and the answer is cut back to d^2 <= r^2.
 // insert(): tree.insert() — CGAL drops the tree and rebuilds it lazily at the next query.
 // erase(): tree.remove() with an equality on the id, so the right one of several
-// coincident points is removed; it needs the point's coordinates, kept in an id -> point
+// coincident points is removed (with the points cache, which CGAL 5.5 cannot keep right
+// through remove() or a rebuild in place, insert() and erase() only update the adapter's
+// table and the next query builds a new tree of the live points); it needs the point's coordinates, kept in an id -> point
 // table that prepare_dynamic() builds (untimed; else the first dynamic operation does), so
 // static workloads do not pay for it. last_nodes_visited() is reported for knn.
 template <class T, std::size_t D>
@@ -88,19 +93,6 @@ std::unique_ptr<point_index<T, D>> make_boost_rtree_quadratic_index();
     template std::unique_ptr<point_index<float, 3>> factory<float, 3>(const key_values&);          \
     template std::unique_ptr<point_index<double, 2>> factory<double, 2>(const key_values&);        \
     template std::unique_ptr<point_index<double, 3>> factory<double, 3>(const key_values&)
-
-// Appends the peer `name` made by `factory` in its registry configuration and, when `sweep`,
-// in each configuration of its tuning sweep (tuning_sweep.hpp), each labelled with it.
-template <class T, std::size_t D, class Factory>
-void add_peer_configurations(std::vector<std::unique_ptr<point_index<T, D>>>& out, const std::string& name,
-                             Factory factory, bool sweep) {
-    const structure_info* info = find_peer(name);
-    if (!info) throw std::logic_error("make_peer_indices: no registry line for peer " + name);
-    for (auto& c : configurations(name, info->settings, sweep)) {
-        out.push_back(factory(c.settings));
-        out.back()->set_configuration(std::move(c.params));
-    }
-}
 
 // Every peer index compiled into this build, in a fixed order (static before dynamic): each
 // in its registry configuration and, when `sweep`, in every configuration of its tuning sweep.

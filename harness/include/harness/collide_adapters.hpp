@@ -3,7 +3,10 @@
 // each is defined in its adapter's .cpp, so CGAL's, FCL's and Embree's headers (and FCL's
 // Eigen types) stay inside their adapter libraries. A factory exists when its library was
 // built (SPATIAL_HAVE_CGAL / SPATIAL_HAVE_FCL / SPATIAL_HAVE_EMBREE);
-// make_peer_collide_indices() lists whichever exist.
+// make_peer_collide_indices() lists whichever exist, each in its registry configuration and,
+// on request, in every configuration of its tuning sweep (harness/tuning_sweep.hpp). A
+// factory that takes settings reads them from the full settings it is given and rejects a
+// value it cannot run with std::invalid_argument naming the setting.
 //
 // Every peer returns exactly the closed-box answer (harness::closed_boxes_overlap): each
 // checks its candidates with that exact double test, and where the peer's own arithmetic or
@@ -14,6 +17,7 @@
 #include <vector>
 
 #include "harness/collide_index.hpp"
+#include "harness/tuning_sweep.hpp"
 
 namespace harness {
 
@@ -21,11 +25,12 @@ namespace harness {
 // segment-tree streaming algorithm, "Fast software for box intersections", SoCG 2000) with
 // Box_intersection_d::CLOSED topology over Box_with_handle_d<double, 3, const collide_box*>:
 // the id is the address of the box's own copy, so it maps back to the index and is the same
-// in CGAL's internal copy. Exact in double: no candidate filtering needed. No incremental
+// in CGAL's internal copy. Setting: cutoff (a positive count; CGAL's default 10), below which
+// a block of boxes is scanned pairwise. Exact in double: no candidate filtering needed. No incremental
 // structure: update() refreshes the copy; each query is a full sort-and-sweep,
 // O(n log^3 n + k). name() "cgal_box_intersection". memory_bytes(): the box copy and CGAL's
 // working sequence (box_self_intersection_d also copies that sequence during each query).
-std::unique_ptr<collide_index> make_cgal_box_intersection_collide_index();
+std::unique_ptr<collide_index> make_cgal_box_intersection_collide_index(const key_values& settings);
 
 // FCL 0.7 broad-phase managers (CollisionObjectd over a Boxd placed at the box centre, whose
 // world AABB is then overwritten with our box exactly; FCL's computeAABB would round
@@ -57,15 +62,20 @@ std::unique_ptr<collide_index> make_fcl_collide_index(fcl_manager_kind kind);
 // double boxes rounded OUTWARD (no overlapping pair is lost to float rounding). rtcCollide
 // reports every primitive pair of overlapping BVH leaves, both orders for a scene with
 // itself: the callback keeps i < j and applies the exact closed double test (and the caller's
-// exact test). update() re-commits the geometry and the scene (see the .cpp for the build
-// quality chosen). Bipartite queries build a second scene over `others`.
+// exact test). Setting: build_quality medium (Embree's default; update() rebuilds) | high |
+// low (the geometry at REFIT: update() refits). update() re-commits the geometry and the
+// scene. Bipartite queries build a second scene over `others`.
 // name() "embree_collide". memory_bytes(): what Embree allocated (device memory monitor).
-std::unique_ptr<collide_index> make_embree_collide_index();
+std::unique_ptr<collide_index> make_embree_collide_index(const key_values& settings);
 
-inline std::vector<std::unique_ptr<collide_index>> make_peer_collide_indices() {
+// Every collision peer compiled into this build: each in its registry configuration and, when
+// `sweep`, in every configuration of its tuning sweep (labelled with it). FCL's managers have
+// no setting to sweep.
+inline std::vector<std::unique_ptr<collide_index>> make_peer_collide_indices(bool sweep = false) {
     std::vector<std::unique_ptr<collide_index>> out;
+    (void)sweep;
 #if defined(SPATIAL_HAVE_CGAL) && SPATIAL_HAVE_CGAL
-    out.push_back(make_cgal_box_intersection_collide_index());
+    add_peer_configurations(out, "cgal_box_intersection", make_cgal_box_intersection_collide_index, sweep);
 #endif
 #if defined(SPATIAL_HAVE_FCL) && SPATIAL_HAVE_FCL
     out.push_back(make_fcl_collide_index(fcl_manager_kind::dynamic_aabb_tree));
@@ -73,7 +83,7 @@ inline std::vector<std::unique_ptr<collide_index>> make_peer_collide_indices() {
     out.push_back(make_fcl_collide_index(fcl_manager_kind::spatial_hashing));
 #endif
 #if defined(SPATIAL_HAVE_EMBREE) && SPATIAL_HAVE_EMBREE
-    out.push_back(make_embree_collide_index());
+    add_peer_configurations(out, "embree_collide", make_embree_collide_index, sweep);
 #endif
     return out;
 }

@@ -23,6 +23,8 @@
 #include <utility>
 #include <vector>
 
+#include "harness/configured.hpp"
+
 namespace harness {
 
 struct collide_box {
@@ -31,7 +33,7 @@ struct collide_box {
 
 using index_pair = std::pair<std::uint32_t, std::uint32_t>;
 
-class collide_index {
+class collide_index : public configured {  // configuration(): harness/configured.hpp
 public:
     virtual ~collide_index() = default;
     virtual std::string name() const = 0;

@@ -19,6 +19,7 @@
 #include <utility>
 #include <vector>
 
+#include "harness/configured.hpp"
 #include "spatial/core/point.hpp"
 
 namespace harness {
@@ -75,18 +76,13 @@ struct neighbor {
 };
 
 template <class T, std::size_t D>
-class point_index {
+class point_index : public configured {  // configuration(): harness/configured.hpp
 public:
     using point_type = spatial::point<T, D>;
     virtual ~point_index() = default;
 
     // Name written to the CSV `structure` column (kd_tree, nanoflann, cgal_kd_tree, ...).
     virtual std::string name() const = 0;
-    // The configuration this instance runs when it is not its registry line's default: a
-    // tuning sweep's member ("bucket_size=32;points_cache=on", harness/tuning_sweep.hpp), which
-    // the rows append to their params. "" for the default.
-    const std::string& configuration() const { return configuration_; }
-    void set_configuration(std::string c) { configuration_ = std::move(c); }
     // Bit set of `capability` values.
     virtual unsigned capabilities() const = 0;
     bool can(capability c) const { return (capabilities() & static_cast<unsigned>(c)) != 0; }
@@ -137,9 +133,6 @@ protected:
     [[noreturn]] void unsupported(const char* what) const {
         throw std::logic_error(name() + " does not support " + what);
     }
-
-private:
-    std::string configuration_;
 };
 
 }  // namespace harness

@@ -18,6 +18,7 @@
 #include <vector>
 
 #include "datasets/triangle_mesh.hpp"
+#include "harness/configured.hpp"
 #include "spatial/core/point.hpp"
 #include "spatial/objects/triangle.hpp"
 
@@ -30,7 +31,7 @@ struct ray_hit {
 };
 
 template <class T>
-class ray_index {
+class ray_index : public configured {  // configuration(): harness/configured.hpp
 public:
     using point_type = spatial::point<T, 3>;
     using triangle_type = spatial::objects::triangle<T, 3>;
