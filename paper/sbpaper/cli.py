@@ -25,8 +25,9 @@ def generate(results_dir, out_dir, figure_runs=None):
     <out_dir>/figures/runs.json, where scripts/paper.sh draws the figures first."""
     os.makedirs(out_dir, exist_ok=True)
     tables = tables_module.read_tables(results_dir) if os.path.isdir(results_dir) else []
-    ctx = Context(rows=Rows(tables), book=book_module.Book(), out_dir=out_dir,
-                  registry=read_registry(results_dir), tables=tables)
+    registry = read_registry(results_dir)
+    ctx = Context(rows=Rows(tables, registry), book=book_module.Book(), out_dir=out_dir,
+                  registry=registry, tables=tables)
     for section in SECTIONS:
         section.generate(ctx)
     runs.generate(ctx, results_dir,

@@ -6,10 +6,25 @@ returned; the quote reduces them to their median (reduce.py), and its provenance
 from collections import defaultdict
 
 
+def _settings_by_structure(registry):
+    return {entry.get("name"): set(entry.get("settings", {})) for entry in (registry or {}).get("structures", [])}
+
+
+def is_swept_configuration(row, settings):
+    """A row of a tuning sweep's configuration (its params name a registry setting of its
+    structure, e.g. k=10;bucket_size=32): the paper reports those through the best_peer_ratio
+    rows only, so the other sections see each structure at its default, as at every size."""
+    if row["metric"] == "best_peer_ratio":
+        return False
+    named = {item.split("=", 1)[0] for item in row["params"].split(";") if item}
+    return bool(named & settings.get(row["structure"], set()))
+
+
 class Rows:
-    def __init__(self, tables):
+    def __init__(self, tables, registry=None):
+        settings = _settings_by_structure(registry)
         self.all = [row for table in tables for row in table.rows]
-        self.usable = [row for row in self.all if row.usable]
+        self.usable = [row for row in self.all if row.usable and not is_swept_configuration(row, settings)]
         self._by_suite = defaultdict(list)  # most finds name a suite: search only its rows
         for row in self.usable:
             self._by_suite[row["suite"]].append(row)

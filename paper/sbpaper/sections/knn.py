@@ -84,7 +84,7 @@ def _configuration(row):
     """The winning peer and its settings, from a best_peer_ratio row's params (the operation's
     own params come first and are dropped)."""
     settings = [item for item in row["params"].split(";") if item and not item.startswith(("k=", "eps=", "r="))]
-    return name(row["structure"]) + (" (" + ", ".join(s.replace("_", r"\_") for s in settings) + ")" if settings else "")
+    return name(row["structure"]) + (" (" + ", ".join(name(s) for s in settings) + ")" if settings else "")
 
 
 def best_peer(ctx, n):
