@@ -45,6 +45,6 @@ ASAN_OPTIONS=detect_leaks=1:abort_on_error=1 UBSAN_OPTIONS=print_stacktrace=1:ha
 # Fuzzing (docs/fuzzing.md): the libFuzzer targets built with clang under address+undefined
 # sanitizers, each run on its seed corpus and then mutated for a short fixed budget (every seed
 # replayed is the regression part; the budget keeps CI under 30 minutes). Longer runs: by hand.
-phase "fuzz build and ${SPATIAL_CI_FUZZ_SECONDS:-15} s per target"
-FUZZ_BUILD_JOBS="$jobs" scripts/fuzz.sh "${SPATIAL_CI_FUZZ_SECONDS:-15}"
+phase "fuzz build and ${SPATIAL_CI_FUZZ_SECONDS:-10} s per target"
+FUZZ_BUILD_JOBS="$jobs" scripts/fuzz.sh "${SPATIAL_CI_FUZZ_SECONDS:-10}"
 phase "done"
