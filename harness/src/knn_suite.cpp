@@ -22,6 +22,7 @@
 #include "datasets/generators.hpp"
 #include "datasets/point_set_io.hpp"
 #include "harness/adapters.hpp"
+#include "harness/best_peer.hpp"
 #include "harness/csv_writer.hpp"
 #include "harness/fault_injection.hpp"
 #include "harness/format.hpp"
@@ -457,36 +458,31 @@ private:
     }
 
     // kd_tree (its default configuration) divided by every other structure and peer
-    // configuration, per figure (the issue's performance targets), and by the best peer: the fastest validated configuration
-    // of any peer for that figure, in a `best_peer_ratio` row that names it (structure, and its
-    // whole configuration after the operation's params: issue 18's reference).
+    // configuration, per figure (the issue's performance targets), and by the best peer
+    // (harness/best_peer.hpp: the fastest validated configuration of any peer for that time
+    // figure, in a `best_peer_ratio` row that names it: issue 18's reference).
     void ratios() {
         for (const auto& [key, by_structure] : figures_) {
             if (key.metric != "time_per_op" && key.metric != "build_time" && key.metric != "bytes_per_point") continue;
             auto ours = by_structure.find({"kd_tree", ""});
             if (ours == by_structure.end()) continue;
             const std::string metric = key.metric == "bytes_per_point" ? "memory_ratio" : "time_ratio";
-            const std::pair<std::string, std::string>* best = nullptr;
-            double best_value = 0;
+            std::vector<configured_figure> others;
             for (const auto& [who, figure] : by_structure) {
                 if (who.first == "kd_tree" || figure.value <= 0) continue;
-                const structure_info* peer = find_peer(who.first);
                 // A ratio is as validated as the two figures it divides.
                 const bool both = ours->second.check != check::none && figure.check != check::none;
-                result_row r = row(both ? check::derived : check::none, who.first, key.operation,
-                                   joined_params(key.params, who.second), metric, ours->second.value / figure.value, "ratio");
-                ctx_.rows.push_back(std::move(r));
-                if (peer && peer->kind == "peer" && key.metric != "bytes_per_point" && figure.check != check::none &&
-                    (!best || figure.value < best_value)) {
-                    best = &who;
-                    best_value = figure.value;
-                }
+                ctx_.rows.push_back(row(both ? check::derived : check::none, who.first, key.operation,
+                                        joined_params(key.params, who.second), metric,
+                                        ours->second.value / figure.value, "ratio"));
+                others.push_back({who.first, who.second, figure.value, figure.check != check::none});
             }
-            if (!best || ours->second.check == check::none) continue;
-            ctx_.rows.push_back(
-                row(check::derived, best->first, key.operation,
-                    joined_params(key.params, full_configuration(find_peer(best->first)->settings, best->second)),
-                    "best_peer_ratio", ours->second.value / best_value, "ratio"));
+            if (key.metric == "bytes_per_point") continue;
+            const auto best = best_peer({"kd_tree", "", ours->second.value, ours->second.check != check::none}, others);
+            if (best)
+                ctx_.rows.push_back(row(check::derived, best->structure, key.operation,
+                                        joined_params(key.params, best->configuration), "best_peer_ratio", best->ratio,
+                                        "ratio"));
         }
     }
 

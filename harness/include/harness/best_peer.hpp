@@ -4,7 +4,7 @@
 // configuration of any peer measured in the same run, for the same figure. The suite writes
 // it as a `best_peer_ratio` row (check `derived`) whose structure is that peer and whose params
 // are the operation's followed by the peer configuration's every setting, so the row says
-// what ours was compared with. The knn suite computes the same inline (harness/src/knn_suite.cpp).
+// what ours was compared with. The knn, raycast and collide suites all call it.
 
 #include <optional>
 #include <string>
@@ -29,14 +29,15 @@ struct best_peer_figure {
     double ratio = 0;           // ours / the peer's
 };
 
-// Among `figures`, the registry peers' (find_peer) validated ones with a positive value: the
+// Among `figures`, the registry peers' (find_peer, kind "peer") validated ones with a positive value: the
 // fastest, and `ours` divided by it. nullopt when `ours` is not validated or no peer qualifies.
 inline std::optional<best_peer_figure> best_peer(const configured_figure& ours,
                                                  const std::vector<configured_figure>& figures) {
     if (!ours.validated) return std::nullopt;
     const configured_figure* best = nullptr;
     for (const auto& f : figures) {
-        if (!find_peer(f.structure) || !f.validated || !(f.value > 0)) continue;
+        const structure_info* peer = find_peer(f.structure);
+        if (!peer || peer->kind != "peer" || !f.validated || !(f.value > 0)) continue;
         if (!best || f.value < best->value) best = &f;
     }
     if (!best) return std::nullopt;
