@@ -12,6 +12,7 @@
 // checked), by value, by range, single and batched motion where the structure has them, clear.
 
 #include <algorithm>
+#include <array>
 #include <cstddef>
 #include <stdexcept>
 #include <string>
@@ -79,12 +80,20 @@ public:
         return map[it.slot()];
     }
 
-    // What a rejected call must leave as it was: the slot and signature of every stored object
-    // in iteration order, and end()'s slot.
-    using state_type = std::pair<std::vector<std::pair<spatial::slot_index, std::vector<double>>>, spatial::slot_index>;
+    // What a rejected call must leave as it was: the slot and bounds (lower, then upper) of
+    // every stored object in iteration order, and end()'s slot. Taken before every insertion,
+    // so it is built of fixed-size arrays (one allocation, not one per object).
+    using bounds_type = std::array<typename C::scalar_type, 2 * C::dimension>;
+    using state_type = std::pair<std::vector<std::pair<spatial::slot_index, bounds_type>>, spatial::slot_index>;
     state_type state() const {
         state_type st{{}, mine_.end().slot()};
-        for (auto it = mine_.begin(); it != mine_.end(); ++it) st.first.emplace_back(it.slot(), spatial_test::signature(*it));
+        st.first.reserve(mine_.size());
+        for (auto it = mine_.begin(); it != mine_.end(); ++it) {
+            bounds_type b;
+            for (std::size_t d = 0; d < C::dimension; ++d)
+                b[d] = spatial::object_lower(*it, d), b[C::dimension + d] = spatial::object_upper(*it, d);
+            st.first.emplace_back(it.slot(), b);
+        }
         return st;
     }
 
@@ -207,10 +216,14 @@ public:
         erased_.clear();
     }
 
+    // The structure, the oracle and the handle table hold as many objects.
+    void check_sizes() const {
+        log_.require(mine_.size() == live_.size() && oracle_.size() == live_.size(), "sizes differ from the oracle's");
+    }
     // Sizes agree and the structure's own invariant check passes; with `full`, also every
     // handle pair holds equal values and the contents are equal as multisets.
     void check(bool full) const {
-        log_.require(mine_.size() == live_.size() && oracle_.size() == live_.size(), "sizes differ from the oracle's");
+        check_sizes();
         if constexpr (requires { mine_.check_invariants(); }) {
             const std::string problem = mine_.check_invariants();
             log_.require(problem.empty(), "check_invariants: " + problem);
@@ -238,21 +251,22 @@ private:
     }
 
     // After a bulk insert: pair the structure's objects with the oracle's by equal values.
+    // Each side is sorted by signature, computed once per object (a signature is a vector: in
+    // the comparator it would be built O(n log n) times, most of a soak's time).
     void rematch() {
-        std::vector<mine_iterator> ms;
-        std::vector<oracle_iterator> os;
-        for (auto it = mine_.begin(); it != mine_.end(); ++it) ms.push_back(it);
-        for (auto it = oracle_.begin(); it != oracle_.end(); ++it) os.push_back(it);
-        log_.require(ms.size() == os.size(), "bulk insert: sizes differ from the oracle's");
-        const auto by_signature = [](const auto& a, const auto& b) {
-            return spatial_test::signature(*a) < spatial_test::signature(*b);
+        const auto by_signature = [](auto& container) {
+            std::vector<std::pair<std::vector<double>, decltype(container.begin())>> out;
+            for (auto it = container.begin(); it != container.end(); ++it) out.emplace_back(spatial_test::signature(*it), it);
+            std::sort(out.begin(), out.end(), [](const auto& a, const auto& b) { return a.first < b.first; });
+            return out;
         };
-        std::sort(ms.begin(), ms.end(), by_signature);
-        std::sort(os.begin(), os.end(), by_signature);
+        const auto ms = by_signature(mine_);
+        const auto os = by_signature(oracle_);
+        log_.require(ms.size() == os.size(), "bulk insert: sizes differ from the oracle's");
         live_.clear();
         for (std::size_t k = 0; k < ms.size(); ++k) {
-            log_.require(*ms[k] == *os[k], "bulk insert: contents differ from the oracle's");
-            live_.push_back({ms[k], os[k]});
+            log_.require(*ms[k].second == *os[k].second, "bulk insert: contents differ from the oracle's");
+            live_.push_back({ms[k].second, os[k].second});
         }
     }
     void remember_erased(mine_iterator it) {

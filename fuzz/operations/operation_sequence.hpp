@@ -13,6 +13,7 @@
 #include <algorithm>
 #include <array>
 #include <cstddef>
+#include <stdexcept>
 #include <string_view>
 #include <vector>
 
@@ -26,6 +27,8 @@
 #include "sequence_limits.hpp"
 #include "spatial/core/capabilities.hpp"
 #include "spatial/core/container_concept.hpp"
+#include "spatial/core/intersect_info.hpp"
+#include "spatial/core/object_geometry.hpp"
 
 namespace spatial_fuzz {
 
@@ -42,21 +45,26 @@ public:
     // structure's own check can be as slow as a rebuild: a hashed_grid object may span 2^24
     // cells); both fully every 16 steps. Skipped steps (an operation the structure does not
     // have, an insertion into a full container, a clear or range erase the limits held back)
-    // are not counted as operations.
+    // are not counted as operations. With limits.validate_one_in > 1 (a long soak) those checks
+    // and the query comparisons happen at one step in that many (sequence_limits.hpp); the
+    // sizes are compared after every mutation, and the final check always runs.
     sequence_summary run() {
         sequence_summary done;
+        const std::size_t every = limits_.validate_one_in == 0 ? 1 : limits_.validate_one_in;
         for (std::size_t step = 0; step < limits_.max_steps && !in_.exhausted(); ++step) {
+            const bool validated = step % every == 0;
             const std::size_t op = in_.below(operation_names.size());
             log_.begin(step, operation_names[op]);
             if (op < first_query) {
                 mirror<C>& target = in_.below(4) == 0 ? b_ : a_;
                 if (mutate(op, target)) ++done.operations;
-                target.check(false);
+                if (validated) target.check(false);
+                else target.check_sizes();
                 done.largest = std::max(done.largest, target.size());
-            } else if (query(op)) {
+            } else if (query(op, validated)) {
                 ++done.operations;
             }
-            if (step % 16 == 15) {
+            if (step % (16 * every) == 16 * every - 1) {
                 a_.check(true);
                 b_.check(true);
             }
@@ -135,30 +143,81 @@ private:
     // Arguments drawn from the input are drawn in order (named first), not as function
     // arguments, whose evaluation order is unspecified: an input means the same to every compiler.
     // Whether the structure has the query (a pair-search structure has no kNN, ball or rays).
-    bool query(std::size_t op) {
+    // Unvalidated (`validated` false), the structure alone answers (ask_structure).
+    bool query(std::size_t op, bool validated) {
         const auto q = values_.point(a_.anchors());
         if constexpr (spatial::spatial_container<C>) {
             switch (op) {
-                case 9: check_find_count(a_, log_, existing_or_new(a_)); return true;
-                case 10: check_knn(a_, log_, q, in_.below(a_.size() + 3), T(0)); return true;
-                case 11: {
-                    const std::size_t k = in_.below(a_.size() + 3);
-                    check_knn(a_, log_, q, k, values_.eps());
+                case 9: {
+                    const O v = existing_or_new(a_);
+                    if (validated) check_find_count(a_, log_, v);
+                    else ask_structure([&] { return a_.mine().count(v) + (a_.mine().find(v) != a_.mine().end()); });
                     return true;
                 }
-                case 12: check_ball(a_, log_, q, values_.size()); return true;
-                case 14: ray(q, T(0)); return true;
-                case 15: ray(q, values_.size()); return true;
+                case 10: knn(q, in_.below(a_.size() + 3), T(0), validated); return true;
+                case 11: {
+                    const std::size_t k = in_.below(a_.size() + 3);
+                    knn(q, k, values_.eps(), validated);
+                    return true;
+                }
+                case 12: {
+                    const T r = values_.size();
+                    if (validated) check_ball(a_, log_, q, r);
+                    else ask_structure([&] { return a_.mine().find_in_ball(q, r).size(); });
+                    return true;
+                }
+                case 14: ray(q, T(0), validated); return true;
+                case 15: ray(q, values_.size(), validated); return true;
                 default: break;
             }
         }
         switch (op) {
-            case 13: check_box(a_, log_, q, values_.point(a_.anchors())); return true;
-            case 16: check_self_pairs(a_, log_, filter()); return true;
-            case 17: check_pairs_with(a_, b_, log_, filter()); return true;
+            case 13: {
+                const auto hi = values_.point(a_.anchors());
+                if (validated) check_box(a_, log_, q, hi);
+                else ask_structure([&] { return a_.mine().find_in_box(q, hi).size(); });
+                return true;
+            }
+            case 16: {
+                const auto f = filter();
+                if (validated) check_self_pairs(a_, log_, f);
+                else ask_structure([&] { return a_.mine().self_pairs(f).size(); });
+                return true;
+            }
+            case 17: {
+                const auto f = filter();
+                if (validated) check_pairs_with(a_, b_, log_, f);
+                else ask_structure([&] { return a_.mine().pairs_with(b_.mine(), f).size(); });
+                return true;
+            }
             case 18: invalid_inputs<C>(a_, log_, in_, values_).run(); return true;
             default: return false;
         }
+    }
+
+    // An unvalidated query: the structure answers alone, a rejection (std::invalid_argument,
+    // which the oracle would check) allowed; a crash, an assertion or another exception is
+    // still a finding. The answer's size is kept so the call cannot be optimised away.
+    template <class Ask>
+    void ask_structure(Ask&& ask) {
+        try {
+            unvalidated_answers_ += static_cast<std::size_t>(ask());
+        } catch (const std::invalid_argument&) {
+        }
+    }
+
+    // kNN checked against the oracle, or unvalidated with the checks that need none: as many
+    // answers as k allows, sorted by distance.
+    void knn(const typename C::point_type& q, std::size_t k, T eps, bool validated) {
+        if (validated) return check_knn(a_, log_, q, k, eps);
+        ask_structure([&] {
+            const auto got = eps == 0 ? a_.mine().find_nearest(q, k) : a_.mine().find_nearest(q, k, eps);
+            log_.require(got.size() == std::min(k, a_.size()), "kNN returned another number of objects");
+            for (std::size_t i = 1; i < got.size(); ++i)
+                log_.require(spatial::object_squared_distance(*got[i - 1], q) <= spatial::object_squared_distance(*got[i], q),
+                             "kNN answer not sorted by distance");
+            return got.size();
+        });
     }
 
     bool update_batch(mirror<C>& m) {
@@ -188,9 +247,15 @@ private:
         return values_.object(m.anchors());
     }
     spatial::pair_filter filter() { return in_.flag() ? spatial::pair_filter::exact : spatial::pair_filter::candidates; }
-    void ray(const typename C::point_type& origin, T thickness) {
+    void ray(const typename C::point_type& origin, T thickness, bool validated) {
         const auto direction = values_.direction(origin, a_.anchors());
-        check_ray(a_, log_, origin, direction, thickness, values_.hit_limit());
+        const T limit = values_.hit_limit();
+        if (validated) return check_ray(a_, log_, origin, direction, thickness, limit);
+        ask_structure([&] {
+            spatial::intersect_info<typename C::point_type> info;
+            info.hit_time = limit;
+            return a_.mine().intersect_object(origin, direction, thickness, info) != a_.mine().end();
+        });
     }
 
     fuzz_input& in_;
@@ -198,6 +263,7 @@ private:
     operation_log log_;
     mirror<C> a_, b_;
     value_source<O> values_;
+    std::size_t unvalidated_answers_ = 0;
 };
 
 // The entry point of a run_*.cpp: the whole input as operations on a C.

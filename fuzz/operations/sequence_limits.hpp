@@ -9,6 +9,15 @@
 // range erase of a third of the objects on average. The soak's limits let a clear or a range
 // erase run only one time in 16 when chosen, so a sequence grows its containers to the size
 // cap and works on hundreds of objects for most of its thousands of steps.
+//
+// Validation: the fuzz target (and a replayed soak finding) compares every answer with the
+// oracle. A long soak may compare one step in `validate_one_in` (the oracle still applies every
+// mutation, so the next validated step compares against the true contents): that step's query
+// answer, the invariants after its mutation, and every 16 * validate_one_in steps both
+// containers' full contents. The other queries run on the structure alone, with the checks that
+// need no oracle. Which steps are validated depends on the step number only, never on an input
+// byte, so a sequence means the same at every interval, and a finding of a periodic run is found
+// again by replaying its sequence with every step validated.
 
 #include <cstddef>
 
@@ -20,6 +29,8 @@ struct sequence_limits {
     // A chosen clear or erase(first, last) runs one time in this many (1: always). With 1 the
     // choice reads no byte, so a fuzzing input means what it meant before this existed.
     std::size_t wholesale_removal_one_in;
+    // Compare with the oracle at one step in this many (1: every step; see above).
+    std::size_t validate_one_in = 1;
 };
 
 // What a sequence did within its limits (the soak reports both).
@@ -28,7 +39,8 @@ struct sequence_summary {
     std::size_t largest = 0;     // the most objects either container held after a mutation
 };
 
-inline constexpr sequence_limits fuzzing_limits{2000, 300, 1};
-inline constexpr sequence_limits soak_limits{5000, 300, 16};
+inline constexpr sequence_limits fuzzing_limits{2000, 300, 1, 1};
+// The soak's sequences; the soak tool sets validate_one_in from its --validate-every.
+inline constexpr sequence_limits soak_limits{5000, 300, 16, 1};
 
 }  // namespace spatial_fuzz

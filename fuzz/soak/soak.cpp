@@ -1,13 +1,16 @@
 // spatial_soak: the operations fuzz target's interpreter (fuzz/operations/) run on seeded
 // pseudo-random sequences instead of a fuzzer's inputs, for hours if need be (issue 19, part 5;
 // docs/fuzzing.md, "Soak"). Each sequence is up to soak_limits.max_steps operations on a
-// structure and brute_force, every answer compared, invariants checked after every mutation and
-// the full contents every 16 steps and at the end. A finding does not stop the run: it is
+// structure and brute_force. One step in --validate-every (default 64; 1: every step) is
+// validated: its answer compared, the invariants checked after its mutation, and the full
+// contents every 16 such intervals and at the end of each sequence (sequence_limits.hpp); the
+// oracle applies every mutation, so each validated step compares against the true contents.
+// A finding does not stop the run: it is
 // counted as a mismatch, its sequence written to a file the fuzz target replays, and the next
 // sequence starts; the exit status is 1 if there was any.
 //
-//   spatial_soak [--structure NAME]... [--operations N] [--seconds T] [--seed S] [--findings DIR] [--list]
-//   spatial_soak --replay FILE     one written sequence again (SPATIAL_FUZZ_TRACE=1: every operation)
+//   spatial_soak [--structure NAME]... [--operations N] [--seconds T] [--validate-every V] [--seed S] [--findings DIR] [--list]
+//   spatial_soak --replay FILE     one written sequence again, every step validated (SPATIAL_FUZZ_TRACE=1: every operation)
 
 #include <algorithm>
 #include <cctype>
@@ -50,6 +53,7 @@ struct settings {
     std::vector<std::string> structures;  // empty: all
     std::uint64_t operations = 10'000'000;
     std::uint64_t seconds = 0;  // per structure; 0: no limit (the operations decide)
+    std::uint64_t validate_every = 64;  // sequence_limits::validate_one_in
     std::uint64_t seed = 0;
     std::filesystem::path findings = "soak_findings";
 };
@@ -57,13 +61,14 @@ struct settings {
 [[noreturn]] void usage(const std::string& problem) {
     std::fprintf(stderr,
                  "spatial_soak: %s\n"
-                 "usage: spatial_soak [--structure NAME]... [--operations N] [--seconds T] [--seed S] [--findings DIR] [--list]\n"
+                 "usage: spatial_soak [--structure NAME]... [--operations N] [--seconds T] [--validate-every V] [--seed S] [--findings DIR] [--list]\n"
                  "  --structure  a structure of --list (repeatable; default: all)\n"
                  "  --operations operations per structure (default 1e7; 1e7 and 10000000 both read)\n"
                  "  --seconds    also stop a structure after its first sequence that ends past T seconds (default: no limit)\n"
+                 "  --validate-every  compare with brute_force at one step in V, full contents every 16 V (default 64; 1: every step)\n"
                  "  --seed       the seed of every sequence (default: random, printed)\n"
                  "  --findings   where failing sequences are written (default soak_findings/)\n"
-                 "  --replay     run one written sequence (SPATIAL_FUZZ_TRACE=1 prints every operation)\n",
+                 "  --replay     run one written sequence, every step validated (SPATIAL_FUZZ_TRACE=1 prints every operation)\n",
                  problem.c_str());
     std::exit(2);
 }
@@ -97,6 +102,10 @@ settings parse(int argc, char** argv) {
         else if (flag == "--operations") s.operations = count_argument(flag, value);
         else if (flag == "--seed") s.seed = count_argument(flag, value);
         else if (flag == "--seconds") s.seconds = count_argument(flag, value);
+        else if (flag == "--validate-every") {
+            s.validate_every = count_argument(flag, value);
+            if (s.validate_every == 0) usage("--validate-every must be at least 1");
+        }
         else if (flag == "--findings") s.findings = value;
         else if (flag == "--replay") s.replay = value;
         else usage("unknown option " + flag);
@@ -174,6 +183,13 @@ std::filesystem::path write_finding(const settings& s, std::string_view structur
     return file;
 }
 
+// The soak's sequence limits with the run's validation interval.
+spatial_fuzz::sequence_limits limits_of(const settings& s) {
+    spatial_fuzz::sequence_limits limits = spatial_fuzz::soak_limits;
+    limits.validate_one_in = static_cast<std::size_t>(s.validate_every);
+    return limits;
+}
+
 struct structure_result {
     std::uint64_t operations = 0, sequences = 0, mismatches = 0;
     std::size_t largest = 0;           // the most objects a container held
@@ -198,7 +214,7 @@ structure_result soak(const settings& s, const named_structure& structure, std::
         spatial_fuzz::fuzz_input in(bytes.data(), bytes.size());
         std::string problem;
         try {
-            const auto done = structure.run(in, structure.name, spatial_fuzz::soak_limits);
+            const auto done = structure.run(in, structure.name, limits_of(s));
             r.operations += done.operations;
             r.largest = std::max(r.largest, done.largest);
             sum_largest += static_cast<double>(done.largest);
@@ -255,12 +271,13 @@ int main(int argc, char** argv) {
     spatial_fuzz::findings_throw() = true;
     for (int signal : {SIGSEGV, SIGABRT, SIGFPE, SIGILL, SIGBUS}) std::signal(signal, write_sequence_and_die);
 
+    const auto limits = limits_of(s);
     std::printf("spatial_soak: seed %llu, %llu operations per structure (or %llu s; 0: no limit), %zu structures, limits: "
-                "%zu steps per sequence, %zu objects per container, clear and range erase 1 in %zu\n",
+                "%zu steps per sequence, %zu objects per container, clear and range erase 1 in %zu; "
+                "validated: 1 step in %zu, full contents every %zu steps and at each sequence's end\n",
                 static_cast<unsigned long long>(s.seed), static_cast<unsigned long long>(s.operations),
-                static_cast<unsigned long long>(s.seconds), structures.size(),
-                spatial_fuzz::soak_limits.max_steps, spatial_fuzz::soak_limits.max_size,
-                spatial_fuzz::soak_limits.wholesale_removal_one_in);
+                static_cast<unsigned long long>(s.seconds), structures.size(), limits.max_steps, limits.max_size,
+                limits.wholesale_removal_one_in, limits.validate_one_in, 16 * limits.validate_one_in);
     std::printf("%-36s %12s %10s %10s %8s %8s %9s\n", "structure", "operations", "sequences", "mismatches", "largest",
                 "mean", "seconds");
     std::fflush(stdout);

@@ -277,6 +277,13 @@ public:
             // round together (coordinates near 1e30 with small cells) t_next stops advancing and
             // the walk would step through empty cells forever (found by the soak, issue 19).
             visited += B.empty() ? 1 : static_cast<double>(B.count());
+            // Checked before the step's cells are walked: one step's box can hold more cells
+            // than the budget (cells of 2^-1012 sized by points a denormal apart, then a ray
+            // near 1e30 whose rounding pad spans 2^51 of them: found by the soak, issue 19).
+            if (visited > budget) {  // rounding made the walk longer than estimated: finish by a scan
+                scan_all();
+                break;
+            }
             if (!B.empty()) {
                 for_each_cell(B, [&](const key& cell) {
                     if (have_prev && prev.contains(cell)) return;
@@ -296,10 +303,6 @@ public:
             have_prev = true;
             if (hit != no_slot && info.hit_time <= t_next) break;  // nothing nearer can follow
             if (!(t_next < t_end) || axis == D) break;
-            if (visited > budget) {  // rounding made the walk longer than estimated: finish by a scan
-                scan_all();
-                break;
-            }
             tk = t_next;
             c[axis] += v[axis] > 0 ? 1 : -1;
         }
