@@ -330,7 +330,7 @@ TYPED_TEST(allocation_failure, moves_cannot_throw_where_the_members_allow_it) {
                   empty_tree_allocates);
 }
 
-constexpr std::size_t grown = 40;  // past a kd-tree leaf (16), an octree cell's split, grid rehashes
+constexpr std::size_t grown = 40;  // past a kd-tree leaf (32), an octree cell's split, grid rehashes
 
 TYPED_TEST(allocation_failure, insert_keeps_its_documented_guarantee) {
     using C = TypeParam;

@@ -46,7 +46,7 @@ inline const std::vector<key_values>& tuning_sweep(const std::string& name) {
         {{"leaf_max_size", "5"}}, {{"leaf_max_size", "20"}}, {{"leaf_max_size", "50"}}};
     // Ours: the kd_tree's leaf capacity (compile-time: harness/our_indexes.hpp instantiates these).
     static const std::vector<key_values> kd_tree{
-        {{"leaf_capacity", "8"}}, {{"leaf_capacity", "32"}}, {{"leaf_capacity", "64"}}};
+        {{"leaf_capacity", "8"}}, {{"leaf_capacity", "16"}}, {{"leaf_capacity", "64"}}};
     // Embree's BVH builder (rtcSetSceneBuildQuality, harness/adapters/embree/
     // embree_build_quality.hpp): low builds fastest (for dynamic scenes), medium is its default
     // (SAH binning), high adds spatial splits on triangle meshes (Stich, Friedrich and

@@ -122,8 +122,8 @@ private:
         std::uint8_t dim = 0;
         std::uint8_t is_leaf = 1;
     };
-    // Aligned to a cache line with the slot list first: a query scanning a leaf touches one
-    // line for the list (for capacity <= 16), the cell is only read by hinted insertion.
+    // Aligned to a cache line with the slot list first: a query scanning a leaf touches the
+    // list's lines (two at the default capacity of 32), the cell is only read by insertion.
     struct alignas(64) bucket {
         std::array<slot_index, leaf_capacity> items;
         node_index owner = no_node;

@@ -10,11 +10,13 @@
 namespace spatial {
 
 // Compile-time configuration with commented defaults.
-template <std::size_t LeafCapacity = 16, class Splitter = median_of_widest_spread,
+template <std::size_t LeafCapacity = 32, class Splitter = median_of_widest_spread,
           bool CollectStats = false>
 struct kd_tree_config {
-    // Points per leaf bucket. 16 keeps a leaf's slot list in one cache line and makes a
-    // leaf scan cheaper than descending further.
+    // Points per leaf bucket. 32 (two cache lines of slot indices) was the best general
+    // capacity of the tuning sweep (8, 16, 32, 64; docs/structures/kd-tree.md, "Why 32"):
+    // a leaf scan of contiguous points is cheaper than the extra level of descent, and
+    // fuller leaves mean fewer nodes and buckets.
     static constexpr std::size_t leaf_capacity = LeafCapacity;
     // How a node's points are divided (see splitters.hpp).
     using splitter = Splitter;
