@@ -1,9 +1,11 @@
 // Collision peers (harness/collide_adapters.hpp: CGAL box_intersection_d, FCL's dynamic AABB
-// tree / SaP / spatial hashing, Embree rtcCollide) against a brute-force O(n^2) oracle on
-// CLOSED boxes written here: every peer must return the identical pair set, self and
-// bipartite, after update() with moved boxes, and with an exact test that rejects pairs of
-// odd index sum. The boxes stress the three ways peers lose or invent pairs: ties (boxes on
-// an integer grid touching on faces, edges and corners; identical boxes; zero-extent boxes),
+// tree / SaP / spatial hashing, Embree rtcCollide, Boost.Geometry's R*-tree) against a
+// brute-force O(n^2) oracle on CLOSED boxes written here: every peer (make_peer_collide_indices,
+// so a new one joins every test below without a line here) must return the identical pair
+// set, self and bipartite, after update() with moved boxes, and with an exact test that
+// rejects pairs of odd index sum. The boxes stress the three ways peers lose or invent
+// pairs: ties (boxes on an integer grid touching on faces, edges and corners; identical
+// boxes; zero-extent boxes),
 // float rounding (Embree: coordinates offset by 1e8, extents of 1e-12) and size outliers (a
 // huge box overlapping everything). Every seed is logged through SCOPED_TRACE.
 
@@ -218,6 +220,11 @@ TEST(adapters_collide, the_sweep_makes_every_configuration_once) {
     for (const char* label :
          {"embree_collide", "embree_collide[build_quality=low]", "embree_collide[build_quality=high]"})
         EXPECT_TRUE(labels.count(label)) << label;
+#endif
+#if defined(SPATIAL_HAVE_BOOST_GEOMETRY) && SPATIAL_HAVE_BOOST_GEOMETRY
+    // Boost's node capacity is a template argument: one configuration, nothing swept.
+    EXPECT_TRUE(labels.count("boost_rtree_collide"));
+    EXPECT_TRUE(harness::tuning_sweep("boost_rtree_collide").empty());
 #endif
 }
 

@@ -1,8 +1,9 @@
 #pragma once
 // Factories for the peer broad phases put behind harness::collide_index. Declarations only:
-// each is defined in its adapter's .cpp, so CGAL's, FCL's and Embree's headers (and FCL's
-// Eigen types) stay inside their adapter libraries. A factory exists when its library was
-// built (SPATIAL_HAVE_CGAL / SPATIAL_HAVE_FCL / SPATIAL_HAVE_EMBREE);
+// each is defined in its adapter's .cpp, so CGAL's, FCL's, Embree's and Boost.Geometry's
+// headers (and FCL's Eigen types) stay inside their adapter libraries. A factory exists when
+// its library was built (SPATIAL_HAVE_CGAL / SPATIAL_HAVE_FCL / SPATIAL_HAVE_EMBREE /
+// SPATIAL_HAVE_BOOST_GEOMETRY);
 // make_peer_collide_indices() lists whichever exist, each in its registry configuration and,
 // on request, in every configuration of its tuning sweep (harness/tuning_sweep.hpp). A
 // factory that takes settings reads them from the full settings it is given and rejects a
@@ -68,9 +69,22 @@ std::unique_ptr<collide_index> make_fcl_collide_index(fcl_manager_kind kind);
 // name() "embree_collide". memory_bytes(): what Embree allocated (device memory monitor).
 std::unique_ptr<collide_index> make_embree_collide_index(const key_values& settings);
 
+// Boost.Geometry 1.74 rtree: an R*-tree (Beckmann, Kriegel, Schneider and Seeger, SIGMOD 1990)
+// over (box, index) values, bgi::rstar<16>, bulk-loaded by the packing constructor (STR-like
+// packing: Leutenegger, Lopez and Edgington, ICDE 1997). self_pairs(): one
+// query(bgi::intersects(box i)) per box, keeping j > i; pairs_with(): one query per box of
+// `others`. Boost compares the doubles exactly and its box/box intersects is closed (disjoint
+// only if max < min on some axis), so the answer is the closed-box one with no filtering.
+// update(): each box whose coordinates changed is removed with its old value and inserted
+// again (Boost's R* insertion, forced reinsertion included); unchanged boxes are not touched.
+// No settings: the node capacity is a template argument (one configuration, like the kNN
+// peer boost_rtree). name() "boost_rtree_collide". memory_bytes(): every node the tree
+// allocated (a counting allocator) and our copy of the boxes.
+std::unique_ptr<collide_index> make_boost_rtree_collide_index();
+
 // Every collision peer compiled into this build: each in its registry configuration and, when
-// `sweep`, in every configuration of its tuning sweep (labelled with it). FCL's managers have
-// no setting to sweep.
+// `sweep`, in every configuration of its tuning sweep (labelled with it). FCL's managers and
+// Boost's rtree have no setting to sweep.
 inline std::vector<std::unique_ptr<collide_index>> make_peer_collide_indices(bool sweep = false) {
     std::vector<std::unique_ptr<collide_index>> out;
     (void)sweep;
@@ -81,6 +95,9 @@ inline std::vector<std::unique_ptr<collide_index>> make_peer_collide_indices(boo
     out.push_back(make_fcl_collide_index(fcl_manager_kind::dynamic_aabb_tree));
     out.push_back(make_fcl_collide_index(fcl_manager_kind::sap));
     out.push_back(make_fcl_collide_index(fcl_manager_kind::spatial_hashing));
+#endif
+#if defined(SPATIAL_HAVE_BOOST_GEOMETRY) && SPATIAL_HAVE_BOOST_GEOMETRY
+    out.push_back(make_boost_rtree_collide_index());
 #endif
 #if defined(SPATIAL_HAVE_EMBREE) && SPATIAL_HAVE_EMBREE
     add_peer_configurations(out, "embree_collide", make_embree_collide_index, sweep);

@@ -39,6 +39,8 @@ inline const std::vector<structure_info>& registered_peers() {
         {"fcl_sap", "fcl", "", "peer", "FCL 0.7", "SaPCollisionManager", slow, 0, motion_strategy::automatic, {}, peer_tree, in::collide_static | in::collide_moving},
         // FCL's spatial hashing: 5.6 s build + 19 s query at 1e6 (hash buckets per cell).
         {"fcl_spatial_hashing", "fcl", "", "peer", "FCL 0.7", "SpatialHashingCollisionManager", any, 100000, motion_strategy::automatic, {}, complexity_of::grid(), in::collide_static | in::collide_moving},
+        // Boost's node capacity is a template argument: one configuration, as boost_rtree.
+        {"boost_rtree_collide", "boost_rtree", "", "peer", "Boost.Geometry 1.74", "R*-tree, bulk-loaded (packing constructor), one intersects query per box; update: remove + insert", any, 0, motion_strategy::reinsert, {{"params", "rstar<16>"}, {"build", "packed"}}, peer_tree, in::collide_static | in::collide_moving},
         {"embree_collide", "embree", "", "peer", "Embree 3.13", "rtcCollide on user geometry", any, 0, motion_strategy::automatic, {{"build_quality", "medium"}}, peer_tree, in::collide_static | in::collide_moving},
         {"spatialbench", "spatialbench", "", "library", "spatialbench", "our bounding-volume fits (bv suite)", any, 0, motion_strategy::automatic, {}, complexity_of::tree(), in::bv},
         {"cgal", "cgal", "", "peer", "CGAL 5.5", "CGAL's bounding-volume fits (bv suite)", any, 0, motion_strategy::automatic, {}, complexity_of::tree(), in::bv},
