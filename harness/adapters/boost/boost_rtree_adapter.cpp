@@ -36,6 +36,7 @@
 #include <boost/geometry/index/rtree.hpp>
 
 #include "harness/adapters.hpp"
+#include "counting_allocator.hpp"
 
 namespace harness {
 namespace {
@@ -43,29 +44,8 @@ namespace {
 namespace bg = boost::geometry;
 namespace bgi = boost::geometry::index;
 
-// The rtree's node allocations, counted: memory_bytes() without guessing node sizes.
-template <class U>
-struct counting_allocator {
-    using value_type = U;
-    std::size_t* bytes;
-
-    explicit counting_allocator(std::size_t* counter) noexcept : bytes(counter) {}
-    template <class V>
-    counting_allocator(const counting_allocator<V>& other) noexcept : bytes(other.bytes) {}
-
-    U* allocate(std::size_t n) {
-        *bytes += n * sizeof(U);
-        return std::allocator<U>{}.allocate(n);
-    }
-    void deallocate(U* p, std::size_t n) noexcept {
-        *bytes -= n * sizeof(U);
-        std::allocator<U>{}.deallocate(p, n);
-    }
-    template <class V>
-    bool operator==(const counting_allocator<V>& other) const noexcept {
-        return bytes == other.bytes;
-    }
-};
+// The rtree's node allocations, counted (counting_allocator.hpp).
+using boost_adapters::counting_allocator;
 
 // Boost's leaf and node capacity for both configurations (its documentation's examples use
 // 16; the harness's peers run at their documented defaults until issue 18's sweep).

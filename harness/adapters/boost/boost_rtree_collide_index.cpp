@@ -43,6 +43,7 @@
 #include <boost/iterator/function_output_iterator.hpp>
 
 #include "harness/collide_adapters.hpp"
+#include "counting_allocator.hpp"
 
 namespace harness {
 namespace {
@@ -50,29 +51,8 @@ namespace {
 namespace bg = boost::geometry;
 namespace bgi = boost::geometry::index;
 
-// The rtree's node allocations, counted (as in boost_rtree_adapter.cpp).
-template <class U>
-struct counting_allocator {
-    using value_type = U;
-    std::size_t* bytes;
-
-    explicit counting_allocator(std::size_t* counter) noexcept : bytes(counter) {}
-    template <class V>
-    counting_allocator(const counting_allocator<V>& other) noexcept : bytes(other.bytes) {}
-
-    U* allocate(std::size_t n) {
-        *bytes += n * sizeof(U);
-        return std::allocator<U>{}.allocate(n);
-    }
-    void deallocate(U* p, std::size_t n) noexcept {
-        *bytes -= n * sizeof(U);
-        std::allocator<U>{}.deallocate(p, n);
-    }
-    template <class V>
-    bool operator==(const counting_allocator<V>& other) const noexcept {
-        return bytes == other.bytes;
-    }
-};
+// The rtree's node allocations, counted (counting_allocator.hpp).
+using boost_adapters::counting_allocator;
 
 // The registry's configuration (peer_registry.hpp: params rstar<16>, build packed).
 constexpr std::size_t node_capacity = 16;
