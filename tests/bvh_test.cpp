@@ -7,7 +7,11 @@
 
 #include <cmath>
 #include <limits>
+#include <span>
 #include <stdexcept>
+#include <string>
+#include <type_traits>
+#include <utility>
 #include <vector>
 
 #include "bvh_test_support.hpp"
@@ -250,6 +254,107 @@ TEST(bvh_structure, move_leaves_an_empty_usable_tree_and_copies_are_independent)
     EXPECT_EQ(moved.check_invariants(), "");
     EXPECT_EQ(copy.check_invariants(), "");
     EXPECT_GT(moved.memory_bytes(), 100 * sizeof(B3));
+}
+
+// The empty tree holds no node until the first insertion (the "unallocated" state that makes
+// the default constructor and the moves noexcept): it owns no heap memory, and every query,
+// statistic, motion and ray form (the wide layout's too) works on it. A cleared tree returns
+// to it; a rebuild or the first insertion gives it its root.
+// never_filled: the vectors have no capacity either (a cleared tree keeps its capacities).
+template <class Tree>
+void expect_unallocated(const Tree& t, const std::string& state, bool never_filled = true) {
+    using Q = typename Tree::point_type;
+    const std::size_t bytes = t.memory_bytes();
+    if (never_filled) { EXPECT_EQ(bytes, sizeof(Tree)) << state; }
+    EXPECT_EQ(t.node_count(), 0u) << state;
+    EXPECT_EQ(t.height(), 0u) << state;
+    EXPECT_EQ(t.quality(), 1.0) << state;
+    EXPECT_EQ(t.node_surface_areas(), (std::pair<double, double>{0, 0})) << state;
+    EXPECT_TRUE(t.root_volume().is_empty()) << state;
+    EXPECT_EQ(t.check_invariants(), "") << state;
+    t.prepare_rays();
+    EXPECT_EQ(t.memory_bytes(), bytes) << state << ": no ray layout for no objects";
+    const std::vector<ray<Q>> rays{{Q{{-1, 0.5, 0.5}}, Q{{1, 0, 0}}, 0.1}, {Q{{0.5, -1, 0.5}}, Q{{0, 1, 0}}, 0}};
+    std::vector<typename Tree::iterator> hits(rays.size());
+    std::vector<intersect_info<Q>> infos(rays.size());
+    t.intersect_batch(std::span<const ray<Q>>(rays), std::span<typename Tree::iterator>(hits),
+                      std::span<intersect_info<Q>>(infos), par);
+    for (const auto& h : hits) EXPECT_TRUE(h == t.end()) << state;
+}
+
+template <class Tree>
+void empty_state_round_trip() {
+    using O = typename Tree::value_type;
+    static_assert(std::is_nothrow_default_constructible_v<Tree> && std::is_nothrow_move_constructible_v<Tree> &&
+                  std::is_nothrow_move_assignable_v<Tree>);
+    bvh_test::scene_source<O> g(spatial_test::test_seed(20));
+    std::vector<O> v;
+    for (int i = 0; i < 300; ++i) v.push_back(g.object());
+    Tree fresh;
+    expect_unallocated(fresh, "default-constructed");
+    fresh.refit();  // nothing to refit: stays without nodes
+    expect_unallocated(fresh, "refitted");
+    std::vector<std::pair<typename Tree::iterator, O>> no_moves;
+    EXPECT_EQ(fresh.update(no_moves.begin(), no_moves.end(), motion_strategy::rebuild), motion_strategy::rebuild);
+    expect_unallocated(fresh, "after a batch of no moves");
+    Tree full(v.begin(), v.end());
+    const Tree copy = full;
+    intersect_info<typename Tree::point_type> info;
+    (void)full.intersect(g.point_in(0, 1), g.direction(), 0.01, info);  // builds the ray layout (aabb)
+    Tree target(std::move(full));
+    expect_unallocated(full, "moved from");  // NOLINT(bugprone-use-after-move)
+    EXPECT_TRUE(full.pairs_with(target).empty());
+    EXPECT_TRUE(target.pairs_with(full).empty());
+    EXPECT_EQ(spatial_test::signature_pairs(target.self_pairs()), spatial_test::signature_pairs(copy.self_pairs()));
+    // The target answers with the source's nodes and ray layout.
+    brute_force<O> oracle(v.begin(), v.end());
+    bvh_test::compare_queries(target, oracle, g, 60);
+    // The moved-from tree grows again, by each path that allocates the root.
+    full.insert(full.end(), v[0]);
+    EXPECT_EQ(full.node_count(), 1u);
+    full.insert(v.begin() + 1, v.begin() + 50);
+    for (std::size_t i = 50; i < 80; ++i) full.insert(v[i]);
+    EXPECT_EQ(full.check_invariants(), "");
+    brute_force<O> first80(v.begin(), v.begin() + 80);
+    bvh_test::compare_queries(full, first80, g, 60);
+    // Motion on it: a path refit, a reinsert, batches with each strategy.
+    auto it = full.begin();
+    const O moved = g.moved(*it);
+    full.update(it, moved);
+    full.reinsert(it, g.moved(moved));
+    for (motion_strategy s : {motion_strategy::refit, motion_strategy::rebuild, motion_strategy::reinsert}) {
+        std::vector<std::pair<typename Tree::iterator, O>> moves;
+        for (auto m = full.begin(); m != full.end(); ++m)
+            if (g.below(3) == 0) moves.emplace_back(m, g.moved(*m));
+        full.update(moves.begin(), moves.end(), s);
+        EXPECT_EQ(full.check_invariants(), "");
+    }
+    brute_force<O> after(full.begin(), full.end());
+    bvh_test::compare_queries(full, after, g, 40);
+    EXPECT_EQ(full.pairs_with(target, pair_filter::exact).size(), after.pairs_with(oracle, pair_filter::exact).size());
+    // Clear returns to the unallocated tree; a rebuild of it gives the root (an empty leaf).
+    full.clear();
+    expect_unallocated(full, "cleared", false);
+    full.rebuild();
+    EXPECT_EQ(full.node_count(), 1u);
+    EXPECT_EQ(full.check_invariants(), "");
+    full = Tree{};
+    expect_unallocated(full, "move-assigned a default-constructed tree");
+    // A std::vector of trees moves them when it grows (the moves are noexcept): the stored
+    // objects' storage is not copied.
+    std::vector<Tree> trees(1);
+    trees[0].insert(v[0]);
+    const O* stored = &*trees[0].begin();
+    trees.reserve(trees.capacity() + 8);
+    EXPECT_EQ(&*trees[0].begin(), stored);
+}
+
+TEST(bvh_structure, unallocated_empty_tree_of_boxes_with_the_wide_ray_layout) {
+    empty_state_round_trip<bvh<B3, aabb<double, 3>>>();
+}
+TEST(bvh_structure, unallocated_empty_tree_of_boxes_with_spheres) { empty_state_round_trip<bvh<B3, sphere<double, 3>>>(); }
+TEST(bvh_structure, unallocated_empty_tree_of_points_with_obbs) {
+    empty_state_round_trip<bvh<P3, obb<double, 3>, bvh_median_config<2>>>();
 }
 
 TEST(bvh_structure, refit_after_moving_every_object_matches_the_oracle) {

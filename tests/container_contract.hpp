@@ -14,12 +14,16 @@
 #include <cmath>
 #include <limits>
 #include <set>
+#include <span>
 #include <stdexcept>
 #include <string>
 #include <type_traits>
+#include <utility>
 #include <vector>
 
+#include "spatial/core/capabilities.hpp"
 #include "spatial/core/container_concept.hpp"
+#include "spatial/core/ray.hpp"
 #include "spatial/core/object_geometry.hpp"
 #include "spatial/core/point.hpp"
 #include "test_support.hpp"
@@ -68,6 +72,182 @@ protected:
             for (int j = 0; j < side; ++j)
                 for (int k = 0; k < (D == 3 ? 2 : 1); ++k) v.push_back(pt(i, j, k));
         return v;
+    }
+
+    // Pair searches through box queries (collide/pairs.hpp) build the query box as a point_type,
+    // which needs writable coordinates; the tagged_point user type has none, so containers of
+    // it skip the pair checks unless they descend their own tree (bvh).
+    static constexpr bool pairs_testable =
+        pair_search<C> && (requires(Query p) { p[0] = p[0]; } || requires { typename C::volume_type; });
+
+    // ---- the empty states: never filled, moved from, cleared --------------------------------
+    // kd_tree and bvh hold no node at all in the first two (nor after clear()): their default
+    // constructor and moves allocate nothing, which makes the moves noexcept (docs/contract.md,
+    // moved-from containers). Every member must still work there.
+
+    // Every query, pair search, ray form, check and statistic `c` offers answers as for an
+    // empty container; so do the empty motions (a batch of no moves, refit, rebuild).
+    static void expect_answers_as_empty(C& c) {
+        EXPECT_TRUE(c.empty());
+        EXPECT_EQ(c.size(), 0u);
+        EXPECT_TRUE(c.begin() == c.end());
+        std::size_t n = 0;
+        for (auto it = c.begin(); it != c.end(); ++it) ++n;
+        EXPECT_EQ(n, 0u);
+        const Value v = pt(1, 2, 3);
+        const Query x = q(1, 2, 3);
+        EXPECT_TRUE(c.find(v) == c.end());
+        EXPECT_EQ(std::as_const(c).count(v), 0u);
+        EXPECT_TRUE(c.find_nearest(x, 5).empty());
+        EXPECT_TRUE(c.find_nearest(x, 5, Scalar(0.5)).empty());
+        EXPECT_TRUE(c.find_in_ball(x, 100).empty());
+        EXPECT_TRUE(c.find_in_box(q(-9, -9, -9), q(9, 9, 9)).empty());
+        intersect_info<Query> thin, thick, object;
+        EXPECT_FALSE(c.intersect(q(-1, 0, 0), q(1, 0, 0), thin));
+        EXPECT_FALSE(c.intersect(q(-1, 0, 0), q(1, 0, 0), Scalar(1), thick));
+        EXPECT_TRUE(c.intersect_object(q(-1, 0, 0), q(1, 0, 0), Scalar(1), object) == c.end());
+        if constexpr (candidate_knn<C>) {
+            std::vector<neighbor_candidate<Scalar>> out(2);
+            c.find_nearest_candidates(x, 3, Scalar(0), out);
+            EXPECT_TRUE(out.empty());
+        }
+        if constexpr (pairs_testable) {
+            for (pair_filter f : {pair_filter::exact, pair_filter::candidates}) {
+                EXPECT_TRUE(c.self_pairs(f).empty());
+                EXPECT_TRUE(c.pairs_with(c, f).empty());
+            }
+        }
+        if constexpr (ray_preparation<C>) c.prepare_rays();
+        if constexpr (requires(std::span<const ray<Query>> r, std::span<typename C::iterator> h,
+                               std::span<intersect_info<Query>> i) { c.intersect_batch(r, h, i); }) {
+            const std::vector<ray<Query>> rays{{q(-1, 0, 0), q(1, 0, 0), Scalar(1)}, {q(0, -1, 0), q(0, 1, 0), Scalar(0)}};
+            std::vector<typename C::iterator> hits(rays.size(), c.begin());
+            std::vector<intersect_info<Query>> infos(rays.size());
+            c.intersect_batch(std::span<const ray<Query>>(rays), std::span<typename C::iterator>(hits),
+                              std::span<intersect_info<Query>>(infos));
+            for (const auto& h : hits) EXPECT_TRUE(h == c.end());
+        }
+        if constexpr (requires { c.check_invariants(); }) { EXPECT_EQ(c.check_invariants(), ""); }
+        if constexpr (requires { c.height(); }) { EXPECT_EQ(c.height(), 0u); }
+        if constexpr (requires { c.points_on_split_planes(); }) { EXPECT_EQ(c.points_on_split_planes(), 0u); }
+        if constexpr (requires { c.leaf_count(); }) { EXPECT_LE(c.leaf_count(), 1u); }
+        if constexpr (requires { c.node_count(); }) { EXPECT_LE(c.node_count(), 1u); }
+        if constexpr (reports_node_areas<C>) {
+            const auto [volumes, boxes] = c.node_surface_areas();
+            EXPECT_FALSE(std::isnan(volumes));
+            EXPECT_FALSE(std::isnan(boxes));
+        }
+        if constexpr (requires { c.quality(); }) { EXPECT_EQ(c.quality(), 1.0); }
+        if constexpr (requires { c.root_volume(); }) (void)c.root_volume();
+        if constexpr (reports_query_stats<C>) { EXPECT_EQ(c.last_query_stats().objects_tested, 0u); }
+        EXPECT_LT(c.memory_bytes(), std::size_t(1) << 20);  // what its few kept capacities hold
+        // The modifiers that change nothing on an empty container.
+        EXPECT_EQ(c.erase(v), 0u);
+        c.erase(c.begin(), c.end());
+        std::vector<Value> none;
+        c.insert(none.begin(), none.end());
+        if constexpr (batched_motion<C>) {
+            motion_batch<C> moves;
+            c.update(moves.begin(), moves.end());
+        }
+        if constexpr (motion_with_strategy<C>)
+            for (motion_strategy s : {motion_strategy::refit, motion_strategy::rebuild, motion_strategy::reinsert,
+                                      motion_strategy::automatic}) {
+                motion_batch<C> moves;
+                c.update(moves.begin(), moves.end(), s);
+            }
+        if constexpr (requires { c.refit(); }) c.refit();
+        EXPECT_TRUE(c.empty());
+        if constexpr (requires { c.check_invariants(); }) { EXPECT_EQ(c.check_invariants(), ""); }
+    }
+
+    // After `first` stored pt(0,0,0) first, the container takes more (single, hinted and bulk
+    // inserts), answers every query right, and erases.
+    template <class First>
+    static void expect_usable_from_empty(C& c, First first) {
+        first(c);
+        ASSERT_EQ(c.size(), 1u);
+        EXPECT_EQ(c.count(pt(0, 0, 0)), 1u);
+        auto hint = c.insert(pt(2, 0, 0));
+        c.insert(hint, pt(2.5, 0, 0));
+        const std::vector<Value> more{pt(5, 0, 0), pt(5, 0, 0), pt(0, 7, 0)};
+        c.insert(more.begin(), more.end());
+        EXPECT_EQ(c.size(), 6u);
+        if constexpr (requires { c.check_invariants(); }) { EXPECT_EQ(c.check_invariants(), ""); }
+        auto f = c.find(pt(2, 0, 0));
+        ASSERT_TRUE(f != c.end());
+        EXPECT_TRUE(*f == pt(2, 0, 0));
+        EXPECT_EQ(c.count(pt(5, 0, 0)), 2u);
+        const auto nn = c.find_nearest(q(1.9, 0.1, 0), 2);
+        ASSERT_EQ(nn.size(), 2u);
+        EXPECT_TRUE(*nn[0] == pt(2, 0, 0));
+        EXPECT_TRUE(*nn[1] == pt(2.5, 0, 0));
+        EXPECT_EQ(c.find_in_ball(q(2, 0, 0), Scalar(0.6)).size(), 2u);
+        EXPECT_EQ(c.find_in_box(q(-1, -1, -1), q(3, 1, 1)).size(), 3u);
+        intersect_info<Query> info;
+        const Query o = q(-1, 0, 0), d = q(1, 0, 0);
+        auto hit = c.intersect_object(o, d, Scalar(0.1), info);
+        ASSERT_TRUE(hit != c.end());
+        EXPECT_TRUE(*hit == pt(0, 0, 0));
+        EXPECT_EQ(info.hit_time, hit_time_of(pt(0, 0, 0), o, d, Scalar(0.1)));
+        if constexpr (pairs_testable) { EXPECT_EQ(c.self_pairs(pair_filter::exact).size(), 1u); }  // the two at (5, 0)
+        EXPECT_EQ(c.erase(pt(5, 0, 0)), 2u);
+        c.erase(c.find(pt(0, 7, 0)));
+        EXPECT_EQ(c.size(), 3u);
+        EXPECT_TRUE(c.find(pt(0, 7, 0)) == c.end());
+        if constexpr (requires { c.check_invariants(); }) { EXPECT_EQ(c.check_invariants(), ""); }
+    }
+
+    // Containers in each empty state; `filled` is moved from for the moved-from ones.
+    template <class Check>
+    static void for_each_empty_state(Check check) {
+        {
+            SCOPED_TRACE("default-constructed");
+            C c;
+            check(c);
+        }
+        {
+            SCOPED_TRACE("moved from by move construction");
+            C source = filled_with_grid();
+            C target(std::move(source));
+            EXPECT_FALSE(target.empty());
+            check(source);  // NOLINT(bugprone-use-after-move): the contract says it is empty and usable
+        }
+        {
+            SCOPED_TRACE("moved from by move assignment");
+            C source = filled_with_grid();
+            C target = filled_with_grid();
+            target.insert(pt(9, 9, 9));
+            target = std::move(source);
+            EXPECT_EQ(target.count(pt(9, 9, 9)), 0u);
+            check(source);  // NOLINT(bugprone-use-after-move)
+        }
+        {
+            SCOPED_TRACE("moved from twice (a moved-from container moved on)");
+            C source = filled_with_grid();
+            C middle(std::move(source));
+            C target(std::move(source));  // NOLINT(bugprone-use-after-move)
+            EXPECT_TRUE(target.empty());
+            check(target);
+        }
+        {
+            SCOPED_TRACE("cleared");
+            C c = filled_with_grid();
+            c.clear();
+            check(c);
+        }
+        {
+            SCOPED_TRACE("emptied by erasure");
+            C c = filled_with_grid();
+            c.erase(c.begin(), c.end());
+            check(c);
+        }
+    }
+    static C filled_with_grid() {
+        C c;
+        const auto g = grid(4);
+        c.insert(g.begin(), g.end());
+        return c;
     }
 };
 TYPED_TEST_SUITE_P(container_contract);
@@ -371,6 +551,74 @@ TYPED_TEST_P(container_contract, copies_are_independent_and_moved_from_container
     EXPECT_TRUE(moved.empty());  // NOLINT(bugprone-use-after-move)
 }
 
+TYPED_TEST_P(container_contract, default_constructed_and_moved_from_containers_answer_every_query_as_empty) {
+    using C = TypeParam;
+    TestFixture::for_each_empty_state([](C& c) { TestFixture::expect_answers_as_empty(c); });
+}
+
+TYPED_TEST_P(container_contract, default_constructed_and_moved_from_containers_accept_every_first_insertion) {
+    using C = TypeParam;
+    const auto origin = TestFixture::pt(0, 0, 0);
+    TestFixture::for_each_empty_state([&](C& c) {
+        SCOPED_TRACE("insert");
+        C a = c;  // a copy of the empty state is that state too
+        TestFixture::expect_usable_from_empty(a, [&](C& d) { EXPECT_TRUE(*d.insert(origin) == origin); });
+    });
+    TestFixture::for_each_empty_state([&](C& c) {
+        SCOPED_TRACE("hinted insert with end()");
+        TestFixture::expect_usable_from_empty(c, [&](C& d) { EXPECT_TRUE(*d.insert(d.end(), origin) == origin); });
+    });
+    TestFixture::for_each_empty_state([&](C& c) {
+        SCOPED_TRACE("bulk insert");
+        TestFixture::expect_usable_from_empty(c, [&](C& d) {
+            const std::vector<typename C::value_type> one{origin};
+            d.insert(one.begin(), one.end());
+        });
+    });
+    if constexpr (requires(C c) { c.rebuild(); }) {
+        TestFixture::for_each_empty_state([&](C& c) {
+            SCOPED_TRACE("rebuild, then insert");
+            c.rebuild();
+            if constexpr (requires { c.check_invariants(); }) { EXPECT_EQ(c.check_invariants(), ""); }
+            TestFixture::expect_answers_as_empty(c);
+            TestFixture::expect_usable_from_empty(c, [&](C& d) { d.insert(origin); });
+        });
+    }
+}
+
+TYPED_TEST_P(container_contract, empty_states_copy_swap_move_and_pair_with_populated_containers) {
+    using C = TypeParam;
+    TestFixture::for_each_empty_state([](C& empty) {
+        C populated = TestFixture::filled_with_grid();
+        const auto n = populated.size();
+        if constexpr (TestFixture::pairs_testable) {
+            for (pair_filter f : {pair_filter::exact, pair_filter::candidates}) {
+                EXPECT_TRUE(populated.pairs_with(empty, f).empty());
+                EXPECT_TRUE(empty.pairs_with(populated, f).empty());
+            }
+        }
+        C copy = empty;
+        TestFixture::expect_answers_as_empty(copy);
+        C assigned = TestFixture::filled_with_grid();
+        assigned = copy;  // copy-assigning the empty state
+        TestFixture::expect_answers_as_empty(assigned);
+        C moved_into = TestFixture::filled_with_grid();
+        moved_into = std::move(copy);  // move-assigning the empty state
+        TestFixture::expect_answers_as_empty(moved_into);
+        TestFixture::expect_answers_as_empty(copy);  // NOLINT(bugprone-use-after-move)
+        std::swap(empty, populated);
+        EXPECT_EQ(empty.size(), n);
+        TestFixture::expect_answers_as_empty(populated);
+        if constexpr (requires { empty.check_invariants(); }) { EXPECT_EQ(empty.check_invariants(), ""); }
+        EXPECT_EQ(empty.count(TestFixture::pt(3, 3, 0)), 1u);
+        populated.insert(TestFixture::pt(3, 3, 0));
+        if constexpr (TestFixture::pairs_testable) {
+            EXPECT_EQ(populated.pairs_with(empty, pair_filter::exact).size(), 1u);  // the two at (3, 3, 0)
+            EXPECT_EQ(empty.pairs_with(populated, pair_filter::exact).size(), 1u);
+        }
+    });
+}
+
 REGISTER_TYPED_TEST_SUITE_P(container_contract,
     empty_container_answers_every_query_with_nothing,
     insert_returns_iterator_to_the_new_element_and_iteration_sees_all,
@@ -387,6 +635,9 @@ REGISTER_TYPED_TEST_SUITE_P(container_contract,
     bad_input_is_rejected_by_name_and_nothing_stored_changes,
     clear_empties_and_the_container_is_reusable,
     user_defined_equality_distinguishes_payloads,
-    copies_are_independent_and_moved_from_containers_are_empty_and_usable);
+    copies_are_independent_and_moved_from_containers_are_empty_and_usable,
+    default_constructed_and_moved_from_containers_answer_every_query_as_empty,
+    default_constructed_and_moved_from_containers_accept_every_first_insertion,
+    empty_states_copy_swap_move_and_pair_with_populated_containers);
 
 }  // namespace spatial_contract

@@ -6,6 +6,7 @@
 
 #include <cmath>
 #include <limits>
+#include <type_traits>
 #include <vector>
 
 #include "spatial/brute/brute_force.hpp"
@@ -263,4 +264,87 @@ TEST(ray, cast_forwards_to_the_container_and_at_gives_points_on_the_ray) {
     intersect_info<P3> exact;
     EXPECT_TRUE(cast(t, r, exact) != t.end());
     EXPECT_EQ(exact.hit_time, 5.0);
+}
+
+// The empty tree holds no node until the first insertion (the "unallocated" state that makes
+// the default constructor and the moves noexcept): it owns no heap memory, has no leaf, and
+// the first insertion of each kind gives it its root. A cleared tree returns to that state.
+TEST(kd_tree_empty_state, default_constructed_and_moved_from_trees_hold_no_node) {
+    using points = kd_tree<P3, stats_config>;
+    static_assert(std::is_nothrow_default_constructible_v<points> && std::is_nothrow_move_constructible_v<points> &&
+                  std::is_nothrow_move_assignable_v<points>);
+    points fresh;
+    EXPECT_EQ(fresh.memory_bytes(), sizeof(points));
+    EXPECT_EQ(fresh.leaf_count(), 0u);
+    EXPECT_EQ(fresh.height(), 0u);
+    EXPECT_EQ(fresh.check_invariants(), "");
+    std::vector<P3> pts;
+    for (int i = 0; i < 100; ++i) pts.push_back(P3{{i * 0.5, std::sin(i * 1.0), std::cos(i * 2.0)}});
+    points full(pts.begin(), pts.end());
+    points moved(std::move(full));
+    EXPECT_EQ(full.memory_bytes(), sizeof(points));  // NOLINT(bugprone-use-after-move)
+    EXPECT_EQ(full.leaf_count(), 0u);
+    EXPECT_EQ(full.check_invariants(), "");
+    EXPECT_EQ(full.count(pts[3]), 0u);
+    EXPECT_EQ(full.last_query_stats().nodes_visited, 0u);
+    for (auto first : {0, 1, 2}) {  // each kind of first insertion gives the root
+        points t;
+        if (first == 0) t.insert(pts[0]);
+        else if (first == 1) t.insert(t.end(), pts[0]);
+        else t.insert(pts.begin(), pts.begin() + 1);
+        EXPECT_EQ(t.leaf_count(), 1u) << first;
+        EXPECT_EQ(t.check_invariants(), "") << first;
+        t.insert(pts.begin() + 1, pts.end());
+        EXPECT_EQ(t.check_invariants(), "") << first;
+        EXPECT_EQ(spatial_test::distances_from(pts[7], t.find_nearest(pts[7], 5)),
+                  spatial_test::distances_from(pts[7], moved.find_nearest(pts[7], 5)))
+            << first;
+        t.clear();
+        EXPECT_EQ(t.leaf_count(), 0u) << first;
+        EXPECT_EQ(t.check_invariants(), "") << first;
+        t.insert(pts[1]);
+        EXPECT_EQ(t.count(pts[1]), 1u) << first;
+    }
+    // Erasing every element keeps the root (an empty leaf), as before.
+    moved.erase(moved.begin(), moved.end());
+    EXPECT_EQ(moved.leaf_count(), 1u);
+    EXPECT_EQ(moved.check_invariants(), "");
+}
+
+// Objects with extent keep node extents too; pairs between the unallocated tree and a
+// populated one are empty both ways.
+TEST(kd_tree_empty_state, trees_of_boxes_pair_and_query_from_the_unallocated_state) {
+    using boxes = kd_tree<spatial_test::B3>;
+    boxes empty, full;
+    for (int i = 0; i < 50; ++i) {
+        const double x = i * 0.1;
+        full.insert(spatial_test::B3{P3{{x, 0, 0}}, P3{{x + 0.15, 0.1, 0.1}}});
+    }
+    EXPECT_TRUE(empty.pairs_with(full).empty());
+    EXPECT_TRUE(full.pairs_with(empty).empty());
+    EXPECT_TRUE(empty.self_pairs().empty());
+    boxes holder = std::move(full);
+    EXPECT_EQ(full.memory_bytes(), sizeof(boxes));  // NOLINT(bugprone-use-after-move): moved from, unallocated
+    EXPECT_TRUE(full.pairs_with(holder).empty());    // NOLINT(bugprone-use-after-move)
+    EXPECT_TRUE(holder.pairs_with(full).empty());    // NOLINT(bugprone-use-after-move)
+    intersect_info<P3> info;
+    EXPECT_FALSE(empty.intersect(P3{{-1, 0.05, 0.05}}, P3{{1, 0, 0}}, info));
+    EXPECT_TRUE(empty.find_in_ball(P3{{0, 0, 0}}, 10).empty());
+    EXPECT_TRUE(empty.find_nearest(P3{{0, 0, 0}}, 3).empty());
+    empty.insert(spatial_test::B3{P3{{0.05, 0, 0}}, P3{{0.12, 0.1, 0.1}}});  // meets the boxes at x = 0 and 0.1
+    EXPECT_EQ(empty.check_invariants(), "");
+    EXPECT_EQ(empty.pairs_with(holder).size(), 2u);
+    EXPECT_EQ(holder.pairs_with(empty).size(), 2u);
+    EXPECT_TRUE(empty.pairs_with(full).empty());  // NOLINT(bugprone-use-after-move)
+}
+
+// A std::vector of trees moves them when it grows (the moves are noexcept), so the elements'
+// storage is not copied: the address of a stored point survives the reallocation.
+TEST(kd_tree_empty_state, a_vector_of_trees_moves_them_when_it_grows) {
+    std::vector<kd_tree<P3>> trees(1);
+    trees[0].insert(P3{{1, 2, 3}});
+    const P3* stored = &*trees[0].begin();
+    trees.reserve(trees.capacity() + 8);
+    EXPECT_EQ(&*trees[0].begin(), stored);
+    EXPECT_EQ(trees[0].check_invariants(), "");
 }

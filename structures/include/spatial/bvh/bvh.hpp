@@ -121,7 +121,10 @@ private:
     };
 
 public:
-    bvh() { reset_to_empty(); }
+    // The empty tree has no nodes yet (the "unallocated" state: nodes_ and items_ are empty
+    // vectors); the first insertion allocates the root leaf (ensure_root). So constructing an
+    // empty tree allocates nothing and cannot throw, like std::vector's.
+    bvh() noexcept = default;
     template <class InputIt>
     bvh(InputIt first, InputIt last) : bvh() { insert(first, last); }
     // Multi-threaded build (spatial::par, core/parallel.hpp): the same tree, node for node.
@@ -131,14 +134,18 @@ public:
     bvh(const bvh&) = default;
     bvh& operator=(const bvh&) = default;
     // A moved-from tree is empty and usable; iterators into the source are invalidated.
-    bvh(bvh&& o) noexcept(false) : bvh() { swap_contents(o); }
-    bvh& operator=(bvh&& o) noexcept(false) { return this->move_assign_from(o); }
+    // noexcept: the source takes the unallocated empty tree in exchange (member-wise swaps of
+    // vectors, scalars and the ray layout's pointer), so a std::vector of trees moves them when
+    // it grows instead of copying (std::move_if_noexcept).
+    bvh(bvh&& o) noexcept : bvh() { swap_contents(o); }
+    bvh& operator=(bvh&& o) noexcept { return this->move_assign_from(o); }
 
     // ---- insertion -------------------------------------------------------------------
     // O(depth + leaf_size fits) plus amortised rebuilds (see bvh_motion.hpp).
     iterator insert(const O& x) {
         detail::require_finite_object(x, site("insert"));
         ensure_fresh();
+        ensure_root();
         return make(insert_from(root, x));
     }
     // Hinted insertion: starts at the hint's leaf and climbs until a node's box contains the
@@ -167,9 +174,12 @@ public:
     iterator erase(const_iterator pos);
     // Erases ALL elements equal to x; returns how many. Search pruned by x's bounding box.
     size_type erase(const O& x);
-    void clear() {
+    // Back to the unallocated empty tree (as the default constructor makes it); the vectors
+    // keep their capacity, like std::vector::clear, so refilling does not reallocate. Cannot
+    // throw (the move assignment clears the target first).
+    void clear() noexcept {
         slots_.clear();
-        reset_to_empty();
+        drop_tree();
     }
 
     // ---- motion ------------------------------------------------------------------------
@@ -287,8 +297,9 @@ public:
     // The last query's counts (core/query_stats.hpp, plus which ray path answered).
     const bvh_stats& last_query_stats() const { return stats_; }
     std::size_t full_rebuilds() const { return full_rebuilds_; }
+    // Nodes in the tree (0 for the unallocated empty tree, 1 for an empty tree that had elements).
     std::size_t node_count() const { return nodes_.size() - 2 * free_pairs_.size(); }
-    // Height in nodes below the root (0 for a single leaf). O(nodes).
+    // Height in nodes below the root (0 for a single leaf and for the unallocated tree). O(nodes).
     std::size_t height() const;
     // Node tightness, weighted as rays weigh nodes: the sum over all nodes of the volume's
     // surface area, and the same sum for the nodes' AABBs (equal for aabb). A random ray
@@ -297,8 +308,9 @@ public:
     // tighter volume saves relative to boxes (lower = tighter). O(nodes).
     std::pair<double, double> node_surface_areas() const;
     static std::string volume_name() { return bvh_detail::volume_name(static_cast<const BV*>(nullptr)); }
-    // The root volume (for tests and tightness figures).
-    const BV& root_volume() const { return nodes_[root].volume; }
+    // The root volume (for tests and tightness figures); the unallocated tree answers the
+    // volume of an empty leaf.
+    const BV& root_volume() const { return has_root() ? nodes_[root].volume : empty_volume(); }
 
     // Checks every structural invariant (parent links, leaf back-links, counts, every object
     // in exactly one leaf, node boxes containing their objects' bounds, volumes containing
@@ -381,10 +393,17 @@ private:
     }
 
     // ---- tree storage (bvh_storage.hpp) -----------------------------------------------
-    void clear_nodes();
+    // The unallocated empty tree: no nodes, no leaf blocks (the state of a default-constructed
+    // or moved-from tree, and after clear()). Every query answers it as empty; the modifiers
+    // that place an object below the root call ensure_root first (the full builds make their
+    // own root). has_root() is false exactly in this state.
+    bool has_root() const noexcept { return !nodes_.empty(); }
+    void clear_nodes() noexcept;
+    void drop_tree() noexcept;
+    void ensure_root();
+    static const BV& empty_volume();
     void finish_build();  // bvh_build.hpp
-    void reset_to_empty();
-    void swap_contents(bvh& o);
+    void swap_contents(bvh& o) noexcept;
     node_index alloc_block();
     node_index alloc_pair();
 

@@ -9,6 +9,7 @@ namespace spatial {
 
 template <stored_object O, class BV, class Config>
 inline double bvh<O, BV, Config>::quality() const {
+    if (!has_root()) return 1;  // as for an empty root leaf (no area)
     const double root_area = static_cast<double>(box_of(nodes_[root]).surface_area());
     if (!(root_area > 0)) return 1;
     return node_surface_areas().second / root_area;
@@ -28,6 +29,7 @@ inline auto bvh<O, BV, Config>::node_surface_areas() const -> std::pair<double, 
 
 template <stored_object O, class BV, class Config>
 inline std::size_t bvh<O, BV, Config>::height() const {
+    if (!has_root()) return 0;
     return detail::tree_height(root, [this](node_index n, auto&& push) {
         if (!nodes_[n].leaf) push(nodes_[n].first), push(nodes_[n].first + 1);
     });
@@ -47,6 +49,12 @@ inline std::size_t bvh<O, BV, Config>::memory_bytes() const {
 
 template <stored_object O, class BV, class Config>
 inline std::string bvh<O, BV, Config>::check_invariants() const {
+    if (!has_root()) {  // the unallocated empty tree: nothing may refer to a node or block
+        if (slots_.size() != 0) return "no root but size() is " + std::to_string(slots_.size());
+        if (!items_.empty() || !free_pairs_.empty() || !free_blocks_.empty())
+            return "no root but leaf blocks or free lists left";
+        return {};
+    }
     std::vector<node_index> order;
     preorder(order);
     std::size_t seen = 0;

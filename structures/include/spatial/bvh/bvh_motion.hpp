@@ -31,6 +31,7 @@ template <stored_object O, class BV, class Config>
 inline auto bvh<O, BV, Config>::insert(const_iterator hint, const O& x) -> iterator {
     detail::require_finite_object(x, site("insert(hint, x)"));
     ensure_fresh();
+    ensure_root();
     if (hint == end() || !slots_.occupied(hint.slot())) return make(insert_from(root, x));
     node_index n = slots_.meta(hint.slot());
     const item it = item_of(x, 0);

@@ -72,9 +72,11 @@ template <stored_object O, class BV, class Config>
 inline auto bvh<O, BV, Config>::slack_of(const bv_point& p) const -> T {
     T m = 0;
     for (std::size_t i = 0; i < D; ++i) m = std::max(m, std::abs(p[i]));
-    const box_type& b = box_of(nodes_[root]);
-    if (!b.is_empty())
-        for (std::size_t i = 0; i < D; ++i) m = std::max({m, std::abs(b.lo[i]), std::abs(b.hi[i])});
+    if (has_root()) {  // the queries return before this on the unallocated tree; kept safe
+        const box_type& b = box_of(nodes_[root]);
+        if (!b.is_empty())
+            for (std::size_t i = 0; i < D; ++i) m = std::max({m, std::abs(b.lo[i]), std::abs(b.hi[i])});
+    }
     return 16 * eps * (2 * m) + underflow_slack<T>;
 }
 

@@ -12,27 +12,55 @@ namespace spatial {
 
 // ================= storage of nodes and leaf blocks =====================================
 template <stored_object O, class BV, class Config>
-inline void bvh<O, BV, Config>::clear_nodes() {
+inline void bvh<O, BV, Config>::clear_nodes() noexcept {
     nodes_.clear();
     items_.clear();
     free_pairs_.clear();
     free_blocks_.clear();
 }
 
+// The unallocated empty tree (see has_root): no allocation, so the moves and clear() cannot
+// throw. Capacities are kept; the build statistics (full_rebuilds, quality_at_build) too.
 template <stored_object O, class BV, class Config>
-inline void bvh<O, BV, Config>::reset_to_empty() {
+inline void bvh<O, BV, Config>::drop_tree() noexcept {
     clear_nodes();
-    nodes_.push_back(node{});
-    make_leaf(root, nullptr, 0);
     size_at_build_ = 0;
     updates_since_build_ = 0;
     stale_ = false;
+    if constexpr (wide_rays) wide_.reset();
 }
 
+// Gives the unallocated tree its root: one empty leaf with its block, fitted to nothing.
+// Strong guarantee: if that cannot allocate, the tree is the unallocated one again.
 template <stored_object O, class BV, class Config>
-inline void bvh<O, BV, Config>::swap_contents(bvh& o) {
-    this->swap_with(o, &bvh::nodes_, &bvh::items_, &bvh::free_pairs_, &bvh::free_blocks_, &bvh::size_at_build_,
-                    &bvh::updates_since_build_, &bvh::full_rebuilds_, &bvh::stale_, &bvh::quality_at_build_);
+inline void bvh<O, BV, Config>::ensure_root() {
+    if (has_root()) return;
+    try {
+        nodes_.push_back(node{});
+        make_leaf(root, nullptr, 0);
+    } catch (...) {
+        clear_nodes();
+        throw;
+    }
+}
+
+// What refit_node fits to an empty leaf: the root volume of an empty tree.
+template <stored_object O, class BV, class Config>
+inline const BV& bvh<O, BV, Config>::empty_volume() {
+    static const BV v = [] {
+        if constexpr (volume_is_box) return box_type::empty();
+        else return bvh_detail::fit_volume<BV>(std::span<const bv_point>{});
+    }();
+    return v;
+}
+
+// The moves' exchange. The fitting scratch travels with the tree, so a moved-from tree holds no
+// heap memory at all.
+template <stored_object O, class BV, class Config>
+inline void bvh<O, BV, Config>::swap_contents(bvh& o) noexcept {
+    this->swap_with(o, &bvh::nodes_, &bvh::items_, &bvh::free_pairs_, &bvh::free_blocks_, &bvh::scratch_,
+                    &bvh::size_at_build_, &bvh::updates_since_build_, &bvh::full_rebuilds_, &bvh::stale_,
+                    &bvh::quality_at_build_);
     if constexpr (wide_rays) wide_.swap(o.wide_);
 }
 
@@ -62,6 +90,7 @@ inline auto bvh<O, BV, Config>::alloc_pair() -> node_index {
 template <stored_object O, class BV, class Config>
 inline void bvh<O, BV, Config>::preorder(std::vector<node_index>& order) const {
     order.clear();
+    if (!has_root()) return;  // the unallocated tree: no nodes to visit
     order.reserve(nodes_.size());
     std::vector<node_index> st{root};
     while (!st.empty()) {

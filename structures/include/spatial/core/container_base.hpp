@@ -26,6 +26,7 @@
 #include <cstddef>
 #include <new>
 #include <span>
+#include <type_traits>
 #include <utility>
 #include <vector>
 
@@ -113,14 +114,17 @@ protected:
         std::swap(ray_thickness_, o.ray_thickness_);
     }
     // A structure's swap_contents in one line: the base's state and the listed members of
-    // Derived (pointers to members: &Derived::nodes_, ...) are swapped with o's.
+    // Derived (pointers to members: &Derived::nodes_, ...) are swapped with o's. Cannot throw
+    // when the members' swaps cannot (vectors, scalars), which the structures' noexcept moves
+    // rely on.
     template <class... Member>
-    void swap_with(Derived& o, Member Derived::*... members) {
+    void swap_with(Derived& o, Member Derived::*... members) noexcept((std::is_nothrow_swappable_v<Member> && ...)) {
         swap_base(o);
         (std::swap(self().*members, o.*members), ...);
     }
     // A structure's move assignment: *this is cleared, then takes o's contents by
     // Derived::swap_contents, so o is left empty and usable (self-assignment does nothing).
+    // Cannot throw when the structure's clear() and swap_contents cannot (none allocates).
     Derived& move_assign_from(Derived& o) {
         if (&self() != &o) {
             self().clear();

@@ -42,12 +42,12 @@ public:
     }
     // The snapshot if built, else nullptr.
     const S* peek() const { return ready_.load(std::memory_order_acquire); }
-    void reset() {
+    void reset() noexcept {
         if (ready_.load(std::memory_order_relaxed) == nullptr && !owner_) return;
         ready_.store(nullptr, std::memory_order_relaxed);
         owner_.reset();
     }
-    void swap(lazy_snapshot& o) {
+    void swap(lazy_snapshot& o) noexcept {
         std::swap(owner_, o.owner_);
         ready_.store(owner_.get(), std::memory_order_release);
         o.ready_.store(o.owner_.get(), std::memory_order_release);

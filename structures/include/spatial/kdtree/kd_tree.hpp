@@ -147,7 +147,10 @@ private:
                   "kd_tree: point build entries must not grow");
 
 public:
-    kd_tree() { reset_to_empty(); }
+    // The empty tree has no nodes yet (the "unallocated" state: nodes_, buckets_ and extents_
+    // are empty vectors); the first insertion allocates the root leaf (ensure_root). So
+    // constructing an empty tree allocates nothing and cannot throw, like std::vector's.
+    kd_tree() noexcept { drop_tree(); }
     template <class InputIt>
     kd_tree(InputIt first, InputIt last) : kd_tree() { insert(first, last); }
     // Copies are independent trees (iterators into one never refer to the other).
@@ -155,14 +158,18 @@ public:
     kd_tree& operator=(const kd_tree&) = default;
     // A moved-from tree is empty and usable. Iterators into the source are invalidated:
     // they refer to the source's storage (see docs/contract.md, iterators and invalidation).
-    kd_tree(kd_tree&& other) noexcept(false) : kd_tree() { swap_contents(other); }
-    kd_tree& operator=(kd_tree&& other) noexcept(false) { return this->move_assign_from(other); }
+    // noexcept: the source takes the unallocated empty tree in exchange (member-wise swaps of
+    // vectors and scalars), so a std::vector of trees moves them when it grows instead of
+    // copying (std::move_if_noexcept).
+    kd_tree(kd_tree&& other) noexcept : kd_tree() { swap_contents(other); }
+    kd_tree& operator=(kd_tree&& other) noexcept { return this->move_assign_from(other); }
 
     // ---- insertion -------------------------------------------------------------------
     // O(log n) expected, O(log^2 n) amortised worst case (scapegoat subtree rebuilds).
     iterator insert(const O& x) {
         begin_query();
         detail::require_finite_object(x, site("insert"));
+        ensure_root();
         const coords c = key_of(x);
         return make(insert_at(descend(root, c), x, c));
     }
@@ -174,6 +181,7 @@ public:
     iterator insert(const_iterator hint, const O& x) {
         begin_query();
         detail::require_finite_object(x, site("insert(hint, x)"));
+        ensure_root();
         const coords c = key_of(x);
         if (hint == end() || !slots_.occupied(hint.slot())) return make(insert_at(descend(root, c), x, c));
         const bucket& b = buckets_[slots_.meta(hint.slot())];
@@ -215,6 +223,7 @@ public:
     // Erases ALL elements equal to x; returns how many. O(log n + matches).
     size_type erase(const O& x) {
         detail::require_finite_object(x, site("erase"));
+        if (!has_root()) return 0;
         std::vector<slot_index> hits;
         collect_equal(root, key_of(x), x, hits, false);
         slots_.reserve_releases(hits.size());
@@ -223,9 +232,12 @@ public:
         return hits.size();
     }
 
-    void clear() {
+    // Back to the unallocated empty tree (as the default constructor makes it); the vectors
+    // keep their capacity, like std::vector::clear, so refilling does not reallocate. Cannot
+    // throw (the move assignment clears the target first).
+    void clear() noexcept {
         slots_.clear();
-        reset_to_empty();
+        drop_tree();
     }
 
 private:
@@ -245,6 +257,7 @@ public:
     iterator find(const O& x) {
         begin_query();
         detail::require_finite_object(x, site("find"));
+        if (!has_root()) return end();
         std::vector<slot_index> hits;
         collect_equal(root, key_of(x), x, hits, true);
         return hits.empty() ? end() : make(hits.front());
@@ -252,6 +265,7 @@ public:
     size_type count(const O& x) const {
         begin_query();
         detail::require_finite_object(x, site("count"));
+        if (!has_root()) return 0;
         std::vector<slot_index> hits;
         collect_equal(root, key_of(x), x, hits, false);
         return hits.size();
@@ -345,8 +359,9 @@ public:
                buckets_.capacity() * sizeof(bucket) +
                (free_pairs_.capacity() + free_buckets_.capacity()) * sizeof(node_index);
     }
-    // Tree height in nodes below the root (0 for a single leaf).
-    std::size_t height() const { return height_of(root); }
+    // Tree height in nodes below the root (0 for a single leaf and for the unallocated tree).
+    std::size_t height() const { return has_root() ? height_of(root) : 0; }
+    // Leaves (0 for the unallocated empty tree, 1 for an empty tree that had elements).
     std::size_t leaf_count() const { return leaves_; }
     // The last query's counts (core/query_stats.hpp): a kNN, ball, box or ray query, a
     // find/count, or an insertion (nodes climbed from the hint plus nodes descended). Only
@@ -361,7 +376,7 @@ public:
     // Diagnostics: how many (point, ancestor split plane) pairs have the point exactly ON the
     // plane. Bulk builds place planes in gaps between coordinates (see splitters.hpp), so
     // this is 0 unless a coordinate run is too large to move the cut. O(n * height).
-    std::size_t points_on_split_planes() const { return on_planes(root); }
+    std::size_t points_on_split_planes() const { return has_root() ? on_planes(root) : 0; }
 
     // Checks every structural invariant (split bounds, cells, bucket back-links, counts,
     // depths); returns an empty string when sound, else what is wrong. For tests: O(n).
@@ -376,8 +391,14 @@ private:
     void refit_leaf(node_index leaf);
     static bool in_cell(const coords& c, const coords& lo, const coords& hi);
     void grow_bounds(const coords& c);
+    // The unallocated empty tree: no nodes, no buckets (the state of a default-constructed or
+    // moved-from tree, and after clear()). Every query answers it as empty; the modifiers that
+    // need a root call ensure_root first. has_root() is false exactly in this state.
+    bool has_root() const noexcept { return !nodes_.empty(); }
+    void drop_tree() noexcept;
+    void ensure_root();
     void reset_to_empty();
-    void swap_contents(kd_tree& o);
+    void swap_contents(kd_tree& o) noexcept;
     node_index new_bucket(node_index owner, const coords& lo, const coords& hi);
     node_index new_pair();
 

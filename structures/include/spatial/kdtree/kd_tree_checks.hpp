@@ -9,6 +9,12 @@ namespace spatial {
 
 template <stored_object O, class Config>
 inline std::string kd_tree<O, Config>::check_invariants() const {
+    if (!has_root()) {  // the unallocated empty tree: nothing may refer to a node
+        if (slots_.size() != 0) return "no root but size() is " + std::to_string(slots_.size());
+        if (leaves_ != 0 || !buckets_.empty() || !extents_.empty() || !free_pairs_.empty() || !free_buckets_.empty())
+            return "no root but leaves, buckets, extents or free lists left";
+        return {};
+    }
     std::string err;
     coords lo, hi;
     lo.fill(-std::numeric_limits<T>::infinity());

@@ -8,11 +8,13 @@
 
 namespace spatial {
 
+// The moves' exchange. The split buffer travels with the tree, so a moved-from tree holds no
+// heap memory at all.
 template <stored_object O, class Config>
-inline void kd_tree<O, Config>::swap_contents(kd_tree& o) {
+inline void kd_tree<O, Config>::swap_contents(kd_tree& o) noexcept {
     this->swap_with(o, &kd_tree::nodes_, &kd_tree::extents_, &kd_tree::buckets_, &kd_tree::free_pairs_,
                     &kd_tree::free_buckets_, &kd_tree::leaves_, &kd_tree::bounds_lo_, &kd_tree::bounds_hi_,
-                    &kd_tree::size_at_rebuild_);
+                    &kd_tree::size_at_rebuild_, &kd_tree::entry_buffer_);
 }
 
 // The partitioning key of a stored value: the point itself, or the centre of an object's
@@ -79,6 +81,36 @@ inline void kd_tree<O, Config>::grow_bounds(const coords& c) {
     }
 }
 
+// The unallocated empty tree (see has_root): no allocation, so the default constructor, the
+// moves and clear() cannot throw. Capacities are kept.
+template <stored_object O, class Config>
+inline void kd_tree<O, Config>::drop_tree() noexcept {
+    nodes_.clear();
+    extents_.clear();
+    buckets_.clear();
+    free_pairs_.clear();
+    free_buckets_.clear();
+    leaves_ = 0;
+    bounds_lo_.fill(std::numeric_limits<T>::infinity());
+    bounds_hi_.fill(-std::numeric_limits<T>::infinity());
+    size_at_rebuild_ = 0;
+}
+
+// Gives the unallocated tree its root: one empty leaf whose cell is all of space, as
+// reset_to_empty makes it. Strong guarantee: if that cannot allocate, the tree is the
+// unallocated one again.
+template <stored_object O, class Config>
+inline void kd_tree<O, Config>::ensure_root() {
+    if (has_root()) return;
+    try {
+        reset_to_empty();
+    } catch (...) {
+        drop_tree();
+        throw;
+    }
+}
+
+// The empty tree with its root leaf (allocates: the node, its extent, its bucket).
 template <stored_object O, class Config>
 inline void kd_tree<O, Config>::reset_to_empty() {
     nodes_.assign(1, node{});
