@@ -32,6 +32,7 @@
 #include "spatial/collide/pairs.hpp"
 #include "spatial/core/container_base.hpp"
 #include "spatial/core/knn_result_set.hpp"
+#include "spatial/core/morton_order.hpp"
 #include "spatial/core/object_geometry.hpp"
 #include "spatial/octree/ray_cell_clip.hpp"
 
@@ -236,7 +237,7 @@ private:
     void rebuild_survivors() { resort(); }
 
     // Sorts every stored object by the Morton code of its box centre, quantised in the box of
-    // all centres (63 / D bits per axis), and recomputes the blocks' boxes. O(n log n).
+    // all centres (spatial::morton_encoder: 63 / D bits per axis), and recomputes the blocks' boxes. O(n log n).
     void resort() {
         std::vector<spatial::slot_index> all;
         all.reserve(slots_.size());
@@ -249,21 +250,13 @@ private:
                 lo[i] = std::min(lo[i], spatial::object_center(slots_.value(s), i));
                 hi[i] = std::max(hi[i], spatial::object_center(slots_.value(s), i));
             }
-        constexpr unsigned bits = 63 / D;
-        const double cells = std::ldexp(1.0, bits) - 1;
+        const spatial::morton_encoder<T, D> encoder(lo, hi);
         std::vector<std::pair<std::uint64_t, spatial::slot_index>> keyed;
         keyed.reserve(all.size());
         for (auto s : all) {
-            std::uint64_t code = 0;
-            for (std::size_t i = 0; i < D; ++i) {
-                const double extent = static_cast<double>(hi[i]) - static_cast<double>(lo[i]);
-                const double at = extent > 0 ? (static_cast<double>(spatial::object_center(slots_.value(s), i)) -
-                                                static_cast<double>(lo[i])) / extent
-                                             : 0.0;
-                const auto q = static_cast<std::uint64_t>(std::clamp(at, 0.0, 1.0) * cells);
-                for (unsigned b = 0; b < bits; ++b) code |= ((q >> b) & 1u) << (b * D + i);
-            }
-            keyed.emplace_back(code, s);
+            std::array<T, D> centre;
+            for (std::size_t i = 0; i < D; ++i) centre[i] = spatial::object_center(slots_.value(s), i);
+            keyed.emplace_back(encoder.code(centre), s);
         }
         std::sort(keyed.begin(), keyed.end());
         order_.resize(keyed.size());

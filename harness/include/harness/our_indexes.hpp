@@ -27,8 +27,9 @@ public:
     explicit container_index(std::string name) : name_(std::move(name)) {}
     std::string name() const override { return name_; }
     unsigned capabilities() const override {
+        const unsigned batched = spatial::batched_knn<Container> ? static_cast<unsigned>(capability::batched_knn) : 0u;
         return capability::knn | capability::approximate_knn | capability::radius | capability::dynamic |
-               capability::hinted_insert | capability::bulk_insert | capability::bulk_erase;
+               capability::hinted_insert | capability::bulk_insert | capability::bulk_erase | batched;
     }
     // Only the container's own build is timed; the id bookkeeping for dynamic workloads is
     // set up lazily from the caller's array (kept alive by the caller, see point_index).
@@ -51,6 +52,23 @@ public:
             for (const auto& c : cand_) out.push_back({c.distance_squared, c.slot});
         } else {
             for (auto it : c_.find_nearest(q, k, eps)) out.push_back({spatial::squared_distance(*it, q), it.slot()});
+        }
+    }
+    std::size_t knn_batch(std::span<const point_type> queries, std::size_t k, spatial::query_order order, bool parallel,
+                          std::vector<neighbor<T>>& out) override {
+        if constexpr (spatial::batched_knn<Container>) {
+            const auto found = parallel ? c_.find_nearest_batch(queries, k, T(0), order, spatial::par)
+                                        : c_.find_nearest_batch(queries, k, T(0), order);
+            out.resize(found.size() * found.per_query());
+            auto at = out.begin();
+            for (std::size_t q = 0; q < found.size(); ++q) {
+                const auto items = found.neighbors(q);
+                const auto d2 = found.distances_squared(q);
+                for (std::size_t j = 0; j < items.size(); ++j) *at++ = {d2[j], items[j].slot()};
+            }
+            return found.per_query();
+        } else {
+            return point_index<T, D>::knn_batch(queries, k, order, parallel, out);
         }
     }
     void radius(const point_type& q, T r, std::vector<neighbor<T>>& out) override {

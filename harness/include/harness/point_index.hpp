@@ -20,6 +20,7 @@
 #include <vector>
 
 #include "harness/configured.hpp"
+#include "spatial/core/knn_batch.hpp"
 #include "spatial/core/point.hpp"
 
 namespace harness {
@@ -39,6 +40,9 @@ enum class capability : unsigned {
     // A peer's dynamic variant (nanoflann's KDTreeSingleIndexDynamicAdaptor): timed in the
     // dynamic workloads only; its static sibling stands for the library in the static ones.
     dynamic_variant = 1u << 8,
+    // knn_batch(queries, k, order, parallel, out): the structure's own batched kNN, which may
+    // reorder the queries (Morton order) and use every core (kd_tree::find_nearest_batch).
+    batched_knn = 1u << 9,
 };
 
 constexpr unsigned operator|(capability a, capability b) {
@@ -59,6 +63,7 @@ inline std::vector<std::string> capability_names(unsigned bits) {
         {capability::bulk_erase, "bulk_erase"},
         {capability::rebuilds_on_query, "rebuilds_on_query"},
         {capability::dynamic_variant, "dynamic_variant"},
+        {capability::batched_knn, "batched_knn"},
     };
     std::vector<std::string> out;
     for (const auto& [c, name] : names)
@@ -99,6 +104,14 @@ public:
     virtual void knn(const point_type& q, std::size_t k, T eps, std::vector<neighbor<T>>& out) = 0;
     // All points p with |p - q| <= r, any order, written to out (cleared first).
     virtual void radius(const point_type& q, T r, std::vector<neighbor<T>>& out) = 0;
+    // Exact kNN of every query at once (only if capability::batched_knn), searched in `order`
+    // and, when `parallel`, on every core: query i's answer, nearest first, is written to
+    // out[i * per_query, (i + 1) * per_query), and per_query (min(k, size())) is returned.
+    virtual std::size_t knn_batch(std::span<const point_type> queries, std::size_t k, spatial::query_order order,
+                                  bool parallel, std::vector<neighbor<T>>& out) {
+        (void)queries, (void)k, (void)order, (void)parallel, (void)out;
+        throw std::logic_error(name() + " does not support knn_batch");
+    }
 
     // Dynamic workloads (only if capability::dynamic). ids are chosen by the caller and are
     // unique among live points.

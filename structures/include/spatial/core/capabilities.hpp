@@ -8,11 +8,13 @@
 
 #include <concepts>
 #include <cstddef>
+#include <span>
 #include <utility>
 #include <vector>
 
 #include "spatial/collide/pairs.hpp"
 #include "spatial/core/container_concept.hpp"
+#include "spatial/core/knn_batch.hpp"
 #include "spatial/core/knn_result_set.hpp"
 #include "spatial/core/motion.hpp"
 #include "spatial/core/query_stats.hpp"
@@ -72,6 +74,14 @@ template <class C>
 concept candidate_knn = requires(const C c, const typename C::point_type& q, typename C::size_type k,
                                  typename C::scalar_type eps, std::vector<neighbor_candidate<typename C::scalar_type>>& out) {
     c.find_nearest_candidates(q, k, eps, out);
+};
+
+// Batched kNN (core/knn_batch.hpp): c.find_nearest_batch(queries, k, eps, order, policy)
+// answers every query, optionally in Morton order and on several threads. Models: kd_tree.
+template <class C>
+concept batched_knn = requires(const C c, std::span<const typename C::point_type> qs, typename C::size_type k,
+                               typename C::scalar_type eps) {
+    { c.find_nearest_batch(qs, k, eps, query_order::morton, par).per_query() } -> std::convertible_to<std::size_t>;
 };
 
 // Query statistics in the one shared form (core/query_stats.hpp): the last query's nodes

@@ -62,6 +62,12 @@ public:
 
     std::size_t size() const { return items_.size(); }
 
+    // Empty again, keeping k and the storage (a batch reuses one set for all its queries).
+    void reset() {
+        items_.clear();
+        worst_ = std::numeric_limits<T>::infinity();
+    }
+
     // Sorted by increasing distance.
     std::vector<neighbor_candidate<T>>& finish() {
         if (k_ > sorted_array_limit) std::sort_heap(items_.begin(), items_.end());

@@ -55,6 +55,7 @@
 #include <iterator>
 #include <limits>
 #include <numeric>
+#include <span>
 #include <stdexcept>
 #include <string>
 #include <type_traits>
@@ -69,6 +70,7 @@
 #include "spatial/core/free_list.hpp"
 #include "spatial/core/input_checks.hpp"
 #include "spatial/core/intersect_info.hpp"
+#include "spatial/core/knn_batch.hpp"
 #include "spatial/core/knn_result_set.hpp"
 #include "spatial/core/object_concepts.hpp"
 #include "spatial/core/object_geometry.hpp"
@@ -308,6 +310,29 @@ public:
         knn_result_set<T> best(std::min<std::size_t>(k, slots_.size()));
         run_knn(x, eps, best);
         result = std::move(best.finish());
+    }
+
+    // Many queries at once (core/knn_batch.hpp): query i's answer is find_nearest(queries[i],
+    // k, eps)'s, stored at i. query_order::morton searches them in Morton order (cheaper when
+    // the queries are dense enough to share leaves; the O(Q) sort is included); spatial::par
+    // answers chunks of them concurrently (sequentially with CollectStats, whose counters
+    // would race; last_query_stats() is then the last searched query's). Every query point
+    // is validated before any search. O(Q (log n + k log k)) expected, like Q single queries.
+    template <class Policy = sequential_policy>
+    knn_batch<iterator, scalar_type> find_nearest_batch(std::span<const P> queries, size_type k, scalar_type eps = 0,
+                                                        query_order order = query_order::as_given,
+                                                        Policy = {}) const {
+        detail::require_finite_queries(queries, site("find_nearest_batch"));
+        detail::require_nonnegative(eps, site("find_nearest_batch"), "eps");
+        const std::size_t per_query = std::min<std::size_t>(k, slots_.size());
+        constexpr bool concurrent = std::is_same_v<Policy, parallel_policy> && !Config::collect_stats;
+        return detail::answer_knn_batch<concurrent, iterator>(
+            queries, per_query, order,
+            [this, eps](const P& x, knn_result_set<T>& best) {
+                begin_query();
+                run_knn(x, eps, best);
+            },
+            [this](slot_index s) { return make(s); });
     }
 
     // All points p with |p - center| <= radius (closed ball), in no particular order.
