@@ -113,6 +113,41 @@ def best_peer(ctx, n):
                                            body))
 
 
+def query_order(ctx, n):
+    """Batched kNN (k=10) as given and in Morton order (knn_batch rows): kd_tree's time, its ratio to
+    the fastest peer given the same order, and its speedup on every core, per workload."""
+    body = []
+    workloads = ctx.rows.values_of("workload", suite=SUITE, operation="knn_batch", metric="time_per_op",
+                                   structure="kd_tree", dim="3", scalar="double")
+    for workload in workloads:
+        where = dict(suite=SUITE, operation="knn_batch", workload=workload, dim="3", scalar="double")
+        sizes = ctx.rows.values_of("n", metric="time_per_op", structure="kd_tree", **where)
+        at = n if n in sizes else (max(sizes) if workload.startswith("real:") and sizes else None)
+        if at is None:
+            continue
+        cells = [name(workload)]
+        for order in ("as_given", "morton"):
+            params = f"k=10;order={order}"
+            base = f"knn.order.{key_part(workload)}.{key_part(order)}"
+            quotes.time(ctx.book, base + ".time", [r for r in ctx.rows.find(n=at, metric="time_per_op", structure="kd_tree", **where)
+                                                   if r["params"] == params])
+            best = [r for r in ctx.rows.find(n=at, metric="best_peer_ratio", **where)
+                    if r["params"] == params or r["params"].startswith(params + ";")]
+            quotes.ratio(ctx.book, base + ".best", [best])
+            cells += [ref(base + ".time"), ref(base + ".best")]
+        speedup = [r for r in ctx.rows.find(n=at, metric="speedup", structure="kd_tree", **where)
+                   if r["params"].startswith("k=10;order=morton;threads=")]
+        key = f"knn.order.{key_part(workload)}.speedup"
+        quotes.ratio(ctx.book, key, [speedup])
+        cells.append(ref(key))
+        body.append(cells)
+    if not body:
+        ctx.book.missing("knn.order.table", "knn_batch rows (a run with the batched measurement)")
+        return
+    ctx.table("knn_query_order.tex", tabular("lrrrrr", ["workload", "as given", "/ best peer", "Morton order",
+                                                         "/ best peer", "Morton, all cores"], body))
+
+
 def real_data(ctx):
     groups = {}
     for row in ctx.rows.find(suite=SUITE, operation="knn", metric="time_ratio",
@@ -186,6 +221,7 @@ def generate(ctx):
     reference(ctx, n)
     across_workloads(ctx, n)
     best_peer(ctx, n)
+    query_order(ctx, n)
     real_data(ctx)
     recall(ctx, n)
     exponents(ctx)
