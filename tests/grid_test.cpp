@@ -5,7 +5,10 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <chrono>
+#include <cstdint>
+#include <random>
 #include <set>
 #include <vector>
 
@@ -155,3 +158,55 @@ TEST(hashed_grid, rejects_bad_cell_sizes_and_objects_spanning_too_many_cells) {
 }
 
 }  // namespace
+
+// hashed_cells::add_batch groups a batch by the low 32 bits of the cells' hashes: two cells
+// whose hashes agree there (found by search among 2^18 cells) must still get their own lists.
+TEST(hashed_grid, bulk_listing_separates_cells_whose_hashes_collide) {
+    using cells = detail::hashed_cells<3>;
+    using key = detail::cell_key<3>;
+    const detail::teschner_hash<3> hash;
+    std::vector<std::pair<std::uint32_t, key>> seen;
+    for (std::int64_t i = 0; i < 512; ++i)
+        for (std::int64_t j = 0; j < 512; ++j) seen.push_back({static_cast<std::uint32_t>(hash(key{i, j, 0})), key{i, j, 0}});
+    std::sort(seen.begin(), seen.end());
+    std::size_t at = 0;
+    while (at + 1 < seen.size() && seen[at].first != seen[at + 1].first) ++at;
+    ASSERT_LT(at + 1, seen.size()) << "no 32-bit hash collision among 2^18 cells";
+    const key a = seen[at].second, b = seen[at + 1].second;
+    ASSERT_NE(a, b);
+    std::vector<detail::cell_entry<3>> batch;
+    for (slot_index s = 0; s < 10; ++s) batch.push_back({s % 2 ? a : b, s});
+    batch.push_back({key{7, 7, 7}, 10});
+    cells c;
+    c.add_batch(batch);
+    ASSERT_EQ(c.occupied_cells(), 3.0);
+    std::vector<slot_index> in_a = *c.find(a), in_b = *c.find(b);
+    std::sort(in_a.begin(), in_a.end());
+    std::sort(in_b.begin(), in_b.end());
+    EXPECT_EQ(in_a, (std::vector<slot_index>{1, 3, 5, 7, 9}));
+    EXPECT_EQ(in_b, (std::vector<slot_index>{0, 2, 4, 6, 8}));
+    EXPECT_EQ(*c.find(key{7, 7, 7}), (std::vector<slot_index>{10}));
+    EXPECT_EQ(c.bounds().lo, (key{std::min({a[0], b[0], std::int64_t{7}}), std::min({a[1], b[1], std::int64_t{7}}), 0}));
+}
+
+// A bulk batch into a grid holding objects: same contents and answers as the loop, and the
+// dense grid's lists are filled in one pass (the batch grouped by cell).
+TEST(uniform_grid, bulk_merge_into_a_filled_grid_matches_a_loop) {
+    std::mt19937_64 rng(20261127);
+    auto unit = [&] { return static_cast<double>(rng() >> 11) * 0x1.0p-53; };
+    std::vector<P3> base(3000), more(300);
+    for (auto& p : base) p = P3{unit(), unit(), unit()};
+    for (auto& p : more) p = P3{unit(), unit(), unit()};
+    more.insert(more.end(), base.begin(), base.begin() + 50);  // duplicates of stored points
+    uniform_grid<P3> bulk(base.begin(), base.end()), loop(base.begin(), base.end());
+    bulk.insert(more.begin(), more.end());
+    for (const P3& p : more) loop.insert(p);
+    ASSERT_EQ(bulk.check_invariants(), "");
+    ASSERT_EQ(spatial_test::contents(bulk), spatial_test::contents(loop));
+    for (int q = 0; q < 50; ++q) {
+        const P3 x{unit(), unit(), unit()};
+        ASSERT_EQ(spatial_test::distances_from(x, bulk.find_nearest(x, 7)), spatial_test::distances_from(x, loop.find_nearest(x, 7)));
+        ASSERT_EQ(spatial_test::distances_from(x, bulk.find_in_ball(x, 0.1)), spatial_test::distances_from(x, loop.find_in_ball(x, 0.1)));
+    }
+    for (std::size_t i = 0; i < 50; ++i) ASSERT_EQ(bulk.count(base[i]), 2u);
+}

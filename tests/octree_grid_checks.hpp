@@ -11,6 +11,7 @@
 #include <cmath>
 #include <cstdint>
 #include <iomanip>
+#include <list>
 #include <limits>
 #include <random>
 #include <stdexcept>
@@ -280,11 +281,69 @@ TYPED_TEST_P(octree_grid_hard_cases, empty_container_and_bad_input_leave_content
     }
 }
 
+// The bulk insertion's paths (issue 18): a batch into an empty structure (octree: the array
+// build; grids: grid chosen once, entries grouped by cell), merged into a filled one (octree:
+// the array partition down the tree, leaves split; grids: grouped by cell, hashed cells
+// created in the map), a batch at least as large as the structure (octree: rebuild), one
+// reaching far outside the current bounds (root growth, re-grid), with duplicates inside the
+// batch and of stored objects (refused splits, one cell listing a slot many times), and from
+// a list (the copying path). Every answer against brute force, the invariants after each.
+TYPED_TEST_P(octree_grid_hard_cases, bulk_batches_into_empty_and_filled_structures_match_brute_force) {
+    using K = checker<TypeParam>;
+    using V = typename K::V;
+    K k(20261127);
+    TypeParam c;
+    brute_force<V> b;
+    auto batch_of = [&](std::size_t m, double offset, double scale, std::size_t copies) {
+        std::vector<V> v;
+        for (std::size_t i = 0; i < m; ++i) {
+            const V x = K::obj_at(k.random_point(offset, scale, 1.0), scale * 0.01);
+            for (std::size_t j = 0; j < (i % 7 == 0 ? copies : 1); ++j) v.push_back(x);
+        }
+        return v;
+    };
+    auto add = [&](const std::vector<V>& v, double offset, double scale) {
+        c.insert(v.begin(), v.end());
+        b.insert(v.begin(), v.end());
+        if constexpr (requires { c.check_invariants(); }) {
+            ASSERT_EQ(c.check_invariants(), "");
+        }
+        k.compare_all(c, b, offset, scale, 40);
+    };
+    add(batch_of(1500, 0, 1, 3), 0, 1);                        // into empty, with duplicates
+    if (::testing::Test::HasFatalFailure()) return;
+    add(batch_of(150, 0, 1, 40), 0, 1);                        // n/10 into n, piles of 40 copies
+    if (::testing::Test::HasFatalFailure()) return;
+    std::vector<V> again(b.begin(), b.end());                  // duplicates of everything stored
+    again.resize(again.size() / 3);
+    add(again, 0, 1);
+    if (::testing::Test::HasFatalFailure()) return;
+    add(batch_of(400, 0.25, 0.01, 2), 0, 1);                   // dense in one corner: deep splits
+    if (::testing::Test::HasFatalFailure()) return;
+    add(batch_of(300, 5, 3, 1), 0, 8);                         // far outside: growth / re-grid
+    if (::testing::Test::HasFatalFailure()) return;
+    add(batch_of(4000, 0, 8, 2), 0, 8);                        // larger than the structure
+    if (::testing::Test::HasFatalFailure()) return;
+    const std::vector<V> v = batch_of(200, 0, 8, 2);
+    const std::list<V> listed(v.begin(), v.end());              // a forward range: copied first
+    c.insert(listed.begin(), listed.end());
+    b.insert(listed.begin(), listed.end());
+    if constexpr (requires { c.check_invariants(); }) {
+        ASSERT_EQ(c.check_invariants(), "");
+    }
+    k.compare_all(c, b, 0, 8, 40);
+    // The same objects inserted one by one answer the same.
+    TypeParam one_by_one;
+    for (const V& x : b) one_by_one.insert(x);
+    k.compare_all(one_by_one, b, 0, 8, 20);
+}
+
 REGISTER_TYPED_TEST_SUITE_P(octree_grid_hard_cases, interleaved_updates_match_brute_force_for_every_distribution,
                             many_identical_objects_neither_subdivide_forever_nor_lose_any,
                             huge_and_tiny_coordinates_match_brute_force,
                             lattice_objects_on_cell_planes_and_axis_rays_with_signed_zeros,
                             objects_far_outside_the_initial_bounds,
-                            empty_container_and_bad_input_leave_contents_unchanged);
+                            empty_container_and_bad_input_leave_contents_unchanged,
+                            bulk_batches_into_empty_and_filled_structures_match_brute_force);
 
 }  // namespace og_test

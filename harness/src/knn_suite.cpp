@@ -64,6 +64,12 @@ struct preset_config {
     // workloads in batched_workloads and on real data. Reordering pays when queries share
     // leaves, so this set is larger than `queries` (1e5 is the issue's reference density).
     std::size_t batch_queries;
+    // Bulk against looped insertion also for every other in-house point structure of the
+    // registry (in::structures beyond in::knn: octree, the grids, the bvh) on the uniform
+    // workload at these sizes only (issue 18's target: the quick preset's largest size), with
+    // at most bulk_all_repetitions timed repetitions (a loop of 10^6 bvh insertions takes
+    // seconds, and every repetition is validated).
+    std::size_t bulk_all_min_n, bulk_all_max_n, bulk_all_repetitions;
 };
 
 // The workloads issue 18's kNN targets name; the batched measurement runs on these.
@@ -72,11 +78,14 @@ const std::vector<std::string> batched_workloads{"uniform", "clusters", "lattice
 preset_config preset(const std::string& name) {
     const std::vector<std::string> all{"uniform", "clusters", "sphere", "plane", "line", "lattice", "duplicates"};
     if (name == "smoke")
-        return {{1000, 10000}, 100, 2, 1, 50, 1e7, {"uniform", "lattice", "duplicates"}, true, 10000, 10000, 1000, 10000, 500};
+        return {{1000, 10000}, 100, 2, 1, 50, 1e7, {"uniform", "lattice", "duplicates"}, true, 10000, 10000, 1000, 10000,
+                500, 10000, 10000, 2};
     if (name == "quick")
-        return {{1000, 10000, 100000, 1000000}, 2000, 5, 3, 200, 2e8, all, true, 1000000, 100000, 20000, 1000000, 100000};
+        return {{1000, 10000, 100000, 1000000}, 2000, 5, 3, 200, 2e8, all, true, 1000000, 100000, 20000, 1000000,
+                100000, 1000000, 1000000, 3};
     if (name == "full")
-        return {{1000, 10000, 100000, 1000000, 10000000}, 5000, 7, 3, 300, 2e8, all, true, 10000000, 100000, 100000, 0, 100000};
+        return {{1000, 10000, 100000, 1000000, 10000000}, 5000, 7, 3, 300, 2e8, all, true, 10000000, 100000, 100000, 0,
+                100000, 100000, 1000000, 3};
     throw std::invalid_argument("unknown preset '" + name + "' (expected smoke, quick or full)");
 }
 
@@ -157,6 +166,20 @@ void add_registered(const context& ctx, std::vector<std::unique_ptr<point_index<
     };
     if (ctx.opt.all_structures && !dynamic) for_each_structure<point_type, in::structures>(add);
     else for_each_structure<point_type, in::knn>(add);
+}
+
+// The registry's other in-house point structures (in::structures, not in::knn, not the
+// oracle) that may be timed at n points: measured by the knn suite's bulk-insertion
+// comparison only (preset_config::bulk_all_*).
+template <class T, std::size_t D>
+void add_registered_bulk_only(const context& ctx, std::vector<std::unique_ptr<point_index<T, D>>>& out, std::size_t n) {
+    using point_type = spatial::point<T, D>;
+    for_each_structure<point_type, in::structures>([&]<class E>() {
+        const structure_info info = E::info();
+        if (info.takes_part_in(in::knn) || info.kind == "oracle") return;
+        if (!ctx.wants(info.name) || !within_limits(info, n, 0, 0)) return;
+        out.push_back(std::make_unique<container_index<typename E::template container<point_type>, T, D>>(info.name));
+    });
 }
 
 // The kd_tree in each configuration of its tuning sweep (its default is add_registered's).
@@ -881,15 +904,23 @@ private:
     }
 
     // Bulk against looped insertion: into an empty structure, and a batch of n/10 merged
-    // into a structure of n.
+    // into a structure of n. The dynamic structures at every size; every other in-house
+    // point structure of the registry on the uniform workload at the preset's bulk_all sizes.
     void bulk_insertion() {
         const std::size_t n = wc_.points.size();
         const std::size_t m = std::max<std::size_t>(1, n / 10);
         const auto batch = datasets::generate_points<T, D>(workload_name(), m, ctx_.opt.seed ^ 0xBA7Cull);
         std::vector<point_type> merged = wc_.points;
         merged.insert(merged.end(), batch.begin(), batch.end());
-        for (auto& s : dynamic_structures()) {
+        std::vector<std::unique_ptr<point_index<T, D>>> structures = dynamic_structures();
+        const std::size_t dynamic_count = structures.size();
+        if (wc_.label == "uniform" && n >= ctx_.cfg.bulk_all_min_n && n <= ctx_.cfg.bulk_all_max_n)
+            add_registered_bulk_only(ctx_, structures, n);
+        for (std::size_t k = 0; k < structures.size(); ++k) {
+            auto& s = structures[k];
             if (!s->can(capability::bulk_insert)) continue;  // insert_bulk would be the loop itself
+            const std::size_t repetitions =
+                k < dynamic_count ? ctx_.cfg.repetitions : std::min(ctx_.cfg.repetitions, ctx_.cfg.bulk_all_repetitions);
             const std::string name = s->name();
             for (bool into_empty : {true, false}) {
                 const std::vector<point_type>& add = into_empty ? wc_.points : batch;
@@ -899,7 +930,7 @@ private:
                 for (bool bulk : {true, false}) {
                     const std::string op = bulk ? "insert_bulk" : "insert_loop";
                     const timing_result t = time_repeated(
-                        0, ctx_.cfg.repetitions,
+                        0, repetitions,
                         [&] {
                             s->build(into_empty ? std::span<const point_type>() : std::span<const point_type>(wc_.points));
                             s->prepare_dynamic();

@@ -126,38 +126,52 @@ public:
     // The hint cannot make a grid insertion cheaper (finding the cell is O(1) already).
     iterator insert(const_iterator, const O& x) { return insert_one(x, site("insert(hint, x)")); }
     // Bulk: validates all first, chooses the grid ONCE for the final size and box (no
-    // repeated re-gridding), then fills the cells: O(n + m) total.
+    // repeated re-gridding), stores the objects, then lists them cell by cell: the batch's
+    // (cell, slot) entries are grouped by cell with a radix sort (cell_storage.hpp add_batch),
+    // so each touched cell is looked up once and its list reserved once, and the lists are
+    // filled in cell order. O(n + m) (dense re-grid) plus O(m) for the batch, with one
+    // allocation per touched cell where a loop makes one per growth of each list.
     template <class InputIt>
     void insert(InputIt first, InputIt last) {
-        std::vector<O> batch(first, last);
-        for (const O& x : batch) require_finite_object(x, site("insert(first, last)"));
-        if (batch.empty()) return;
-        slots_.require_room_for(batch.size(), site("insert(first, last)"));
-        extent all = extent_of(batch.front());
-        double extent_sum = 0;
-        for (const O& x : batch) {
-            const extent e = extent_of(x);
-            merge(all, e);
-            extent_sum += max_extent(e);
-        }
-        derived().prepare_insert(all, batch.size(), extent_sum);
-        for (const O& x : batch) derived().check_span(extent_of(x), site("insert(first, last)"));
-        slots_.reserve(slots_.capacity() + batch.size());
-        // Strong guarantee: if a cell list cannot grow, the objects stored so far are taken
-        // out again, latest first (each undo reverses the latest allocation exactly).
-        std::vector<std::pair<slot_index, bool>> stored;
-        stored.reserve(batch.size());
-        try {
-            for (const O& x : batch) {
-                const bool reused = slots_.reuses_a_slot();
-                stored.emplace_back(store(x), reused);
+        if constexpr (!std::random_access_iterator<InputIt>) {
+            // Single-pass or list-like input (a container's own range too): copy once so that
+            // it can be validated first and read again.
+            const std::vector<O> batch(first, last);
+            insert(batch.begin(), batch.end());
+        } else {
+            const detail::call_site where = site("insert(first, last)");
+            for (auto it = first; it != last; ++it) require_finite_object(*it, where);
+            const auto m = static_cast<std::size_t>(last - first);
+            if (m == 0) return;
+            slots_.require_room_for(m, where);
+            extent all = extent_of(*first);
+            double extent_sum = 0;
+            for (auto it = first; it != last; ++it) {
+                const extent e = extent_of(*it);
+                merge(all, e);
+                extent_sum += max_extent(e);
             }
-        } catch (const std::bad_alloc&) {
-            for (auto it = stored.rbegin(); it != stored.rend(); ++it) {
-                remove_from_cells(it->first);
-                slots_.undo_allocate(it->first, it->second);
+            derived().prepare_insert(all, m, extent_sum);
+            for (auto it = first; it != last; ++it) derived().check_span(extent_of(*it), where);
+            slots_.reserve(slots_.capacity() + m);
+            // Strong guarantee: if a cell list cannot grow, the batch is taken out of the cells
+            // again (a slot a cell does not list is skipped there) and its slots given back,
+            // latest first (each undo reverses the latest allocation exactly).
+            std::vector<std::pair<slot_index, bool>> stored;
+            stored.reserve(m);
+            try {
+                for (auto it = first; it != last; ++it) {
+                    const bool reused = slots_.reuses_a_slot();
+                    stored.emplace_back(slots_.allocate(*it, 0), reused);
+                }
+                list_batch(stored, all);
+            } catch (const std::bad_alloc&) {
+                for (auto it = stored.rbegin(); it != stored.rend(); ++it) {
+                    remove_from_cells(it->first);
+                    slots_.undo_allocate(it->first, it->second);
+                }
+                throw;
             }
-            throw;
         }
     }
 
@@ -530,6 +544,31 @@ protected:
         for (std::size_t i = 0; i < D; ++i) {
             data_lo_[i] = std::min(data_lo_[i], e.lo[i]);
             data_hi_[i] = std::max(data_hi_[i], e.hi[i]);
+        }
+    }
+    // Lists stored slots (boxes within `all`) in their cells, grouped by cell.
+    void list_batch(const std::vector<std::pair<slot_index, bool>>& stored, const extent& all) {
+        std::vector<cell_entry<D>> entries;
+        if constexpr (bounded_object<O>) {
+            double cells = 0;
+            for (const auto& st : stored) cells += range_of(extent_of(slots_.value(st.first))).count();
+            entries.reserve(static_cast<std::size_t>(cells));  // at most 2^24 per object (check_span)
+            for (const auto& st : stored)
+                for_each_cell(range_of(extent_of(slots_.value(st.first))),
+                              [&](const key& c) { entries.push_back({c, st.first}); });
+        } else {
+            entries.reserve(stored.size());
+            for (const auto& st : stored) {
+                const O& x = slots_.value(st.first);
+                key c;
+                for (std::size_t i = 0; i < D; ++i) c[i] = cell_of(x[i], i);
+                entries.push_back({c, st.first});
+            }
+        }
+        cells_.add_batch(entries);
+        for (std::size_t i = 0; i < D; ++i) {
+            data_lo_[i] = std::min(data_lo_[i], all.lo[i]);
+            data_hi_[i] = std::max(data_hi_[i], all.hi[i]);
         }
     }
     void remove_from_cells(slot_index s) {

@@ -117,6 +117,21 @@ private:
     struct extent {
         coords lo, hi, c;
     };
+    // A slot with the box the bulk builders partition it by (octree_bulk.hpp). A point is its
+    // own box, so only its coordinates are kept: a third of the bytes each partition moves.
+    struct point_record {
+        coords c;
+        slot_index s;
+        const coords& centre() const { return c; }
+        extent box() const { return {c, c, c}; }
+    };
+    struct box_record {
+        extent e;
+        slot_index s;
+        const coords& centre() const { return e.c; }
+        const extent& box() const { return e; }
+    };
+    using record = std::conditional_t<bounded_object<O>, box_record, point_record>;
 
 public:
     octree() = default;
@@ -150,11 +165,13 @@ public:
         return make(place(n, x, e));
     }
     // Bulk insertion, better than a loop: validates everything, grows the root ONCE to cover
-    // the batch's bounding box, then distributes the batch down the tree top-down (each node
-    // partitions its share once; a leaf receiving many objects is split recursively, moving
-    // each object O(depth) times in total instead of once per split). Into an empty tree, or
-    // a batch at least as large as the tree, everything is rebuilt around the joint bounding
-    // box. Strong guarantee for invalid input and capacity errors.
+    // the batch's bounding box, then partitions the batch down the tree top-down as an array
+    // (octree_bulk.hpp: each node scatters its share by child once, a leaf takes its share
+    // with one reservation). Into an empty tree, or a batch at least as large as the tree,
+    // everything is rebuilt around the joint bounding box by the same array partition, each
+    // node's list allocated once: O((n + m) depth). Each object is routed by the same tests
+    // as a single insertion's descent, and nodes split by the same rules. Strong guarantee
+    // (invalid input, capacity errors, allocation failure).
     template <class InputIt>
     void insert(InputIt first, InputIt last);
 
@@ -283,7 +300,11 @@ private:
     bool split(node_index n);
     void split_recursive(node_index n);
     slot_index place(node_index start, const O& x, const extent& e);
-    void distribute(node_index n, std::vector<slot_index>& batch);
+    // ---- bulk construction and merging (octree_bulk.hpp) ----
+    record record_of(slot_index s) const;
+    static void prefetch(const node* nd);
+    void build_subtree(node_index root, std::vector<record>& recs);
+    void merge_batch(std::vector<record>& recs);
     bool try_collapse(node_index x);
     void collapse_from(node_index n);
     // The range-erase hooks of container_base (see octree_update.hpp).
@@ -340,6 +361,7 @@ private:
 
 #include "spatial/octree/octree_cells.hpp"
 #include "spatial/octree/octree_update.hpp"
+#include "spatial/octree/octree_bulk.hpp"
 #include "spatial/octree/octree_root.hpp"
 #include "spatial/octree/octree_queries.hpp"
 #include "spatial/octree/octree_rays.hpp"

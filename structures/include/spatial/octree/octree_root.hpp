@@ -133,7 +133,10 @@ inline void octree<O, Config>::build_over(const std::vector<slot_index>& live, c
         nodes_[root_].llo[i] = std::min(nodes_[root_].llo[i], box.lo[i]);
         nodes_[root_].lhi[i] = std::max(nodes_[root_].lhi[i], box.hi[i]);
     }
-    for (slot_index s : live) add_item(root_, s);
-    if (live.size() > leaf_capacity) split_recursive(root_);
+    // The subtree over every object, built top-down by array partition (octree_bulk.hpp).
+    std::vector<record> recs;
+    recs.reserve(live.size());
+    for (slot_index s : live) recs.push_back(record_of(s));
+    build_subtree(root_, recs);
 }
 }  // namespace spatial

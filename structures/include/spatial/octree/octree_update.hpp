@@ -14,37 +14,47 @@ namespace spatial {
 template <stored_object O, class Config>
 template <class InputIt>
 inline void octree<O, Config>::insert(InputIt first, InputIt last) {
-    std::vector<O> batch(first, last);
-    for (const O& x : batch) detail::require_finite_object(x, site("insert(first, last)"));
-    if (batch.empty()) return;
-    slots_.require_room_for(batch.size(), site("insert(first, last)"));
-    slots_.reserve(slots_.capacity() + batch.size());
-    const bool rebuild = slots_.size() == 0 || batch.size() >= slots_.size();
-    extent box = extent_of(batch.front());
-    for (const O& x : batch) merge_into(box, extent_of(x));
-    for (std::size_t i = 0; i < D; ++i) box.c[i] = box.lo[i] + (box.hi[i] - box.lo[i]) / 2;
-    if (!rebuild) ensure_root_contains(box);  // a grown root holds the same objects
-    // Strong guarantee: if anything below cannot allocate, the batch's objects are taken out
-    // of the nodes they reached and their slots given back, latest first. Splits already made
-    // stay (the tree is valid with them).
-    std::vector<std::pair<slot_index, bool>> fresh;  // slot, whether it was a reused one
-    fresh.reserve(batch.size());
-    std::vector<slot_index> slots;
-    slots.reserve(batch.size());
-    try {
-        for (const O& x : batch) {
-            const bool reused = slots_.reuses_a_slot();
-            fresh.emplace_back(allocate(x), reused);
-            slots.push_back(fresh.back().first);
+    if constexpr (!std::random_access_iterator<InputIt>) {
+        // Single-pass or list-like input (a container's own range too): copy once so that it
+        // can be validated first and read again.
+        const std::vector<O> batch(first, last);
+        insert(batch.begin(), batch.end());
+    } else {
+        for (auto it = first; it != last; ++it) detail::require_finite_object(*it, site("insert(first, last)"));
+        const auto m = static_cast<std::size_t>(last - first);
+        if (m == 0) return;
+        slots_.require_room_for(m, site("insert(first, last)"));
+        slots_.reserve(slots_.capacity() + m);
+        const bool rebuild = slots_.size() == 0 || m >= slots_.size();
+        extent box = extent_of(*first);
+        for (auto it = first; it != last; ++it) merge_into(box, extent_of(*it));
+        for (std::size_t i = 0; i < D; ++i) box.c[i] = box.lo[i] + (box.hi[i] - box.lo[i]) / 2;
+        if (!rebuild) ensure_root_contains(box);  // a grown root holds the same objects
+        // Strong guarantee: if anything below cannot allocate, the batch's objects are taken
+        // out of the nodes they reached and their slots given back, latest first. Splits
+        // already made stay (the tree is valid with them).
+        std::vector<std::pair<slot_index, bool>> fresh;  // slot, whether it was a reused one
+        fresh.reserve(m);
+        try {
+            for (auto it = first; it != last; ++it) {
+                const bool reused = slots_.reuses_a_slot();
+                fresh.emplace_back(allocate(*it), reused);
+            }
+            if (rebuild) {
+                rebuild_all();
+            } else {
+                std::vector<record> recs;
+                recs.reserve(m);
+                for (const auto& f : fresh) recs.push_back(record_of(f.first));
+                merge_batch(recs);
+            }
+        } catch (const std::bad_alloc&) {
+            for (auto it = fresh.rbegin(); it != fresh.rend(); ++it) {
+                if (slots_.meta(it->first) != unplaced) remove_item(slots_.meta(it->first), it->first);
+                slots_.undo_allocate(it->first, it->second);
+            }
+            throw;
         }
-        if (rebuild) rebuild_all();
-        else distribute(root_, slots);
-    } catch (const std::bad_alloc&) {
-        for (auto it = fresh.rbegin(); it != fresh.rend(); ++it) {
-            if (slots_.meta(it->first) != unplaced) remove_item(slots_.meta(it->first), it->first);
-            slots_.undo_allocate(it->first, it->second);
-        }
-        throw;
     }
 }
 
@@ -186,28 +196,6 @@ inline auto octree<O, Config>::place(node_index start, const O& x, const extent&
         throw;
     }
     return s;
-}
-
-// Top-down distribution of fresh slots below n (bulk insert).
-template <stored_object O, class Config>
-inline void octree<O, Config>::distribute(node_index n, std::vector<slot_index>& batch) {
-    if (batch.empty()) return;
-    if (nodes_[n].is_leaf()) {
-        for (slot_index s : batch) add_item(n, s);
-        if (nodes_[n].items.size() > leaf_capacity) split_recursive(n);
-        return;
-    }
-    std::array<std::vector<slot_index>, fanout> parts;
-    for (slot_index s : batch) {
-        const extent e = extent_of(slots_.value(s));
-        const std::size_t b = child_bits(nodes_[n], e.c);
-        const node_index c = nodes_[n].first_child + static_cast<node_index>(b);
-        if (loose_contains(nodes_[c], e)) parts[b].push_back(s);
-        else add_item(n, s);
-    }
-    batch.clear();
-    batch.shrink_to_fit();
-    for (std::size_t b = 0; b < fanout; ++b) distribute(nodes_[n].first_child + static_cast<node_index>(b), parts[b]);
 }
 
 // A node whose children are all leaves and whose subtree fits in one leaf absorbs them.
