@@ -28,6 +28,28 @@
 
 namespace spatial {
 
+namespace detail {
+// The counting-sort pass both bulk builds make at a node: records [b, e) of src go to dst grouped
+// by group[i] (count[g] of them in group g), the last group (the records that stay in the node)
+// first, then groups 0, 1, ... (the children); returns where each group starts in dst. O(e - b).
+template <std::size_t Groups, class Record>
+std::array<std::size_t, Groups> scatter_grouped(const Record* src, Record* dst, const std::uint8_t* group,
+                                                std::size_t b, std::size_t e,
+                                                const std::array<std::size_t, Groups>& count) {
+    constexpr std::size_t stay = Groups - 1;
+    std::array<std::size_t, Groups> start{};
+    start[stay] = b;
+    std::size_t at = b + count[stay];
+    for (std::size_t g = 0; g < stay; ++g) {
+        start[g] = at;
+        at += count[g];
+    }
+    std::array<std::size_t, Groups> next = start;
+    for (std::size_t i = b; i < e; ++i) dst[next[group[i]]++] = src[i];
+    return start;
+}
+}  // namespace detail
+
 // Starts loading a node's cache lines (its cells and its child and item fields).
 template <stored_object O, class Config>
 inline void octree<O, Config>::prefetch(const node* nd) {
@@ -104,15 +126,7 @@ inline void octree<O, Config>::build_subtree(node_index root, std::vector<record
             continue;
         }
         // Scatter by digit: the records that stay first, then child 0, 1, ...
-        std::array<std::size_t, fanout + 1> start{};
-        start[fanout] = t.b;
-        std::size_t at = t.b + count[fanout];
-        for (std::size_t b = 0; b < fanout; ++b) {
-            start[b] = at;
-            at += count[b];
-        }
-        std::array<std::size_t, fanout + 1> next = start;
-        for (std::size_t i = t.b; i < t.e; ++i) dst[next[target[i]]++] = src[i];
+        const auto start = detail::scatter_grouped(src, dst, target.data(), t.b, t.e, count);
         make_children(t.n);
         const node_index first_child = nodes_[t.n].first_child;
         nodes_[t.n].items.reserve(count[fanout]);
@@ -184,15 +198,7 @@ inline void octree<O, Config>::merge_batch(std::vector<record>& recs) {
             target[i] = static_cast<std::uint8_t>(k);
             ++count[k];
         }
-        std::array<std::size_t, fanout + 1> start{};
-        start[fanout] = t.b;
-        std::size_t at = t.b + count[fanout];
-        for (std::size_t b = 0; b < fanout; ++b) {
-            start[b] = at;
-            at += count[b];
-        }
-        std::array<std::size_t, fanout + 1> next = start;
-        for (std::size_t i = t.b; i < t.e; ++i) dst[next[target[i]]++] = src[i];
+        const auto start = detail::scatter_grouped(src, dst, target.data(), t.b, t.e, count);
         detail::reserve_for_push(nodes_[t.n].items, count[fanout]);
         for (std::size_t i = start[fanout]; i < start[fanout] + count[fanout]; ++i) add_item(t.n, dst[i].s);
         for (std::size_t b = fanout; b-- > 0;)
