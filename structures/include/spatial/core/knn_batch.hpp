@@ -15,14 +15,11 @@
 //
 // Memory: Q * min(k, size) iterators and squared distances, plus 16 Q bytes while sorting.
 
-#include <algorithm>
 #include <cmath>
 #include <cstddef>
 #include <cstdint>
-#include <numeric>
 #include <span>
 #include <string>
-#include <type_traits>
 #include <vector>
 
 #include "spatial/core/input_checks.hpp"
