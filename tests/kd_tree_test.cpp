@@ -6,6 +6,8 @@
 
 #include <cmath>
 #include <limits>
+#include <random>
+#include <string>
 #include <type_traits>
 #include <vector>
 
@@ -108,6 +110,36 @@ TEST(kd_tree, bulk_build_lays_leaves_out_contiguously) {
     }
     for (std::size_t i = 1; i < pts.size(); ++i) rnd += std::sqrt(squared_distance(pts[i], pts[i - 1]));
     EXPECT_LT(seq, rnd / 4);
+}
+
+// Two unit cubes of points ten apart along x, and a query in the gap nearer the first. The
+// root's cut lies in the gap; the query's offset to the second cluster's range (4.6) exceeds
+// its nearest distance (about 4.4), so that cluster is never entered: the search tests
+// exactly the points a tree over the first cluster alone tests. Pruning by the split plane
+// (offset 0.1) would descend into it. A box inside the gap visits the root only.
+TEST(kd_tree, searches_prune_a_far_cluster_by_its_key_range_not_the_split_plane) {
+    const unsigned seed = 21;
+    SCOPED_TRACE("seed " + std::to_string(seed));
+    std::mt19937 rng(seed);
+    std::uniform_real_distribution<double> unit(0.0, 1.0);
+    std::vector<P3> near_cluster, both;
+    for (int i = 0; i < 2048; ++i) near_cluster.push_back(P3{{unit(rng), unit(rng), unit(rng)}});
+    both = near_cluster;
+    for (int i = 0; i < 2048; ++i) both.push_back(P3{{10 + unit(rng), unit(rng), unit(rng)}});
+    const kd_tree<P3, stats_config> alone(near_cluster.begin(), near_cluster.end());
+    const kd_tree<P3, stats_config> t(both.begin(), both.end());
+    ASSERT_EQ(t.check_invariants(), "");
+    const P3 q{{5.4, 0.5, 0.5}};
+    for (std::size_t k : {1u, 10u}) {
+        const auto expected = alone.find_nearest(q, k);
+        const std::size_t tested_alone = alone.last_query_stats().objects_tested;
+        const auto got = t.find_nearest(q, k);
+        ASSERT_EQ(got.size(), k);
+        for (std::size_t i = 0; i < k; ++i) EXPECT_EQ(*got[i], *expected[i]);
+        EXPECT_EQ(t.last_query_stats().objects_tested, tested_alone) << "k " << k;
+    }
+    EXPECT_TRUE(t.find_in_box(P3{{5.2, 0.0, 0.0}}, P3{{5.6, 1.0, 1.0}}).empty());
+    EXPECT_EQ(t.last_query_stats().nodes_visited, 1u);
 }
 
 TEST(kd_tree, memory_per_point_is_compact_after_bulk_build) {

@@ -116,6 +116,14 @@ private:
 
     struct node {
         T split = 0;       // inner: left points have c[dim] <= split, right points >= split
+        // Inner: the range of each child's keys along the cut, [left_lo, left_hi] and
+        // [right_lo, right_hi]. Exact after a build, widened by insertion, left loose by
+        // erasure. Searches measure a query's offset to a child from its range instead of the
+        // split plane, so empty space (between clusters, around the data) prunes as if the
+        // nodes were tight boxes (as CGAL's Kd_tree_internal_node does with lower_low_val
+        // ... upper_high_val).
+        T left_lo = 0, left_hi = 0;
+        T right_lo = 0, right_hi = 0;
         T restore = 0;     // parent's cell bound on the parent's split dim, on this side
         node_index first = 0;  // inner: first child (second is first + 1); leaf: bucket
         node_index parent = no_node;
@@ -348,8 +356,8 @@ public:
             const T sl = knn_slack(center) + radius * gamma;
             ball_objects(root, center, radius + sl, radius * radius, out);
         } else {
-            coords offset{};
-            ball(root, T(0), offset, point_coords(center), radius * radius, out);
+            coords offset = root_offsets(point_coords(center));
+            ball(root, offset, point_coords(center), radius * radius, out);
         }
         return out;
     }
@@ -430,6 +438,7 @@ private:
     // ---- insertion and erasure in place (kd_tree_update.hpp) ----
     node_index descend(node_index n, const coords& c) const;
     slot_index insert_at(node_index leaf, const O& x, const coords& c);
+    void widen_child_ranges(node_index n, const coords& c) noexcept;
     void distribute(node_index n, entry* e, std::size_t count, std::uint16_t& max_depth);
     void remove_slot(slot_index s, bool allow_merge);
     void take_out_of_leaf(slot_index s) noexcept;
@@ -443,7 +452,12 @@ private:
     void gather(node_index n, std::vector<entry>& es);
     std::uint16_t rebuild_subtree(node_index n, std::vector<entry>& es);
     void cell_from_ancestors(node_index n, coords& lo, coords& hi) const;
-    std::uint16_t build_node(node_index at, entry* e, std::size_t n, const coords& lo, const coords& hi,
+    // What a (sub)tree build reports to its parent: its deepest leaf and its keys' box.
+    struct built_subtree {
+        std::uint16_t deepest;
+        coords key_lo, key_hi;
+    };
+    built_subtree build_node(node_index at, entry* e, std::size_t n, const coords& lo, const coords& hi,
                              std::uint16_t depth, bool fresh, std::size_t base);
     template <class RandomIt>
     void build_fresh(RandomIt batch, std::size_t count);
@@ -478,9 +492,15 @@ private:
         knn_result_set<T>& best;
     };
     void run_knn(const P& x, scalar_type eps, knn_result_set<T>& best) const;
-    void knn(node_index n, T rd, coords& offset, knn_query& q) const;
+    void knn(node_index n, coords& offset, knn_query& q) const;
     static T far_cell_distance(const coords& offset, unsigned d, T diff);
-    void ball(node_index n, T rd, coords& offset, const coords& x, T r2, std::vector<iterator>& out) const;
+    coords root_offsets(const coords& x) const;
+    struct side_offsets {
+        node_index near, far;
+        T near_offset, far_offset;
+    };
+    static side_offsets child_offsets(const node& nd, T x, T old);
+    void ball(node_index n, coords& offset, const coords& x, T r2, std::vector<iterator>& out) const;
     void box(node_index n, const P& lo, const P& hi, std::vector<iterator>& out) const;
     void collect_equal(node_index n, const coords& c, const O& x, std::vector<slot_index>& out,
                        bool first_only) const;
@@ -526,7 +546,7 @@ private:
 
     // ---- diagnostics (kd_tree_checks.hpp) ----
     void check_node(node_index n, const coords& lo, const coords& hi, std::uint16_t depth, std::size_t& seen,
-                    std::string& err) const;
+                    coords& key_lo, coords& key_hi, std::string& err) const;
     std::size_t on_planes(node_index n) const;
     template <class F>
     void for_each_slot(node_index n, F&& f) const;
@@ -542,8 +562,9 @@ private:
     std::vector<node_index> free_pairs_;
     std::vector<node_index> free_buckets_;
     std::size_t leaves_ = 0;
-    coords bounds_lo_{}, bounds_hi_{};  // box of all keys inserted since rebuild (points: the root clip of ray casts;
-                                        // objects clip with extents_)
+    // Box of all keys inserted since the last rebuild. Points: the root clip of ray casts and
+    // the starting offsets of kNN and ball searches (objects use extents_ for both).
+    coords bounds_lo_{}, bounds_hi_{};
     std::size_t size_at_rebuild_ = 0;
     std::vector<entry> entry_buffer_;  // reused by leaf splits (no allocation per split)
     mutable query_stats query_stats_;  // written only with Config::collect_stats

@@ -1,6 +1,6 @@
 #pragma once
 // spatial::kd_tree — diagnostics for tests: the structural invariant check (split bounds,
-// cells, restore bounds, bucket back-links, extents, counts, depths), the count of points
+// child ranges, cells, restore bounds, bucket back-links, extents, counts, depths), the count of points
 // lying on split planes, subtree visiting and the height.
 
 #include "spatial/kdtree/kd_tree.hpp"
@@ -20,16 +20,22 @@ inline std::string kd_tree<O, Config>::check_invariants() const {
     lo.fill(-std::numeric_limits<T>::infinity());
     hi.fill(std::numeric_limits<T>::infinity());
     std::size_t seen = 0;
-    check_node(root, lo, hi, 0, seen, err);
+    coords key_lo, key_hi;
+    check_node(root, lo, hi, 0, seen, key_lo, key_hi, err);
     if (err.empty() && seen != slots_.size())
         err = "tree holds " + std::to_string(seen) + " points but size() is " + std::to_string(slots_.size());
     return err;
 }
 
 // ---- invariant checking ----
+// Also returns the bounding box of the subtree's keys in key_lo, key_hi (lo > hi when empty),
+// against which the parent checks its child ranges.
 template <stored_object O, class Config>
 inline void kd_tree<O, Config>::check_node(node_index n, const coords& lo, const coords& hi, std::uint16_t depth,
-                                           std::size_t& seen, std::string& err) const {
+                                           std::size_t& seen, coords& key_lo, coords& key_hi,
+                                           std::string& err) const {
+    key_lo.fill(std::numeric_limits<T>::infinity());
+    key_hi.fill(-std::numeric_limits<T>::infinity());
     if (!err.empty()) return;
     const node& nd = nodes_[n];
     if (nd.depth != depth) err = "node " + std::to_string(n) + " has a wrong depth";
@@ -39,8 +45,16 @@ inline void kd_tree<O, Config>::check_node(node_index n, const coords& lo, const
         if (b.cell_lo != lo || b.cell_hi != hi) err = "stale cell at leaf " + std::to_string(n);
         for (std::uint32_t i = 0; i < nd.count; ++i) {
             const slot_index s = b.items[i];
-            if (!slots_.occupied(s) || slots_.meta(s) != nd.first) err = "slot back-link broken";
-            else if (!in_cell(key_of(slots_.value(s)), lo, hi)) err = "point outside its leaf cell";
+            if (!slots_.occupied(s) || slots_.meta(s) != nd.first) {
+                err = "slot back-link broken";
+                continue;
+            }
+            const coords c = key_of(slots_.value(s));
+            for (std::size_t d = 0; d < D; ++d) {
+                key_lo[d] = std::min(key_lo[d], c[d]);
+                key_hi[d] = std::max(key_hi[d], c[d]);
+            }
+            if (!in_cell(c, lo, hi)) err = "point outside its leaf cell";
             else if constexpr (has_extent) {
                 if (!extents_[n].contains(extent_of(slots_.value(s))))
                     err = "object outside its leaf's extent at node " + std::to_string(n);
@@ -60,8 +74,17 @@ inline void kd_tree<O, Config>::check_node(node_index n, const coords& lo, const
     coords lhi = hi, rlo = lo;
     lhi[nd.dim] = nd.split;
     rlo[nd.dim] = nd.split;
-    check_node(nd.first, lo, lhi, static_cast<std::uint16_t>(depth + 1), seen, err);
-    check_node(nd.first + 1, rlo, hi, static_cast<std::uint16_t>(depth + 1), seen, err);
+    coords left_lo, left_hi, right_lo, right_hi;
+    check_node(nd.first, lo, lhi, static_cast<std::uint16_t>(depth + 1), seen, left_lo, left_hi, err);
+    check_node(nd.first + 1, rlo, hi, static_cast<std::uint16_t>(depth + 1), seen, right_lo, right_hi, err);
+    const unsigned d = nd.dim;
+    if (err.empty() && (left_lo[d] < nd.left_lo || left_hi[d] > nd.left_hi || right_lo[d] < nd.right_lo ||
+                        right_hi[d] > nd.right_hi))
+        err = "a key outside its child's range at node " + std::to_string(n);
+    for (std::size_t i = 0; i < D; ++i) {
+        key_lo[i] = std::min(left_lo[i], right_lo[i]);
+        key_hi[i] = std::max(left_hi[i], right_hi[i]);
+    }
 }
 
 template <stored_object O, class Config>

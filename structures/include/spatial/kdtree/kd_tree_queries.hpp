@@ -14,9 +14,19 @@ inline void kd_tree<O, Config>::run_knn(const P& x, scalar_type eps, knn_result_
         knn_objects(root, q);
     } else {
         knn_query q{point_coords(x), (1 + eps) * (1 + eps), best};
-        coords offset{};
-        knn(root, T(0), offset, q);
+        coords offset = root_offsets(q.x);
+        knn(root, offset, q);
     }
+}
+
+// The query's per-dimension offsets from the box of all keys (zero inside it): the cell
+// offsets a search starts from, so a query off the data prunes from the first split on.
+template <stored_object O, class Config>
+inline auto kd_tree<O, Config>::root_offsets(const coords& x) const -> coords {
+    coords offset;
+    for (std::size_t d = 0; d < D; ++d)
+        offset[d] = x[d] < bounds_lo_[d] ? x[d] - bounds_lo_[d] : (x[d] > bounds_hi_[d] ? x[d] - bounds_hi_[d] : T(0));
+    return offset;
 }
 
 // Arya & Mount's cell distance: `rd` is the squared distance from x to the cell, `offset[d]`
@@ -39,7 +49,7 @@ inline auto kd_tree<O, Config>::far_cell_distance(const coords& offset, unsigned
 }
 
 template <stored_object O, class Config>
-inline void kd_tree<O, Config>::knn(node_index n, T rd, coords& offset, knn_query& q) const {
+inline void kd_tree<O, Config>::knn(node_index n, coords& offset, knn_query& q) const {
     const node& nd = nodes_[n];
     if constexpr (Config::collect_stats) ++query_stats_.nodes_visited;
     if (nd.is_leaf) {
@@ -52,21 +62,43 @@ inline void kd_tree<O, Config>::knn(node_index n, T rd, coords& offset, knn_quer
         }
         return;
     }
+    // The near child first: with its offset unchanged its cell distance is the parent's,
+    // below the bound when the parent was entered (nothing was searched since).
     const unsigned d = nd.dim;
-    const T diff = q.x[d] - nd.split;
-    const node_index near = diff <= 0 ? nd.first : nd.first + 1;
-    knn(near, rd, offset, q);
     const T old = offset[d];
-    const T far_rd = far_cell_distance(offset, d, diff);
-    if (far_rd * q.eps_factor < q.best.worst()) {
-        offset[d] = diff;
-        knn(near == nd.first ? nd.first + 1 : nd.first, far_rd, offset, q);
+    const side_offsets so = child_offsets(nd, q.x[d], old);
+    if (so.near_offset == old) {
+        knn(so.near, offset, q);
+    } else if (far_cell_distance(offset, d, so.near_offset) * q.eps_factor < q.best.worst()) {
+        offset[d] = so.near_offset;
+        knn(so.near, offset, q);
+        offset[d] = old;
+    }
+    if (far_cell_distance(offset, d, so.far_offset) * q.eps_factor < q.best.worst()) {
+        offset[d] = so.far_offset;
+        knn(so.far, offset, q);
         offset[d] = old;
     }
 }
 
+// The query's offset along the cut to each child of inner node nd: the near child (the side
+// of the split plane x lies on, searched first) and the far one. Each is the larger of the
+// inherited offset `old` and x's offset from the child's key range: both bound |x - p| along
+// the cut from below for every point p of the child, so the larger does too, and rounding
+// keeps it so (see far_cell_distance).
 template <stored_object O, class Config>
-inline void kd_tree<O, Config>::ball(node_index n, T rd, coords& offset, const coords& x, T r2,
+inline auto kd_tree<O, Config>::child_offsets(const node& nd, T x, T old) -> side_offsets {
+    const auto offset_from = [x, old](T lo, T hi) {
+        const T gap = x < lo ? x - lo : (x > hi ? x - hi : T(0));
+        return std::abs(gap) > std::abs(old) ? gap : old;
+    };
+    const T to_left = offset_from(nd.left_lo, nd.left_hi), to_right = offset_from(nd.right_lo, nd.right_hi);
+    if (x - nd.split <= 0) return {nd.first, nd.first + 1, to_left, to_right};
+    return {nd.first + 1, nd.first, to_right, to_left};
+}
+
+template <stored_object O, class Config>
+inline void kd_tree<O, Config>::ball(node_index n, coords& offset, const coords& x, T r2,
                                      std::vector<iterator>& out) const {
     const node& nd = nodes_[n];
     if constexpr (Config::collect_stats) ++query_stats_.nodes_visited;
@@ -77,14 +109,12 @@ inline void kd_tree<O, Config>::ball(node_index n, T rd, coords& offset, const c
         return;
     }
     const unsigned d = nd.dim;
-    const T diff = x[d] - nd.split;
-    const node_index near = diff <= 0 ? nd.first : nd.first + 1;
-    ball(near, rd, offset, x, r2, out);
     const T old = offset[d];
-    const T far_rd = far_cell_distance(offset, d, diff);
-    if (far_rd <= r2) {
-        offset[d] = diff;
-        ball(near == nd.first ? nd.first + 1 : nd.first, far_rd, offset, x, r2, out);
+    const side_offsets so = child_offsets(nd, x[d], old);
+    for (const auto& [child, child_offset] : {std::pair{so.near, so.near_offset}, std::pair{so.far, so.far_offset}}) {
+        if (!(far_cell_distance(offset, d, child_offset) <= r2)) continue;
+        offset[d] = child_offset;
+        ball(child, offset, x, r2, out);
         offset[d] = old;
     }
 }
@@ -105,8 +135,8 @@ inline void kd_tree<O, Config>::box(node_index n, const P& lo, const P& hi, std:
         for (node_index c = nd.first; c <= nd.first + 1; ++c)
             if (extent_overlaps(extents_[c], lo, hi)) box(c, lo, hi, out);
     } else {
-        if (lo[nd.dim] <= nd.split) box(nd.first, lo, hi, out);
-        if (hi[nd.dim] >= nd.split) box(nd.first + 1, lo, hi, out);
+        if (lo[nd.dim] <= nd.left_hi && hi[nd.dim] >= nd.left_lo) box(nd.first, lo, hi, out);
+        if (lo[nd.dim] <= nd.right_hi && hi[nd.dim] >= nd.right_lo) box(nd.first + 1, lo, hi, out);
     }
 }
 

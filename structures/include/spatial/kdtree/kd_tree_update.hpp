@@ -129,6 +129,7 @@ inline auto kd_tree<O, Config>::insert_at(node_index leaf, const O& x, const coo
     const slot_index s = slots_.allocate(x, nodes_[leaf].first);
     grow_bounds(c);
     if constexpr (has_extent) grow_extents_upward(leaf, extent_of(x));  // looser is still sound
+    widen_child_ranges(leaf, c);  // looser is still sound, so an undo below need not narrow
     node& L = nodes_[leaf];
     if (!full) {
         buckets_[L.first].items[L.count++] = s;
@@ -144,7 +145,7 @@ inline auto kd_tree<O, Config>::insert_at(node_index leaf, const O& x, const coo
         else entry_buffer_.push_back({c, s});
         ++maintenance_.subtree_rebuilds;
         const std::uint16_t deepest =
-            build_node(leaf, entry_buffer_.data(), entry_buffer_.size(), lo, hi, nodes_[leaf].depth, false, 0);
+            build_node(leaf, entry_buffer_.data(), entry_buffer_.size(), lo, hi, nodes_[leaf].depth, false, 0).deepest;
         if (deepest > depth_limit()) rebalance_from(leaf);
     } catch (const std::bad_alloc&) {
         restore(backup);
@@ -152,6 +153,21 @@ inline auto kd_tree<O, Config>::insert_at(node_index leaf, const O& x, const coo
         throw;
     }
     return s;
+}
+
+// Every ancestor of n widens the range of its child on n's path to hold key c: O(depth).
+template <stored_object O, class Config>
+inline void kd_tree<O, Config>::widen_child_ranges(node_index n, const coords& c) noexcept {
+    while (n != root) {
+        const node_index p = nodes_[n].parent;
+        node& pn = nodes_[p];
+        const T v = c[pn.dim];
+        T& lo = n == pn.first ? pn.left_lo : pn.right_lo;
+        T& hi = n == pn.first ? pn.left_hi : pn.right_hi;
+        lo = v < lo ? v : lo;
+        hi = v > hi ? v : hi;
+        n = p;
+    }
 }
 
 // Batch distribution for bulk insert: partition [e, e+n) by each split on the way down.
@@ -184,7 +200,7 @@ inline void kd_tree<O, Config>::distribute(node_index n, entry* e, std::size_t c
             gather(n, es);
             es.insert(es.end(), e, e + count);
             ++maintenance_.subtree_rebuilds;
-            max_depth = std::max(max_depth, build_node(n, es.data(), es.size(), lo, hi, nodes_[n].depth, false, 0));
+            max_depth = std::max(max_depth, build_node(n, es.data(), es.size(), lo, hi, nodes_[n].depth, false, 0).deepest);
         } catch (const std::bad_alloc&) {
             restore(backup);
             for (std::size_t i = 0; i < count; ++i) slots_.set_meta(e[i].slot, unplaced);
@@ -197,6 +213,16 @@ inline void kd_tree<O, Config>::distribute(node_index n, entry* e, std::size_t c
     entry* mid = std::partition(e, e + count, [d, s](const entry& a) { return a.c[d] <= s; });
     const node_index first = nodes_[n].first;
     const std::size_t left = static_cast<std::size_t>(mid - e);
+    // The children's ranges widen before they are rebuilt (looser is still sound if one fails).
+    node& nd = nodes_[n];
+    for (const entry* a = e; a != mid; ++a) {
+        nd.left_lo = a->c[d] < nd.left_lo ? a->c[d] : nd.left_lo;
+        nd.left_hi = a->c[d] > nd.left_hi ? a->c[d] : nd.left_hi;
+    }
+    for (const entry* a = mid; a != e + count; ++a) {
+        nd.right_lo = a->c[d] < nd.right_lo ? a->c[d] : nd.right_lo;
+        nd.right_hi = a->c[d] > nd.right_hi ? a->c[d] : nd.right_hi;
+    }
     distribute(first, e, left, max_depth);
     distribute(first + 1, mid, count - left, max_depth);
 }
