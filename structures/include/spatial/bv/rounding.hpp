@@ -19,16 +19,20 @@ T next_down(T x) {
     return std::nextafter(x, -std::numeric_limits<T>::infinity());
 }
 
-// The smallest T >= v.
+// The smallest T >= v (+inf above T's range: converting such a v is undefined behaviour).
 template <class T>
 T round_up(double v) {
+    if (v > static_cast<double>(std::numeric_limits<T>::max())) return std::numeric_limits<T>::infinity();
+    if (v < -static_cast<double>(std::numeric_limits<T>::max())) return std::numeric_limits<T>::lowest();
     T t = static_cast<T>(v);
     if (static_cast<double>(t) < v) t = std::nextafter(t, std::numeric_limits<T>::infinity());
     return t;
 }
-// The largest T <= v.
+// The largest T <= v (-inf below T's range).
 template <class T>
 T round_down(double v) {
+    if (v < -static_cast<double>(std::numeric_limits<T>::max())) return -std::numeric_limits<T>::infinity();
+    if (v > static_cast<double>(std::numeric_limits<T>::max())) return std::numeric_limits<T>::max();
     T t = static_cast<T>(v);
     if (static_cast<double>(t) > v) t = std::nextafter(t, -std::numeric_limits<T>::infinity());
     return t;

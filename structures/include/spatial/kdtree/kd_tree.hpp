@@ -61,6 +61,7 @@
 #include <type_traits>
 #include <vector>
 
+#include "spatial/bv/rounding.hpp"
 #include "spatial/collide/box_bounds.hpp"
 #include "spatial/collide/pairs.hpp"
 #include "spatial/collide/tree_pair_snapshot.hpp"
@@ -114,23 +115,33 @@ private:
     static constexpr node_index no_node = std::numeric_limits<node_index>::max();
     static constexpr node_index root = 0;
 
+    // Inner nodes: the range of each child's keys along the cut, [left_lo, left_hi] and
+    // [right_lo, right_hi], rounded outward to float (a looser bound is still a bound; half
+    // the bytes of double keeps a node at 32 B). Searches measure a query's offset to a child
+    // from its range instead of the split plane, so empty space (between clusters, around the
+    // data) prunes as if the nodes were tight boxes, as CGAL's Kd_tree_internal_node does
+    // with lower_low_val ... upper_high_val. Exact after a build, widened by insertion, left
+    // loose by erasure.
+    struct child_ranges {
+        float left_lo, left_hi, right_lo, right_hi;
+    };
+    // What every search reads: 32 B for double (the cold links are in links_).
     struct node {
-        T split = 0;       // inner: left points have c[dim] <= split, right points >= split
-        // Inner: the range of each child's keys along the cut, [left_lo, left_hi] and
-        // [right_lo, right_hi]. Exact after a build, widened by insertion, left loose by
-        // erasure. Searches measure a query's offset to a child from its range instead of the
-        // split plane, so empty space (between clusters, around the data) prunes as if the
-        // nodes were tight boxes (as CGAL's Kd_tree_internal_node does with lower_low_val
-        // ... upper_high_val).
-        T left_lo = 0, left_hi = 0;
-        T right_lo = 0, right_hi = 0;
-        T restore = 0;     // parent's cell bound on the parent's split dim, on this side
+        T split = 0;  // inner: left points have c[dim] <= split, right points >= split
+        union {
+            std::uint32_t count = 0;  // leaf: number of points in the bucket
+            child_ranges ranges;      // inner
+        };
         node_index first = 0;  // inner: first child (second is first + 1); leaf: bucket
-        node_index parent = no_node;
-        std::uint32_t count = 0;  // leaf: number of points in the bucket
         std::uint16_t depth = 0;
         std::uint8_t dim = 0;
         std::uint8_t is_leaf = 1;
+    };
+    static_assert(sizeof(T) != 8 || sizeof(node) == 32, "kd_tree: a node of a double tree must stay 32 B");
+    // What only insertion's climb and rebuilds read, per node, apart so searches do not load it.
+    struct node_link {
+        T restore = 0;  // parent's cell bound on the parent's split dim, on this side
+        node_index parent = no_node;
     };
     // Aligned to a cache line with the slot list first: a query scanning a leaf touches the
     // list's lines (two at the default capacity of 32), the cell is only read by insertion.
@@ -199,10 +210,10 @@ public:
         coords lo = b.cell_lo, hi = b.cell_hi;
         while (n != root && !in_cell(c, lo, hi)) {
             if constexpr (Config::collect_stats) ++query_stats_.nodes_visited;
-            const node_index p = nodes_[n].parent;
+            const node_index p = links_[n].parent;
             const unsigned d = nodes_[p].dim;
-            if (n == nodes_[p].first) hi[d] = nodes_[n].restore;
-            else lo[d] = nodes_[n].restore;
+            if (n == nodes_[p].first) hi[d] = links_[n].restore;
+            else lo[d] = links_[n].restore;
             n = p;
         }
         return make(insert_at(descend(n, c), x, c));
@@ -387,6 +398,7 @@ public:
     // ---- introspection -------------------------------------------------------------------
     std::size_t memory_bytes() const {
         return sizeof(*this) + slots_.memory_bytes() + nodes_.capacity() * sizeof(node) +
+               links_.capacity() * sizeof(node_link) +
                extents_.capacity() * sizeof(extent) +
                entry_buffer_.capacity() * sizeof(entry) +
                buckets_.capacity() * sizeof(bucket) +
@@ -439,6 +451,11 @@ private:
     node_index descend(node_index n, const coords& c) const;
     slot_index insert_at(node_index leaf, const O& x, const coords& c);
     void widen_child_ranges(node_index n, const coords& c) noexcept;
+    // Widens a child range [lo, hi] to hold key v, rounding outward to float.
+    static void widen_range(float& lo, float& hi, T v) noexcept {
+        if (v < lo) lo = detail_rounding::round_down<float>(static_cast<double>(v));
+        if (v > hi) hi = detail_rounding::round_up<float>(static_cast<double>(v));
+    }
     void distribute(node_index n, entry* e, std::size_t count, std::uint16_t& max_depth);
     void remove_slot(slot_index s, bool allow_merge);
     void take_out_of_leaf(slot_index s) noexcept;
@@ -558,6 +575,7 @@ private:
     using contract_base::slots_;
     using contract_base::ray_thickness_;
     std::vector<node> nodes_;
+    std::vector<node_link> links_;  // parallel to nodes_
     std::vector<bucket> buckets_;
     std::vector<node_index> free_pairs_;
     std::vector<node_index> free_buckets_;

@@ -1,7 +1,7 @@
 #pragma once
 // spatial::kd_tree — undoing a change that ran out of memory half-way (the strong guarantee of
 // docs/contract.md, "Exception safety"). Before a subtree is rebuilt (a leaf split, a scapegoat
-// rebuild), the records it may overwrite are copied aside: every node, extent and bucket of
+// rebuild), the records it may overwrite are copied aside: every node, node link, extent and bucket of
 // the subtree, the free lists' tails and the counters, O(subtree). New nodes and buckets
 // only ever grow the arrays at their ends, so truncating them and writing the copies back
 // restores the tree exactly, with the slots' bucket words. A full rebuild instead moves the
@@ -18,6 +18,7 @@ namespace spatial {
 template <stored_object O, class Config>
 struct kd_tree<O, Config>::subtree_backup {
     std::vector<std::pair<node_index, node>> nodes;
+    std::vector<std::pair<node_index, node_link>> links;
     std::vector<std::pair<node_index, extent>> extents;  // objects only
     std::vector<std::pair<node_index, bucket>> buckets;
     detail::free_list_tail<node_index> free_pairs, free_buckets;
@@ -43,6 +44,7 @@ inline auto kd_tree<O, Config>::backup_subtree(node_index n, std::size_t entries
         const node_index x = stack.back();
         stack.pop_back();
         b.nodes.emplace_back(x, nodes_[x]);
+        b.links.emplace_back(x, links_[x]);
         if constexpr (has_extent) b.extents.emplace_back(x, extents_[x]);
         if (nodes_[x].is_leaf) {
             b.buckets.emplace_back(nodes_[x].first, buckets_[nodes_[x].first]);
@@ -58,9 +60,11 @@ inline auto kd_tree<O, Config>::backup_subtree(node_index n, std::size_t entries
 template <stored_object O, class Config>
 inline void kd_tree<O, Config>::restore(subtree_backup& b) noexcept {
     nodes_.resize(b.node_count);
+    links_.resize(b.node_count);
     if constexpr (has_extent) extents_.resize(b.node_count);
     buckets_.resize(b.bucket_count);
     for (const auto& [i, nd] : b.nodes) nodes_[i] = nd;
+    for (const auto& [i, link] : b.links) links_[i] = link;
     if constexpr (has_extent)
         for (const auto& [i, ex] : b.extents) extents_[i] = ex;
     for (const auto& [i, bk] : b.buckets) {
@@ -78,6 +82,7 @@ inline void kd_tree<O, Config>::restore(subtree_backup& b) noexcept {
 template <stored_object O, class Config>
 struct kd_tree<O, Config>::tree_backup {
     std::vector<node> nodes;
+    std::vector<node_link> links;
     std::vector<extent> extents;
     std::vector<bucket> buckets;
     std::vector<node_index> free_pairs, free_buckets;
@@ -97,16 +102,19 @@ inline auto kd_tree<O, Config>::backup_all() -> tree_backup {
     for (slot_index s = slots_.next_occupied(0); s < slots_.capacity(); s = slots_.next_occupied(s + 1))
         b.metas.emplace_back(s, slots_.meta(s));
     std::vector<node> nodes;
+    std::vector<node_link> links;
     std::vector<extent> extents;
     std::vector<bucket> buckets;
     std::vector<node_index> free_pairs, free_buckets;
     nodes.reserve(nodes_.capacity());
+    links.reserve(links_.capacity());
     if constexpr (has_extent) extents.reserve(extents_.capacity());
     buckets.reserve(buckets_.capacity());
     free_pairs.reserve(free_pairs_.capacity());
     free_buckets.reserve(free_buckets_.capacity());
     // Nothing has changed yet; from here on nothing can fail.
     b.nodes = std::exchange(nodes_, std::move(nodes));
+    b.links = std::exchange(links_, std::move(links));
     b.extents = std::exchange(extents_, std::move(extents));
     b.buckets = std::exchange(buckets_, std::move(buckets));
     b.free_pairs = std::exchange(free_pairs_, std::move(free_pairs));
@@ -120,6 +128,7 @@ inline auto kd_tree<O, Config>::backup_all() -> tree_backup {
 template <stored_object O, class Config>
 inline void kd_tree<O, Config>::restore(tree_backup& b) noexcept {
     nodes_ = std::move(b.nodes);
+    links_ = std::move(b.links);
     extents_ = std::move(b.extents);
     buckets_ = std::move(b.buckets);
     free_pairs_ = std::move(b.free_pairs);

@@ -52,9 +52,9 @@ inline void kd_tree<O, Config>::cell_from_ancestors(node_index n, coords& lo, co
     lo.fill(-std::numeric_limits<T>::infinity());
     hi.fill(std::numeric_limits<T>::infinity());
     std::vector<node_index> path;
-    for (node_index c = n; c != root; c = nodes_[c].parent) path.push_back(c);
+    for (node_index c = n; c != root; c = links_[c].parent) path.push_back(c);
     for (auto it = path.rbegin(); it != path.rend(); ++it) {
-        const node_index p = nodes_[*it].parent;
+        const node_index p = links_[*it].parent;
         const unsigned d = nodes_[p].dim;
         if (*it == nodes_[p].first) hi[d] = nodes_[p].split;
         else lo[d] = nodes_[p].split;
@@ -106,22 +106,20 @@ inline auto kd_tree<O, Config>::build_node(node_index at, entry* e, std::size_t 
         nd.dim = static_cast<std::uint8_t>(sc.dim);
         nd.split = sc.value;
         nd.first = first;
-        nd.count = 0;
     }
     nodes_[first] = node{};
     nodes_[first + 1] = node{};
-    nodes_[first].parent = nodes_[first + 1].parent = at;
-    nodes_[first].restore = hi[sc.dim];
-    nodes_[first + 1].restore = lo[sc.dim];
+    links_[first] = {hi[sc.dim], at};
+    links_[first + 1] = {lo[sc.dim], at};
     coords lhi = hi, rlo = lo;
     lhi[sc.dim] = sc.value;
     rlo[sc.dim] = sc.value;
     const built_subtree l = build_node(first, e, sc.left, lo, lhi, static_cast<std::uint16_t>(depth + 1), fresh, base);
     const built_subtree r = build_node(first + 1, e + sc.left, n - sc.left, rlo, hi,
                                        static_cast<std::uint16_t>(depth + 1), fresh, base + sc.left);
-    node& nd = nodes_[at];
-    nd.left_lo = l.key_lo[sc.dim], nd.left_hi = l.key_hi[sc.dim];
-    nd.right_lo = r.key_lo[sc.dim], nd.right_hi = r.key_hi[sc.dim];
+    using detail_rounding::round_down, detail_rounding::round_up;
+    nodes_[at].ranges = {round_down<float>(l.key_lo[sc.dim]), round_up<float>(l.key_hi[sc.dim]),
+                         round_down<float>(r.key_lo[sc.dim]), round_up<float>(r.key_hi[sc.dim])};
     if constexpr (has_extent) {
         extents_[at] = extents_[first];
         extents_[at].grow(extents_[first + 1]);
@@ -173,6 +171,7 @@ inline void kd_tree<O, Config>::build_fresh_in_place(RandomIt batch, std::size_t
     size_at_rebuild_ = slots_.size();
     ++maintenance_.full_rebuilds;
     nodes_.shrink_to_fit();
+    links_.shrink_to_fit();
     buckets_.shrink_to_fit();
 }
 
@@ -199,6 +198,7 @@ inline void kd_tree<O, Config>::rebuild_all_in_place() {
         grow_bounds(es.back().c);
     }
     nodes_.assign(1, node{});
+    links_.assign(1, node_link{});
     if constexpr (has_extent) extents_.assign(1, extent::empty());
     buckets_.clear();
     free_pairs_.clear();
@@ -219,7 +219,7 @@ inline void kd_tree<O, Config>::rebalance_from(node_index n) {
     std::size_t size_child = subtree_size(n);
     node_index child = n;
     while (child != root) {
-        const node_index p = nodes_[child].parent;
+        const node_index p = links_[child].parent;
         const node_index first = nodes_[p].first;
         const node_index sib = child == first ? first + 1 : first;
         const std::size_t size_p = size_child + subtree_size(sib);

@@ -63,13 +63,13 @@ inline void kd_tree<O, Config>::check_node(node_index n, const coords& lo, const
         seen += nd.count;
         return;
     }
-    if (nodes_[nd.first].parent != n || nodes_[nd.first + 1].parent != n) err = "parent link broken";
+    if (links_[nd.first].parent != n || links_[nd.first + 1].parent != n) err = "parent link broken";
     if constexpr (has_extent) {
         for (node_index c = nd.first; c <= nd.first + 1; ++c)
             if (!extents_[c].is_empty() && !extents_[n].contains(extents_[c]))
                 err = "extent of node " + std::to_string(c) + " not inside its parent's";
     }
-    if (nodes_[nd.first].restore != hi[nd.dim] || nodes_[nd.first + 1].restore != lo[nd.dim])
+    if (links_[nd.first].restore != hi[nd.dim] || links_[nd.first + 1].restore != lo[nd.dim])
         err = "restore bound broken below node " + std::to_string(n);
     coords lhi = hi, rlo = lo;
     lhi[nd.dim] = nd.split;
@@ -78,8 +78,9 @@ inline void kd_tree<O, Config>::check_node(node_index n, const coords& lo, const
     check_node(nd.first, lo, lhi, static_cast<std::uint16_t>(depth + 1), seen, left_lo, left_hi, err);
     check_node(nd.first + 1, rlo, hi, static_cast<std::uint16_t>(depth + 1), seen, right_lo, right_hi, err);
     const unsigned d = nd.dim;
-    if (err.empty() && (left_lo[d] < nd.left_lo || left_hi[d] > nd.left_hi || right_lo[d] < nd.right_lo ||
-                        right_hi[d] > nd.right_hi))
+    const child_ranges& r = nd.ranges;
+    if (err.empty() && (left_lo[d] < r.left_lo || left_hi[d] > r.left_hi || right_lo[d] < r.right_lo ||
+                        right_hi[d] > r.right_hi))
         err = "a key outside its child's range at node " + std::to_string(n);
     for (std::size_t i = 0; i < D; ++i) {
         key_lo[i] = std::min(left_lo[i], right_lo[i]);

@@ -96,7 +96,7 @@ inline auto kd_tree<O, Config>::pair_layout_of() const -> pair_layout {
             if (!nd.is_leaf) return;
             for (std::uint32_t i = 0; i < nd.count; ++i) f(buckets_[nd.first].items[i]);
         },
-        [this](node_index n) { return nodes_[n].parent; },
+        [this](node_index n) { return links_[n].parent; },
         [this](slot_index s) -> const O& { return slots_.value(s); });
 }
 

@@ -92,7 +92,8 @@ inline auto kd_tree<O, Config>::child_offsets(const node& nd, T x, T old) -> sid
         const T gap = x < lo ? x - lo : (x > hi ? x - hi : T(0));
         return std::abs(gap) > std::abs(old) ? gap : old;
     };
-    const T to_left = offset_from(nd.left_lo, nd.left_hi), to_right = offset_from(nd.right_lo, nd.right_hi);
+    const child_ranges& r = nd.ranges;
+    const T to_left = offset_from(T(r.left_lo), T(r.left_hi)), to_right = offset_from(T(r.right_lo), T(r.right_hi));
     if (x - nd.split <= 0) return {nd.first, nd.first + 1, to_left, to_right};
     return {nd.first + 1, nd.first, to_right, to_left};
 }
@@ -135,8 +136,9 @@ inline void kd_tree<O, Config>::box(node_index n, const P& lo, const P& hi, std:
         for (node_index c = nd.first; c <= nd.first + 1; ++c)
             if (extent_overlaps(extents_[c], lo, hi)) box(c, lo, hi, out);
     } else {
-        if (lo[nd.dim] <= nd.left_hi && hi[nd.dim] >= nd.left_lo) box(nd.first, lo, hi, out);
-        if (lo[nd.dim] <= nd.right_hi && hi[nd.dim] >= nd.right_lo) box(nd.first + 1, lo, hi, out);
+        const child_ranges& r = nd.ranges;
+        if (lo[nd.dim] <= r.left_hi && hi[nd.dim] >= r.left_lo) box(nd.first, lo, hi, out);
+        if (lo[nd.dim] <= r.right_hi && hi[nd.dim] >= r.right_lo) box(nd.first + 1, lo, hi, out);
     }
 }
 

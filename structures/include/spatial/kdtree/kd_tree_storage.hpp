@@ -12,7 +12,7 @@ namespace spatial {
 // heap memory at all.
 template <stored_object O, class Config>
 inline void kd_tree<O, Config>::swap_contents(kd_tree& o) noexcept {
-    this->swap_with(o, &kd_tree::nodes_, &kd_tree::extents_, &kd_tree::buckets_, &kd_tree::free_pairs_,
+    this->swap_with(o, &kd_tree::nodes_, &kd_tree::links_, &kd_tree::extents_, &kd_tree::buckets_, &kd_tree::free_pairs_,
                     &kd_tree::free_buckets_, &kd_tree::leaves_, &kd_tree::bounds_lo_, &kd_tree::bounds_hi_,
                     &kd_tree::size_at_rebuild_, &kd_tree::entry_buffer_);
 }
@@ -50,7 +50,7 @@ inline void kd_tree<O, Config>::grow_extents_upward(node_index n, const extent& 
     while (!extents_[n].contains(box)) {
         extents_[n].grow(box);
         if (n == root) return;
-        n = nodes_[n].parent;
+        n = links_[n].parent;
     }
 }
 
@@ -86,6 +86,7 @@ inline void kd_tree<O, Config>::grow_bounds(const coords& c) {
 template <stored_object O, class Config>
 inline void kd_tree<O, Config>::drop_tree() noexcept {
     nodes_.clear();
+    links_.clear();
     extents_.clear();
     buckets_.clear();
     free_pairs_.clear();
@@ -113,6 +114,7 @@ inline void kd_tree<O, Config>::ensure_root() {
 // The empty tree with its root leaf (allocates: the node, its extent, its bucket).
 template <stored_object O, class Config>
 inline void kd_tree<O, Config>::reset_to_empty() {
+    links_.assign(1, node_link{});
     nodes_.assign(1, node{});
     if constexpr (has_extent) extents_.assign(1, extent::empty());
     buckets_.clear();
@@ -144,6 +146,7 @@ template <stored_object O, class Config>
 inline auto kd_tree<O, Config>::new_pair() -> node_index {
     return detail::reuse_or_grow(free_pairs_, [this] {
         const node_index p = static_cast<node_index>(nodes_.size());
+        links_.resize(nodes_.size() + 2);  // first: if nodes_ cannot grow, the sizes still agree on p
         nodes_.resize(nodes_.size() + 2);
         if constexpr (has_extent) extents_.resize(nodes_.size(), extent::empty());
         return p;

@@ -159,13 +159,11 @@ inline auto kd_tree<O, Config>::insert_at(node_index leaf, const O& x, const coo
 template <stored_object O, class Config>
 inline void kd_tree<O, Config>::widen_child_ranges(node_index n, const coords& c) noexcept {
     while (n != root) {
-        const node_index p = nodes_[n].parent;
+        const node_index p = links_[n].parent;
         node& pn = nodes_[p];
-        const T v = c[pn.dim];
-        T& lo = n == pn.first ? pn.left_lo : pn.right_lo;
-        T& hi = n == pn.first ? pn.left_hi : pn.right_hi;
-        lo = v < lo ? v : lo;
-        hi = v > hi ? v : hi;
+        const bool left = n == pn.first;
+        widen_range(left ? pn.ranges.left_lo : pn.ranges.right_lo, left ? pn.ranges.left_hi : pn.ranges.right_hi,
+                    c[pn.dim]);
         n = p;
     }
 }
@@ -214,15 +212,9 @@ inline void kd_tree<O, Config>::distribute(node_index n, entry* e, std::size_t c
     const node_index first = nodes_[n].first;
     const std::size_t left = static_cast<std::size_t>(mid - e);
     // The children's ranges widen before they are rebuilt (looser is still sound if one fails).
-    node& nd = nodes_[n];
-    for (const entry* a = e; a != mid; ++a) {
-        nd.left_lo = a->c[d] < nd.left_lo ? a->c[d] : nd.left_lo;
-        nd.left_hi = a->c[d] > nd.left_hi ? a->c[d] : nd.left_hi;
-    }
-    for (const entry* a = mid; a != e + count; ++a) {
-        nd.right_lo = a->c[d] < nd.right_lo ? a->c[d] : nd.right_lo;
-        nd.right_hi = a->c[d] > nd.right_hi ? a->c[d] : nd.right_hi;
-    }
+    child_ranges& r = nodes_[n].ranges;
+    for (const entry* a = e; a != mid; ++a) widen_range(r.left_lo, r.left_hi, a->c[d]);
+    for (const entry* a = mid; a != e + count; ++a) widen_range(r.right_lo, r.right_hi, a->c[d]);
     distribute(first, e, left, max_depth);
     distribute(first + 1, mid, count - left, max_depth);
 }
@@ -258,7 +250,7 @@ inline void kd_tree<O, Config>::try_merge_empty_leaf(node_index leaf) noexcept {
 // bucket, whose cell widens to the parent's cell (the union of the two children's cells).
 template <stored_object O, class Config>
 inline void kd_tree<O, Config>::merge_empty_leaf(node_index leaf) {
-    const node_index p = nodes_[leaf].parent;
+    const node_index p = links_[leaf].parent;
     const node_index first = nodes_[p].first;
     const node_index sib = leaf == first ? first + 1 : first;
     if (!nodes_[sib].is_leaf) return;
