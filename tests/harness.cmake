@@ -120,7 +120,8 @@ add_test(NAME spatialbench_slurm_job_array_merges_to_the_single_run_table
          COMMAND bash ${CMAKE_CURRENT_SOURCE_DIR}/check_slurm.sh ${CMAKE_CURRENT_BINARY_DIR}/slurm_results
                  ${spatial_smoke_tables})
 set_tests_properties(spatialbench_slurm_job_array_merges_to_the_single_run_table PROPERTIES
-                     FIXTURES_REQUIRED smoke_tables SKIP_RETURN_CODE 77 TIMEOUT 900 RUN_SERIAL TRUE)
+                     FIXTURES_REQUIRED smoke_tables SKIP_RETURN_CODE 77 TIMEOUT 900 RUN_SERIAL TRUE
+                     ENVIRONMENT "SPATIALBENCH=$<TARGET_FILE:spatialbench>")
 
 # The real data (issue 17): knn on every fetched point set and raycast on a fetched mesh, at
 # smoke size, validated rows for each. scripts/test.sh fetches the data first; skipped elsewhere.

@@ -8,7 +8,8 @@
 # DIR.shards/shard<i> (default results.shards/), the merge job to DIR (default results/) and
 # the plots to --plots (default plots/; "" for none). --wait blocks until the merge job has
 # finished and exits with its status (what tests/check_slurm.sh uses); --no-build takes the
-# harness already built in build/release. Run from anywhere in the
+# harness already built: build/release/harness/spatialbench, or the binary SPATIALBENCH names
+# (the jobs inherit it; the tests use the ci build's). Run from anywhere in the
 # checkout, on a machine that can reach the cluster's controller and shares the checkout's file
 # system with the compute nodes. sbatch options (partition, account, time) come from the
 # usual SBATCH_* environment variables, e.g. SBATCH_PARTITION=compute.
@@ -40,7 +41,8 @@ if ((build)); then
   cmake --preset release -G Ninja >/dev/null
   cmake --build --preset release --target spatialbench
 fi
-[[ -x build/release/harness/spatialbench ]] || { echo "submit.sh: build/release/harness/spatialbench is missing" >&2; exit 1; }
+export SPATIALBENCH="${SPATIALBENCH:-build/release/harness/spatialbench}"
+[[ -x "$SPATIALBENCH" ]] || { echo "submit.sh: $SPATIALBENCH is missing" >&2; exit 1; }
 shards_dir="${results}.shards"
 rm -rf "$shards_dir"
 mkdir -p "$shards_dir"

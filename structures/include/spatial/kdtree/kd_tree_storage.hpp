@@ -12,9 +12,9 @@ namespace spatial {
 // heap memory at all.
 template <stored_object O, class Config>
 inline void kd_tree<O, Config>::swap_contents(kd_tree& o) noexcept {
-    this->swap_with(o, &kd_tree::nodes_, &kd_tree::links_, &kd_tree::extents_, &kd_tree::buckets_, &kd_tree::free_pairs_,
-                    &kd_tree::free_buckets_, &kd_tree::leaves_, &kd_tree::bounds_lo_, &kd_tree::bounds_hi_,
-                    &kd_tree::size_at_rebuild_, &kd_tree::entry_buffer_);
+    this->swap_with(o, &kd_tree::nodes_, &kd_tree::links_, &kd_tree::extents_, &kd_tree::buckets_,
+                    &kd_tree::free_pairs_, &kd_tree::free_buckets_, &kd_tree::leaves_, &kd_tree::bounds_lo_,
+                    &kd_tree::bounds_hi_, &kd_tree::size_at_rebuild_, &kd_tree::entry_buffer_);
 }
 
 // The partitioning key of a stored value: the point itself, or the centre of an object's

@@ -198,7 +198,8 @@ inline void kd_tree<O, Config>::distribute(node_index n, entry* e, std::size_t c
             gather(n, es);
             es.insert(es.end(), e, e + count);
             ++maintenance_.subtree_rebuilds;
-            max_depth = std::max(max_depth, build_node(n, es.data(), es.size(), lo, hi, nodes_[n].depth, false, 0).deepest);
+            const built_subtree built = build_node(n, es.data(), es.size(), lo, hi, nodes_[n].depth, false, 0);
+            max_depth = std::max(max_depth, built.deepest);
         } catch (const std::bad_alloc&) {
             restore(backup);
             for (std::size_t i = 0; i < count; ++i) slots_.set_meta(e[i].slot, unplaced);
