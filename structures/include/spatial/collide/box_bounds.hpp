@@ -30,6 +30,12 @@ struct box_bounds {
             hi[i] = o.hi[i] > hi[i] ? o.hi[i] : hi[i];
         }
     }
+    void grow(const std::array<T, D>& p) {
+        for (std::size_t i = 0; i < D; ++i) {
+            lo[i] = p[i] < lo[i] ? p[i] : lo[i];
+            hi[i] = p[i] > hi[i] ? p[i] : hi[i];
+        }
+    }
     bool contains(const box_bounds& o) const {
         for (std::size_t i = 0; i < D; ++i)
             if (o.lo[i] < lo[i] || o.hi[i] > hi[i]) return false;

@@ -59,6 +59,7 @@
 #include <stdexcept>
 #include <string>
 #include <type_traits>
+#include <utility>
 #include <vector>
 
 #include "spatial/bv/rounding.hpp"
@@ -472,7 +473,7 @@ private:
     // What a (sub)tree build reports to its parent: its deepest leaf and its keys' box.
     struct built_subtree {
         std::uint16_t deepest;
-        coords key_lo, key_hi;
+        extent keys;
     };
     built_subtree build_node(node_index at, entry* e, std::size_t n, const coords& lo, const coords& hi,
                              std::uint16_t depth, bool fresh, std::size_t base);
@@ -517,6 +518,14 @@ private:
         T near_offset, far_offset;
     };
     static side_offsets child_offsets(const node& nd, T x, T old);
+    // A child's key range along nd's cut, in T. The split plane bounds the inner sides too:
+    // the float ranges, rounded outward, can reach past it at a cut through a run of equal keys.
+    static std::pair<T, T> left_range(const node& nd) {
+        return {T(nd.ranges.left_lo), std::min(T(nd.ranges.left_hi), nd.split)};
+    }
+    static std::pair<T, T> right_range(const node& nd) {
+        return {std::max(T(nd.ranges.right_lo), nd.split), T(nd.ranges.right_hi)};
+    }
     void ball(node_index n, coords& offset, const coords& x, T r2, std::vector<iterator>& out) const;
     void box(node_index n, const P& lo, const P& hi, std::vector<iterator>& out) const;
     void collect_equal(node_index n, const coords& c, const O& x, std::vector<slot_index>& out,
@@ -563,7 +572,7 @@ private:
 
     // ---- diagnostics (kd_tree_checks.hpp) ----
     void check_node(node_index n, const coords& lo, const coords& hi, std::uint16_t depth, std::size_t& seen,
-                    coords& key_lo, coords& key_hi, std::string& err) const;
+                    extent& keys, std::string& err) const;
     std::size_t on_planes(node_index n) const;
     template <class F>
     void for_each_slot(node_index n, F&& f) const;

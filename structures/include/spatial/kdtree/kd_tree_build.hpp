@@ -77,18 +77,13 @@ inline auto kd_tree<O, Config>::build_node(node_index at, entry* e, std::size_t 
         L.is_leaf = 1;
         L.first = b;
         L.count = static_cast<std::uint32_t>(n);
-        built_subtree out{depth, {}, {}};
-        out.key_lo.fill(std::numeric_limits<T>::infinity());
-        out.key_hi.fill(-std::numeric_limits<T>::infinity());
+        built_subtree out{depth, extent::empty()};
         for (std::size_t i = 0; i < n; ++i) {
             const slot_index s = fresh ? static_cast<slot_index>(base + i) : e[i].slot;
             buckets_[b].items[i] = s;
             if (fresh) e[i].bucket = b;  // build_fresh sets the slot metadata afterwards
             else slots_.set_meta(s, b);
-            for (std::size_t d = 0; d < D; ++d) {
-                out.key_lo[d] = e[i].c[d] < out.key_lo[d] ? e[i].c[d] : out.key_lo[d];
-                out.key_hi[d] = e[i].c[d] > out.key_hi[d] ? e[i].c[d] : out.key_hi[d];
-            }
+            out.keys.grow(e[i].c);
         }
         if constexpr (has_extent) {
             extent ex = extent::empty();
@@ -118,17 +113,14 @@ inline auto kd_tree<O, Config>::build_node(node_index at, entry* e, std::size_t 
     const built_subtree r = build_node(first + 1, e + sc.left, n - sc.left, rlo, hi,
                                        static_cast<std::uint16_t>(depth + 1), fresh, base + sc.left);
     using detail_rounding::round_down, detail_rounding::round_up;
-    nodes_[at].ranges = {round_down<float>(l.key_lo[sc.dim]), round_up<float>(l.key_hi[sc.dim]),
-                         round_down<float>(r.key_lo[sc.dim]), round_up<float>(r.key_hi[sc.dim])};
+    nodes_[at].ranges = {round_down<float>(l.keys.lo[sc.dim]), round_up<float>(l.keys.hi[sc.dim]),
+                         round_down<float>(r.keys.lo[sc.dim]), round_up<float>(r.keys.hi[sc.dim])};
     if constexpr (has_extent) {
         extents_[at] = extents_[first];
         extents_[at].grow(extents_[first + 1]);
     }
-    built_subtree out{std::max(l.deepest, r.deepest), {}, {}};
-    for (std::size_t d = 0; d < D; ++d) {
-        out.key_lo[d] = std::min(l.key_lo[d], r.key_lo[d]);
-        out.key_hi[d] = std::max(l.key_hi[d], r.key_hi[d]);
-    }
+    built_subtree out{std::max(l.deepest, r.deepest), l.keys};
+    out.keys.grow(r.keys);
     return out;
 }
 

@@ -20,22 +20,20 @@ inline std::string kd_tree<O, Config>::check_invariants() const {
     lo.fill(-std::numeric_limits<T>::infinity());
     hi.fill(std::numeric_limits<T>::infinity());
     std::size_t seen = 0;
-    coords key_lo, key_hi;
-    check_node(root, lo, hi, 0, seen, key_lo, key_hi, err);
+    extent keys;
+    check_node(root, lo, hi, 0, seen, keys, err);
     if (err.empty() && seen != slots_.size())
         err = "tree holds " + std::to_string(seen) + " points but size() is " + std::to_string(slots_.size());
     return err;
 }
 
 // ---- invariant checking ----
-// Also returns the bounding box of the subtree's keys in key_lo, key_hi (lo > hi when empty),
+// Also returns the bounding box of the subtree's keys in `keys` (empty when it holds none),
 // against which the parent checks its child ranges.
 template <stored_object O, class Config>
 inline void kd_tree<O, Config>::check_node(node_index n, const coords& lo, const coords& hi, std::uint16_t depth,
-                                           std::size_t& seen, coords& key_lo, coords& key_hi,
-                                           std::string& err) const {
-    key_lo.fill(std::numeric_limits<T>::infinity());
-    key_hi.fill(-std::numeric_limits<T>::infinity());
+                                           std::size_t& seen, extent& keys, std::string& err) const {
+    keys = extent::empty();
     if (!err.empty()) return;
     const node& nd = nodes_[n];
     if (nd.depth != depth) err = "node " + std::to_string(n) + " has a wrong depth";
@@ -50,10 +48,7 @@ inline void kd_tree<O, Config>::check_node(node_index n, const coords& lo, const
                 continue;
             }
             const coords c = key_of(slots_.value(s));
-            for (std::size_t d = 0; d < D; ++d) {
-                key_lo[d] = std::min(key_lo[d], c[d]);
-                key_hi[d] = std::max(key_hi[d], c[d]);
-            }
+            keys.grow(c);
             if (!in_cell(c, lo, hi)) err = "point outside its leaf cell";
             else if constexpr (has_extent) {
                 if (!extents_[n].contains(extent_of(slots_.value(s))))
@@ -74,18 +69,16 @@ inline void kd_tree<O, Config>::check_node(node_index n, const coords& lo, const
     coords lhi = hi, rlo = lo;
     lhi[nd.dim] = nd.split;
     rlo[nd.dim] = nd.split;
-    coords left_lo, left_hi, right_lo, right_hi;
-    check_node(nd.first, lo, lhi, static_cast<std::uint16_t>(depth + 1), seen, left_lo, left_hi, err);
-    check_node(nd.first + 1, rlo, hi, static_cast<std::uint16_t>(depth + 1), seen, right_lo, right_hi, err);
+    extent left, right;
+    check_node(nd.first, lo, lhi, static_cast<std::uint16_t>(depth + 1), seen, left, err);
+    check_node(nd.first + 1, rlo, hi, static_cast<std::uint16_t>(depth + 1), seen, right, err);
     const unsigned d = nd.dim;
     const child_ranges& r = nd.ranges;
-    if (err.empty() && (left_lo[d] < r.left_lo || left_hi[d] > r.left_hi || right_lo[d] < r.right_lo ||
-                        right_hi[d] > r.right_hi))
+    if (err.empty() && (left.lo[d] < r.left_lo || left.hi[d] > r.left_hi || right.lo[d] < r.right_lo ||
+                        right.hi[d] > r.right_hi))
         err = "a key outside its child's range at node " + std::to_string(n);
-    for (std::size_t i = 0; i < D; ++i) {
-        key_lo[i] = std::min(left_lo[i], right_lo[i]);
-        key_hi[i] = std::max(left_hi[i], right_hi[i]);
-    }
+    keys = left;
+    keys.grow(right);
 }
 
 template <stored_object O, class Config>

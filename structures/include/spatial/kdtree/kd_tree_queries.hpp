@@ -92,11 +92,9 @@ inline auto kd_tree<O, Config>::child_offsets(const node& nd, T x, T old) -> sid
         const T gap = x < lo ? x - lo : (x > hi ? x - hi : T(0));
         return std::abs(gap) > std::abs(old) ? gap : old;
     };
-    // The split plane bounds the inner sides too; the float ranges, rounded outward, can lie
-    // beyond it (a tie run at the cut), so the nearer of the two is used there.
-    const child_ranges& r = nd.ranges;
-    const T left_hi = std::min(T(r.left_hi), nd.split), right_lo = std::max(T(r.right_lo), nd.split);
-    const T to_left = offset_from(T(r.left_lo), left_hi), to_right = offset_from(right_lo, T(r.right_hi));
+    const auto [left_lo, left_hi] = left_range(nd);
+    const auto [right_lo, right_hi] = right_range(nd);
+    const T to_left = offset_from(left_lo, left_hi), to_right = offset_from(right_lo, right_hi);
     if (x - nd.split <= 0) return {nd.first, nd.first + 1, to_left, to_right};
     return {nd.first + 1, nd.first, to_right, to_left};
 }
@@ -139,9 +137,10 @@ inline void kd_tree<O, Config>::box(node_index n, const P& lo, const P& hi, std:
         for (node_index c = nd.first; c <= nd.first + 1; ++c)
             if (extent_overlaps(extents_[c], lo, hi)) box(c, lo, hi, out);
     } else {
-        const child_ranges& r = nd.ranges;
-        if (lo[nd.dim] <= std::min(T(r.left_hi), nd.split) && hi[nd.dim] >= r.left_lo) box(nd.first, lo, hi, out);
-        if (lo[nd.dim] <= r.right_hi && hi[nd.dim] >= std::max(T(r.right_lo), nd.split)) box(nd.first + 1, lo, hi, out);
+        const auto [left_lo, left_hi] = left_range(nd);
+        const auto [right_lo, right_hi] = right_range(nd);
+        if (lo[nd.dim] <= left_hi && hi[nd.dim] >= left_lo) box(nd.first, lo, hi, out);
+        if (lo[nd.dim] <= right_hi && hi[nd.dim] >= right_lo) box(nd.first + 1, lo, hi, out);
     }
 }
 
