@@ -43,8 +43,8 @@ template <class C>
 class generators : public ::testing::Test {};
 TYPED_TEST_SUITE(generators, configs);
 
-const std::vector<std::string> all_workloads{"uniform", "clusters", "sphere", "plane",
-                                             "line",    "lattice",  "duplicates"};
+const std::vector<std::string> all_workloads{"uniform", "clusters", "sphere",     "plane",
+                                             "line",    "lattice",  "duplicates", "clusters_far"};
 constexpr std::uint64_t seed = 20240611;
 
 template <class P>
@@ -70,7 +70,7 @@ std::size_t distinct_count(std::vector<P> pts) {
 
 // ---------------------------------------------------------------------------- names
 
-TEST(workload_names, lists_the_seven_workloads_in_order) {
+TEST(workload_names, lists_the_eight_workloads_in_order) {
     const auto names = datasets::point_workload_names();
     ASSERT_EQ(names.size(), all_workloads.size());
     for (std::size_t i = 0; i < names.size(); ++i) EXPECT_EQ(names[i], all_workloads[i]);
@@ -128,8 +128,9 @@ TYPED_TEST(generators, all_coordinates_are_finite_and_in_roughly_the_unit_cube) 
     constexpr std::size_t D = TypeParam::dim;
     for (const auto& w : all_workloads) {
         // Box–Muller from 53-bit uniforms stays within 8.58 sigma of a centre in [0.1, 0.9).
-        const double lo = w == "clusters" ? 0.1 - 8.6 * 0.02 : 0.0;
-        const double hi = w == "clusters" ? 0.9 + 8.6 * 0.02 : 1.0;
+        const bool clustered = w == "clusters" || w == "clusters_far";
+        const double lo = clustered ? 0.1 - 8.6 * 0.02 : 0.0;
+        const double hi = clustered ? 0.9 + 8.6 * 0.02 : 1.0;
         for (const auto& p : datasets::generate_points<T, D>(w, 3000, seed)) {
             for (std::size_t d = 0; d < D; ++d) {
                 ASSERT_TRUE(std::isfinite(p[d])) << w;
@@ -198,6 +199,44 @@ TYPED_TEST(generators, clusters_stay_within_eight_point_six_sigma_of_a_shared_ce
     for (const auto& q : datasets::generate_queries<T, D>("clusters", 500, seed, 4000)) {
         ASSERT_TRUE(near_some_centre(q)) << q;
     }
+}
+
+// clusters_far: the clusters' points, queried from everywhere. Its queries are uniform in
+// the unit cube, so (unlike clusters' queries, drawn from the clusters) most of them are far
+// from every point: the workload that measures how a search proves a far cluster empty.
+TYPED_TEST(generators, clusters_far_has_the_clusters_points_and_uniform_queries_far_from_them) {
+    using T = typename TypeParam::scalar;
+    constexpr std::size_t D = TypeParam::dim;
+    const auto pts = datasets::generate_points<T, D>("clusters_far", 3000, seed);
+    EXPECT_EQ(pts, (datasets::generate_points<T, D>("clusters", 3000, seed)));
+    const auto nearest = [&](const auto& q) {
+        double best = std::numeric_limits<double>::infinity();
+        for (const auto& p : pts) best = std::min(best, distance_squared(p, q));
+        return std::sqrt(best);
+    };
+    const auto far_queries = datasets::generate_queries<T, D>("clusters_far", 400, seed, 3000);
+    const auto near_queries = datasets::generate_queries<T, D>("clusters", 400, seed, 3000);
+    ASSERT_EQ(far_queries.size(), 400u);
+    std::size_t far_count = 0, near_far_count = 0;
+    std::vector<double> mean(D, 0.0);
+    for (const auto& q : far_queries) {
+        for (std::size_t d = 0; d < D; ++d) {
+            ASSERT_GE(q[d], T(0)) << q;
+            ASSERT_LT(q[d], T(1)) << q;
+            mean[d] += static_cast<double>(q[d]) / 400.0;
+        }
+        // Three cluster sigmas (0.06) from the nearest point: outside every cluster's core.
+        if (nearest(q) > 0.06) ++far_count;
+    }
+    for (const auto& q : near_queries)
+        if (nearest(q) > 0.06) ++near_far_count;
+    for (std::size_t d = 0; d < D; ++d) EXPECT_NEAR(mean[d], 0.5, 0.05) << "axis " << d;
+    // 16 clusters of radius ~3 sigma cover a small part of the cube (in 2D about 16 pi 0.06^2
+    // = 18 %, less in 3D): most uniform queries are far, almost no clustered one is.
+    EXPECT_GT(far_count, 400u / 2) << "queries far from every point";
+    EXPECT_LT(near_far_count, 400u / 20) << "clusters' own queries far from every point";
+    // Its own query stream: not the uniform workload's queries.
+    EXPECT_NE(far_queries, (datasets::generate_queries<T, D>("uniform", 400, seed, 3000)));
 }
 
 TYPED_TEST(generators, sphere_points_are_on_the_sphere_and_cover_it) {
@@ -388,6 +427,8 @@ constexpr golden golden_fingerprints[] = {
     {"line",       0x7132b8d07f6b0bf9ull, 0x4782dde4a22b0fc4ull, 0x66f8e986e3752f9dull, 0x15ede4043ba603abull},
     {"lattice",    0x94091179d1f63b9cull, 0x809abbde61dc596full, 0x747e9c4c7a644630ull, 0x936b617465e7977full},
     {"duplicates", 0xeef74cb9098478c7ull, 0xbb634936dd2b1e06ull, 0x8cc466fa1001f251ull, 0x0268d35f26f5fc7full},
+    // The points of clusters, by definition.
+    {"clusters_far", 0x88d81a8f62c09c2cull, 0xd8de963e40cb53c2ull, 0x520a51b8b9fb5739ull, 0x38d53e4383f59f7eull},
 };
 // clang-format on
 

@@ -38,7 +38,7 @@ COMPLEXITY_FUNCTIONS = {
 }
 
 # Workloads in this order first; others (real:<file>, ...) alphabetically after them.
-WORKLOAD_ORDER = ["uniform", "clusters", "sphere", "plane", "line", "lattice", "duplicates"]
+WORKLOAD_ORDER = ["uniform", "clusters", "sphere", "plane", "line", "lattice", "duplicates", "clusters_far"]
 
 UNIT_SECONDS = {"ns": 1e-9, "us": 1e-6, "\u00b5s": 1e-6, "ms": 1e-3, "s": 1.0}
 

@@ -23,6 +23,12 @@
 //               distances as ties.
 //   duplicates  n points drawn with replacement from max(1, n/10) distinct uniform points:
 //               exact duplicates.
+//   clusters_far  the points of clusters (bit-identical for the same n and seed), queried from
+//               everywhere: its queries are uniform in [0, 1)^D, so most lie in the empty space
+//               between the clusters, far from every point. A search must then prove that
+//               whole clusters hold nothing nearer, which a tree bounding its cells by split
+//               planes alone cannot do cheaply (kd-tree.md, "Pruning by the children's key
+//               ranges").
 //
 // Seeds: each (workload, purpose) pair reads its own stream derived from the user seed with
 // splitmix64, so the data, the queries and the cluster centres are independent.
@@ -47,11 +53,12 @@
 
 namespace datasets {
 
-enum class point_workload : unsigned { uniform, clusters, sphere, plane, line, lattice, duplicates };
+// Appended only: the value is part of every derived seed (stream_seed).
+enum class point_workload : unsigned { uniform, clusters, sphere, plane, line, lattice, duplicates, clusters_far };
 
 namespace detail {
-inline constexpr std::array<std::string_view, 7> point_workload_name_table{
-    "uniform", "clusters", "sphere", "plane", "line", "lattice", "duplicates"};
+inline constexpr std::array<std::string_view, 8> point_workload_name_table{
+    "uniform", "clusters", "sphere", "plane", "line", "lattice", "duplicates", "clusters_far"};
 }  // namespace detail
 
 // The workload names accepted by generate_points/generate_queries, in a fixed order.
@@ -212,7 +219,8 @@ std::vector<spatial::point<T, D>> draw(point_workload w, std::size_t n, random_s
     switch (w) {
         case point_workload::uniform:
             return repeat<T, D>(n, [&] { return uniform_point<T, D>(rng); });
-        case point_workload::clusters: {
+        case point_workload::clusters:
+        case point_workload::clusters_far: {
             const auto centres = cluster_centres<D>(seed);
             return repeat<T, D>(n, [&] { return cluster_point<T, D>(rng, centres); });
         }
@@ -240,7 +248,9 @@ std::vector<spatial::point<T, D>> generate_points(std::string_view workload, std
                                                   std::uint64_t seed) {
     static_assert(D >= 2, "generate_points: the workloads are defined for D >= 2");
     const point_workload w = parse_point_workload(workload);
-    random_stream rng(detail::stream_seed(seed, w, detail::stream_purpose::data));
+    // clusters_far shares the clusters' points: it reads their stream.
+    const point_workload data_stream = w == point_workload::clusters_far ? point_workload::clusters : w;
+    random_stream rng(detail::stream_seed(seed, data_stream, detail::stream_purpose::data));
     return detail::draw<T, D>(w, n, rng, seed);
 }
 
@@ -248,6 +258,7 @@ std::vector<spatial::point<T, D>> generate_points(std::string_view workload, std
 //
 //   uniform, clusters, sphere, plane, line: independent draws from the data's distribution
 //     (a separate derived stream; clusters reuse the data's 16 centres).
+//   clusters_far: uniform in [0, 1)^D (its own stream), whatever the data.
 //   lattice, duplicates: queries with EVEN index are exact copies of data points (chosen
 //     uniformly from the data regenerated from (data_n, seed)), so a query sits at distance
 //     0 from one or more points and at tied distances from its lattice neighbours; queries
@@ -263,6 +274,7 @@ std::vector<spatial::point<T, D>> generate_queries(std::string_view workload, st
     static_assert(D >= 2, "generate_queries: the workloads are defined for D >= 2");
     const point_workload w = parse_point_workload(workload);
     random_stream rng(detail::stream_seed(seed, w, detail::stream_purpose::queries));
+    if (w == point_workload::clusters_far) return detail::draw<T, D>(point_workload::uniform, count, rng, seed);
     if (w != point_workload::lattice && w != point_workload::duplicates) {
         return detail::draw<T, D>(w, count, rng, seed);
     }
