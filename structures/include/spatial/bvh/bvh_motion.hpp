@@ -299,7 +299,20 @@ inline void bvh<O, BV, Config>::refit_node(node_index n) {
 }
 template <stored_object O, class BV, class Config>
 inline void bvh<O, BV, Config>::refit_upward(node_index n) {
-    for (; n != no_node; n = nodes_[n].parent) refit_node(n);
+    // Box volumes stop at the first node whose box comes out unchanged: a box is the exact
+    // union of its children's (or its objects'), so the boxes above it, which contain it, are
+    // still right. An insertion inside its leaf's box, or near a box it has already grown,
+    // then refits a few levels instead of the whole path. Other volumes are not compared (a
+    // merge of spheres or hulls depends on more than the child that changed).
+    for (; n != no_node; n = nodes_[n].parent) {
+        if constexpr (volume_is_box) {
+            const box_type before = nodes_[n].volume;
+            refit_node(n);
+            if (nodes_[n].volume.lo == before.lo && nodes_[n].volume.hi == before.hi) return;
+        } else {
+            refit_node(n);
+        }
+    }
 }
 
 // ================= dynamic insertion and removal =======================================
