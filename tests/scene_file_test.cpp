@@ -502,7 +502,7 @@ TEST(scene_errors, bad_enum_values_list_the_valid_ones) {
     text.replace(text.find("count = 10"), 10, "count = 10\nplacement = \"gaussian\"");
     EXPECT_ERROR_AT(text, 8, 1,
                     "'placement' has no value 'gaussian' (expected one of: uniform, clusters, sphere, plane, line, "
-                    "lattice, duplicates)");
+                    "lattice, duplicates, clusters_far)");
     EXPECT_ERROR_AT("[scene]\nscalar = \"half\"\n" + minimal_scene.substr(8), 2, 1,
                     "'scalar' has no value 'half' (expected one of: float, double)");
     EXPECT_ERROR_AT(minimal_scene + "[effects.raycast]\nrays_per_step = 1\nkind = \"laser\"\n", 14, 1,
