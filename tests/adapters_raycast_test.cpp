@@ -297,6 +297,15 @@ TEST_F(mesh_loading, off_face_with_a_negative_vertex_count_is_rejected_before_cg
               1u);
 }
 
+// Found by fuzzing (fuzz/mesh, 2026-11-27): a face whose vertex INDEX is negative ("3 -3 0 4")
+// passed the face check and reached the same scanner, which converts it to std::size_t
+// (File_scanner_OFF.h:751; UBSan reported it). Rejected by name, with its line.
+TEST_F(mesh_loading, off_face_with_a_negative_vertex_index_is_rejected_before_cgal_reads_it) {
+    const std::string m = message_of(write("negative_index.off", "OFF\n3 1 0\n0 0 0\n1 0 0\n0 1 0\n3 -3 0 1\n"));
+    EXPECT_NE(m.find("face 0 has a negative vertex index \"-3\""), std::string::npos) << m;
+    EXPECT_NE(m.find("line 6"), std::string::npos) << m;
+}
+
 TEST_F(mesh_loading, fetched_real_meshes_load_when_present) {
     const fs::path real = fs::path(SPATIAL_DATASETS_REAL_DIR) / "meshes";
     if (!fs::is_directory(real)) GTEST_SKIP() << "run scripts/fetch_meshes.sh to test the real meshes";

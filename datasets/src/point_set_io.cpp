@@ -190,7 +190,7 @@ std::vector<point3> parse_xyz_text(std::string_view text, const fs::path& file) 
 enum class off_faces { ignore, check };
 
 // Faces (when asked): each face's line starts with its vertex count, a non-negative integer
-// followed by at least that many indices on the same line, as CGAL's OFF scanner (which reads a
+// followed by at least that many indices, none negative, on the same line, as CGAL's OFF scanner (which reads a
 // face and skips the rest of its line, colours included) needs them: it converts a negative
 // count to std::size_t (undefined behaviour) and reserves a count's worth of indices.
 std::vector<point3> parse_off_text(std::string_view text, const fs::path& file, off_faces faces = off_faces::ignore) {
@@ -293,7 +293,12 @@ std::vector<point3> parse_off_text(std::string_view text, const fs::path& file, 
         if (!size)
             fail_at(file, lines.number(), "expected the vertex count of " + face + " but found " + quote_token(size_token));
         std::uint64_t indices = 0;
-        while (indices < *size && tokens.next(index)) ++indices;
+        while (indices < *size && tokens.next(index)) {
+            // CGAL's scanner converts a negative index to std::size_t too (undefined behaviour).
+            if (!index.empty() && index.front() == '-')
+                fail_at(file, lines.number(), face + " has a negative vertex index " + quote_token(index));
+            ++indices;
+        }
         if (indices < *size)
             fail_at(file, lines.number(), face + " declares " + std::to_string(*size) + " vertices but its line has " +
                                               std::to_string(indices) + " indices (a face is one line)");
