@@ -25,6 +25,9 @@ struct aabb {
 
     point_type lo, hi;  // lo[i] <= hi[i] for a non-empty box
 
+    // Bitwise-equal corners (-0 == +0 as for any double).
+    friend constexpr bool operator==(const aabb&, const aabb&) = default;
+
     // The empty box (contains nothing; merging with it is the identity).
     static aabb empty() {
         aabb b;

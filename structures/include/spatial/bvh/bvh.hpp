@@ -426,6 +426,7 @@ private:
 
     // ---- dynamic updates (bvh_motion.hpp) ---------------------------------------------
     void refit_node(node_index n);
+    box_type objects_box(const node& leaf) const;  // the box of a leaf's objects
     void refit_upward(node_index n);
 
     // ---- undoing a change that ran out of memory (bvh_backup.hpp) ----------------------

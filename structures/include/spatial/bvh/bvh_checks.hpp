@@ -65,18 +65,9 @@ inline std::string bvh<O, BV, Config>::check_invariants() const {
         if constexpr (volume_is_box) {
             // Every aabb is the exact union of its children's (a leaf's: of its objects'):
             // path refits stop at the first unchanged box, which is right only if so.
-            box_type exact = box_type::empty();
-            if (nd.leaf) {
-                for (std::uint32_t i = 0; i < nd.count; ++i) {
-                    const O& v = slots_.value(block(nd.first)[i]);
-                    for (std::size_t k = 0; k < D; ++k)
-                        exact.lo[k] = std::min(exact.lo[k], object_lower(v, k)),
-                        exact.hi[k] = std::max(exact.hi[k], object_upper(v, k));
-                }
-            } else {
-                exact = nodes_[nd.first].volume.merged(nodes_[nd.first + 1].volume);
-            }
-            if (!(nd.count == 0 && nd.leaf) && !(exact.lo == nd.volume.lo && exact.hi == nd.volume.hi))
+            const box_type exact =
+                nd.leaf ? objects_box(nd) : nodes_[nd.first].volume.merged(nodes_[nd.first + 1].volume);
+            if (!(nd.count == 0 && nd.leaf) && !(exact == nd.volume))
                 return "box of node " + std::to_string(n) + " is not the union of what it holds";
         }
         if (!nd.leaf) continue;

@@ -273,12 +273,7 @@ inline void bvh<O, BV, Config>::refit_node(node_index n) {
     if constexpr (wide_rays) wide_.reset();
     node& nd = nodes_[n];
     if (nd.leaf) {
-        box_type b = box_type::empty();
-        for (std::uint32_t i = 0; i < nd.count; ++i) {
-            const O& v = slots_.value(block(nd.first)[i]);
-            for (std::size_t k = 0; k < D; ++k)
-                b.lo[k] = std::min(b.lo[k], object_lower(v, k)), b.hi[k] = std::max(b.hi[k], object_upper(v, k));
-        }
+        const box_type b = objects_box(nd);
         if constexpr (volume_is_box) {
             nd.volume = b;
         } else {
@@ -298,6 +293,16 @@ inline void bvh<O, BV, Config>::refit_node(node_index n) {
     if constexpr (!volume_is_box) m.own_box = b;
 }
 template <stored_object O, class BV, class Config>
+inline auto bvh<O, BV, Config>::objects_box(const node& leaf) const -> box_type {
+    box_type b = box_type::empty();
+    for (std::uint32_t i = 0; i < leaf.count; ++i) {
+        const O& v = slots_.value(block(leaf.first)[i]);
+        for (std::size_t k = 0; k < D; ++k)
+            b.lo[k] = std::min(b.lo[k], object_lower(v, k)), b.hi[k] = std::max(b.hi[k], object_upper(v, k));
+    }
+    return b;
+}
+template <stored_object O, class BV, class Config>
 inline void bvh<O, BV, Config>::refit_upward(node_index n) {
     // Box volumes stop at the first node whose box comes out unchanged: a box is the exact
     // union of its children's (or its objects'), so the boxes above it, which contain it, are
@@ -308,7 +313,7 @@ inline void bvh<O, BV, Config>::refit_upward(node_index n) {
         if constexpr (volume_is_box) {
             const box_type before = nodes_[n].volume;
             refit_node(n);
-            if (nodes_[n].volume.lo == before.lo && nodes_[n].volume.hi == before.hi) return;
+            if (nodes_[n].volume == before) return;
         } else {
             refit_node(n);
         }
