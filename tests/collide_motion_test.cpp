@@ -281,25 +281,45 @@ TEST(collide_collision_grid_motion, a_bulk_move_is_all_or_nothing_and_pairs_foll
     EXPECT_EQ(slots(grid.self_pairs()), slots(oracle.self_pairs()));
 }
 
-TEST(collide_pair_set_tracker, added_and_removed_are_the_set_differences) {
-    spatial_test::seeded_rng rng(204);
-    std::uniform_int_distribution<std::uint32_t> id(0, 30);
-    collide::pair_set_tracker<std::uint32_t> tracker;
-    std::set<pair32> previous;
+// 50 steps of `per_step` random pairs of ids in [low, high] (plus one duplicate each step)
+// against std::set differences.
+template <class Id>
+void check_tracker_against_sets(std::uint64_t seed, int per_step, Id low, Id high) {
+    using pair_type = std::pair<Id, Id>;
+    spatial_test::seeded_rng rng(seed);
+    std::uniform_int_distribution<Id> id(low, high);
+    collide::pair_set_tracker<Id> tracker;
+    std::set<pair_type> previous;
     for (int step = 0; step < 50; ++step) {
-        std::vector<pair32> now;
-        for (int k = 0; k < 40; ++k) now.emplace_back(id(rng), id(rng));
+        std::vector<pair_type> now;
+        for (int k = 0; k < per_step; ++k) now.emplace_back(id(rng), id(rng));
         now.push_back(now.front());  // a duplicate is one pair
-        const std::set<pair32> cur(now.begin(), now.end());
-        std::vector<pair32> added, removed;
+        const std::set<pair_type> cur(now.begin(), now.end());
+        std::vector<pair_type> added, removed;
         std::set_difference(cur.begin(), cur.end(), previous.begin(), previous.end(), std::back_inserter(added));
         std::set_difference(previous.begin(), previous.end(), cur.begin(), cur.end(), std::back_inserter(removed));
-        EXPECT_EQ(tracker.step(now), added.size() + removed.size());
-        EXPECT_EQ(tracker.added(), added);
-        EXPECT_EQ(tracker.removed(), removed);
-        EXPECT_EQ(tracker.pairs(), std::vector<pair32>(cur.begin(), cur.end()));
+        ASSERT_EQ(tracker.step(now), added.size() + removed.size());
+        ASSERT_EQ(tracker.added(), added);
+        ASSERT_EQ(tracker.removed(), removed);
+        ASSERT_EQ(tracker.pairs(), std::vector<pair_type>(cur.begin(), cur.end()));
         previous = cur;
     }
+}
+
+TEST(collide_pair_set_tracker, added_and_removed_are_the_set_differences) {
+    check_tracker_against_sets<std::uint32_t>(204, 40, 0, 30);
+}
+
+// Steps of at least 4096 pairs of small unsigned ids are sorted by radix sort
+// (collide/pair_sort.hpp), the others by std::sort: both must give the same sets, on either
+// side of the radix sort's id limit (4 p + 65536) too.
+TEST(collide_pair_set_tracker, large_steps_give_the_same_sets_by_either_sort) {
+    check_tracker_against_sets<std::uint32_t>(205, 5000, 0, 2000);          // radix
+    check_tracker_against_sets<std::uint64_t>(206, 5000, 0, 85535);         // radix, ids up to the limit
+    check_tracker_against_sets<std::uint64_t>(207, 5000, 85000, 90000);     // ids past the limit: std::sort
+    check_tracker_against_sets<std::uint64_t>(208, 5000, 0, 1ull << 40);    // std::sort
+    check_tracker_against_sets<std::int64_t>(209, 5000, -1000, 1000);       // signed: std::sort
+    check_tracker_against_sets<std::uint32_t>(210, 5000, 0, 3);             // radix, many duplicates
 }
 
 }  // namespace

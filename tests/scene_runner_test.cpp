@@ -60,24 +60,33 @@ TEST(scene_runner, a_static_scene_with_rays_only_moves_nothing_and_tests_no_pair
     EXPECT_EQ(k.motion_steps, 0u);
     EXPECT_EQ(k.index_updates, 0u);
     EXPECT_EQ(k.index_builds, 1u);
-    EXPECT_EQ(k.broad_phase_queries, 0u);
+    EXPECT_EQ(k.pair_queries, 0u);
     EXPECT_EQ(k.narrow_phase_tests, 0u);
     EXPECT_EQ(k.nearest_queries + k.range_queries + k.churn_inserts + k.churn_erases, 0u);
     EXPECT_EQ(k.rays_cast, 4u * 50u);
 }
 
-TEST(scene_runner, candidate_pairs_run_no_narrow_phase_and_exact_pairs_do) {
+TEST(scene_runner, self_pairs_are_the_structures_own_query_and_pairs_between_sets_run_the_runners_narrow_phase) {
     const std::string moving =
         scene_of_steps(5) + objects_table("boxes", "box", 400, "0.06", "kind = \"linear\", speed = 1.0");
     const auto candidates = run(moving + collide_effect(R"([["boxes", "boxes"]])", "candidates"));
     EXPECT_EQ(candidates.narrow_phase_tests, 0u);
-    EXPECT_EQ(candidates.broad_phase_queries, 5u);
+    EXPECT_EQ(candidates.exact_self_pair_queries, 0u);
+    EXPECT_EQ(candidates.pair_queries, 5u);
     EXPECT_EQ(candidates.motion_steps, 5u);
     EXPECT_EQ(candidates.index_updates, 5u);
     EXPECT_EQ(candidates.rays_cast, 0u);
+    // Exact self pairs: the structure's own exact query (its narrow phase runs inside it).
     const auto exact = run(moving + collide_effect(R"([["boxes", "boxes"]])", "exact"));
-    EXPECT_GT(exact.narrow_phase_tests, 0u);
-    EXPECT_EQ(exact.broad_phase_queries, 5u);
+    EXPECT_EQ(exact.exact_self_pair_queries, 5u);
+    EXPECT_EQ(exact.narrow_phase_tests, 0u);
+    EXPECT_EQ(exact.pair_queries, 5u);
+    // Exact pairs between two sets: box queries, then the runner's narrow phase per candidate.
+    const auto between = run(moving + objects_table("balls", "sphere", 300, "0.06") +
+                             collide_effect(R"([["boxes", "balls"]])", "exact"));
+    EXPECT_GT(between.narrow_phase_tests, 0u);
+    EXPECT_EQ(between.exact_self_pair_queries, 0u);
+    EXPECT_EQ(between.pair_queries, 5u);
 }
 
 TEST(scene_runner, no_index_for_a_set_nobody_queries_and_no_update_for_a_static_set) {
@@ -99,7 +108,7 @@ half_extent = 0.2
     EXPECT_EQ(k.index_updates, 3u);     // only the moving queried set's index follows
     EXPECT_EQ(k.nearest_queries, 3u * 20u);
     EXPECT_EQ(k.range_queries, 3u * 10u);
-    EXPECT_EQ(k.broad_phase_queries, 0u);
+    EXPECT_EQ(k.pair_queries, 0u);
 }
 
 TEST(scene_runner, churn_is_counted_and_every_structure_reports_the_same_exact_pairs) {
@@ -112,7 +121,9 @@ TEST(scene_runner, churn_is_counted_and_every_structure_reports_the_same_exact_p
     const std::size_t structures = harness::scene_structure_names().size();
     EXPECT_EQ(k.churn_inserts, structures * 4u * 7u);
     EXPECT_EQ(k.churn_erases, structures * 4u * 5u);
-    EXPECT_EQ(k.broad_phase_queries, structures * 4u * 2u);
+    EXPECT_EQ(k.pair_queries, structures * 4u * 2u);
+    EXPECT_EQ(k.exact_self_pair_queries, structures * 4u);  // balls-balls; balls-boxes is bipartite
+    EXPECT_GT(k.narrow_phase_tests, 0u);
 }
 
 TEST(scene_runner, structures_that_cannot_answer_an_effect_are_refused_by_name) {

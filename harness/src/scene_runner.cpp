@@ -4,8 +4,14 @@
 //   3. update   each queried set whose objects changed updates its structure (bvh: the
 //               scene's strategy through bvh::update(first, last, strategy); the others:
 //               their own incremental path, or a rebuild when the strategy says so);
-//   4. effects  collide (broad phase on the structures, narrow phase only when `exact`),
-//               raycast, nearest, range — each only if present.
+//   4. effects  collide, raycast, nearest, range — each only if present. Collide: a set's
+//               self pairs are the structure's own pair query with the scene's filter (for
+//               `exact` its narrow phase runs inside, as a simulation would call it); pairs
+//               between two sets come from box queries on the first set's structure, then
+//               the runner's narrow phase (double dispatch over the object types) when
+//               `exact`; then the pairs that appeared and disappeared since the last step
+//               (collide/pair_changes.hpp). Each is a timed stage: collide_pairs,
+//               collide_narrow_phase, collide_pair_changes.
 // Objects live in the runner's arrays (index = object id within its set; churn erases by
 // swap-and-pop, mirrored in the structure's handle array), so every answer is mapped to
 // (set, index). What is compared: exact pairs with brute force (every object of small sets,

@@ -51,7 +51,9 @@ struct structure_iface {
                         spatial::motion_strategy strategy) = 0;
     virtual void erase_swap_pop(std::uint32_t index) = 0;  // as the runner's array does
     virtual void append(const O& x) = 0;
-    virtual std::vector<pair32> self_candidates() = 0;     // (i < j), boxes or volumes overlap
+    // The structure's own self-pair query with `filter` (pairs.hpp), as object indices (i < j),
+    // in any order, into `out` (cleared first; its capacity is reused step after step).
+    virtual void self_pairs(spatial::pair_filter filter, std::vector<pair32>& out) = 0;
     virtual std::vector<std::uint32_t> in_box(const P& lo, const P& hi) = 0;
     virtual std::optional<std::pair<std::uint32_t, T>> first_hit(const spatial::ray<P>& r) = 0;
     virtual std::vector<T> nearest_distances(const P& q, std::size_t k, const std::vector<O>& objects) = 0;
@@ -110,18 +112,17 @@ public:
         handles_.push_back(c_.insert(x));
         remap();
     }
-    std::vector<pair32> self_candidates() override {
-        std::vector<pair32> out;
+    void self_pairs(spatial::pair_filter filter, std::vector<pair32>& out) override {
+        out.clear();
         auto add = [&](const auto& a, const auto& b) {
             const std::uint32_t i = index_[a.slot()], j = index_[b.slot()];
             out.emplace_back(std::min(i, j), std::max(i, j));
         };
-        // Unsorted when the structure offers it (collision_grid): the runner sorts by index.
+        // Unsorted when the structure offers it (collision_grid): the pair tracker sorts.
         if constexpr (spatial::streamed_self_pairs<C>)
-            c_.for_each_self_pair(spatial::pair_filter::candidates, add);
+            c_.for_each_self_pair(filter, add);
         else
-            for (const auto& [a, b] : c_.self_pairs(spatial::pair_filter::candidates)) add(a, b);
-        return out;
+            for (const auto& [a, b] : c_.self_pairs(filter)) add(a, b);
     }
     std::vector<std::uint32_t> in_box(const P& lo, const P& hi) override {
         std::vector<std::uint32_t> out;
@@ -215,7 +216,7 @@ struct set_base {
     virtual bool indexed() const = 0;
     virtual void make_index(const std::string& structure) = 0;
     virtual bool answers_queries() const = 0;
-    virtual std::vector<pair32> self_candidates() = 0;
+    virtual void self_pairs(spatial::pair_filter filter, std::vector<pair32>& out) = 0;  // (i < j), any order
     virtual std::vector<std::uint32_t> in_box(const P& lo, const P& hi) = 0;
     virtual std::vector<std::uint32_t> brute_in_box(const P& lo, const P& hi) const = 0;
     virtual void box_of(std::uint32_t i, P& lo, P& hi) const = 0;
@@ -279,7 +280,7 @@ public:
         changed_all_ = false;
         ++k.index_updates;
     }
-    std::vector<pair32> self_candidates() override { return index_->self_candidates(); }
+    void self_pairs(spatial::pair_filter filter, std::vector<pair32>& out) override { index_->self_pairs(filter, out); }
     std::vector<std::uint32_t> in_box(const P& lo, const P& hi) override { return index_->in_box(lo, hi); }
     std::vector<std::uint32_t> brute_in_box(const P& lo, const P& hi) const override {
         std::vector<std::uint32_t> out;
@@ -471,22 +472,32 @@ private:
         }
     }
 
+    // One collide step per `between` entry: the pairs (collide_pairs), for pairs between two
+    // sets the runner's narrow phase (collide_narrow_phase), then the pairs that appeared and
+    // disappeared since the last step (collide_pair_changes): the whole of what a simulation
+    // step asks of collision detection. Validation (untimed) sits between the stages.
     void collide_step(std::size_t step, std::vector<spatial::collide::pair_set_tracker<std::uint64_t>>& trackers) {
         const bool exact = scene_.collide->filter == datasets::collide_filter::exact;
-        double broad = 0, narrow = 0;
+        double query = 0, narrow = 0, changes = 0;
+        bool narrow_ran = false;
         std::size_t total = 0, changed = 0;
         for (std::size_t e = 0; e < scene_.collide->between.size(); ++e) {
             const auto [a, b] = scene_.collide->between[e];
             auto t0 = std::chrono::steady_clock::now();
-            std::vector<pair32> cand;
+            std::vector<pair32>& pairs = pairs_;
             if (a == b) {
-                cand = sets_[a]->self_candidates();
+                // The structure's own query: with `exact`, its narrow phase runs inside it
+                // (collide::narrow_phase, the same test as the runner's), so a structure that
+                // can skip it for boxes (whose box test is the exact test) does.
+                sets_[a]->self_pairs(exact ? spatial::pair_filter::exact : spatial::pair_filter::candidates, pairs);
+                if (exact) ++k_.exact_self_pair_queries;
             } else {
                 // Bipartite: each object of b against a's structure, by its box. The box query
                 // reports objects that meet the box by each object's own (floating-point) test,
                 // e.g. triangle-box; grown by a relative 2^-20 it cannot miss an object that
                 // truly touches the box, and the exact box filter below keeps the candidate
                 // set the same for every structure (boxes overlap).
+                pairs.clear();
                 P lo, hi;
                 for (std::uint32_t j = 0; j < sets_[b]->size(); ++j) {
                     sets_[b]->box_of(j, lo, hi);
@@ -501,36 +512,42 @@ private:
                         sets_[a]->box_of(i, alo, ahi);
                         bool overlap = true;  // candidates: boxes overlap (the same rule as self pairs)
                         for (std::size_t d = 0; d < D; ++d) overlap &= !(ahi[d] < lo[d] || hi[d] < alo[d]);
-                        if (overlap) cand.emplace_back(i, j);
+                        if (overlap) pairs.emplace_back(i, j);
                     }
                 }
             }
-            ++k_.broad_phase_queries;
-            broad += seconds_since(t0);
-            t0 = std::chrono::steady_clock::now();
-            std::vector<pair32> pairs;
-            if (exact) {
-                for (const auto& [i, j] : cand) {
+            ++k_.pair_queries;
+            query += seconds_since(t0);
+            if (exact && a != b) {
+                t0 = std::chrono::steady_clock::now();
+                std::erase_if(pairs, [&](const pair32& p) {
                     ++k_.narrow_phase_tests;
-                    if (sets_[a]->narrow(i, *sets_[b], j)) pairs.push_back({i, j});
-                }
-            } else {
-                pairs = std::move(cand);
+                    return !sets_[a]->narrow(p.first, *sets_[b], p.second);
+                });
+                narrow += seconds_since(t0);
+                narrow_ran = true;
             }
-            std::sort(pairs.begin(), pairs.end());
-            narrow += seconds_since(t0);
             if (!pairs.empty() && injected_fault(structure_)) pairs.pop_back();
             validate_pairs(a, b, pairs, step, exact);
+            t0 = std::chrono::steady_clock::now();
             std::vector<std::pair<std::uint64_t, std::uint64_t>> ids;
+            ids.reserve(pairs.size());
             for (const auto& [i, j] : pairs) ids.emplace_back(i, j);
             // Object indices are ids except across churn (swap-and-pop renames the last
             // object): the pairs changed figure then also counts the renamed ones.
             changed += trackers[e].step(std::move(ids));
-            total += pairs.size();
-            pair_log.push_back(std::move(pairs));
+            changes += seconds_since(t0);
+            total += trackers[e].pairs().size();
+            // The step's pairs, sorted (the tracker's set), for the comparison across structures.
+            std::vector<pair32> sorted;
+            sorted.reserve(trackers[e].pairs().size());
+            for (const auto& [i, j] : trackers[e].pairs())
+                sorted.emplace_back(static_cast<std::uint32_t>(i), static_cast<std::uint32_t>(j));
+            pair_log.push_back(std::move(sorted));
         }
-        record("collide_broad_phase", broad);
-        if (exact) record("collide_narrow_phase", narrow);
+        record("collide_pairs", query);
+        if (narrow_ran) record("collide_narrow_phase", narrow);
+        record("collide_pair_changes", changes);
         times.counts["pairs"].push_back(static_cast<double>(total));
         times.counts["pairs_changed"].push_back(static_cast<double>(changed));
     }
@@ -653,6 +670,7 @@ private:
     std::string structure_;
     std::size_t steps_;
     scene_counters& k_;
+    std::vector<pair32> pairs_;  // one collide entry's pairs (capacity kept across steps)
     const progress& prog_;
     std::vector<std::unique_ptr<set_base<T, D>>> sets_;
     double step_seconds_ = 0;

@@ -48,7 +48,8 @@ const std::vector<suite_entry>& suite_table() {
           {"steps_per_second", "", "moving_boxes", 100000, 60.0, ">= 60 steps/s at 1e5"}},
          {}, {}, "", {}, &run_collide_suite, &collide_case_ids},
         {"scenes", "scenes.csv", "scene pipelines (TOML scenes): per-step stage times", "", {}, {},
-         {"motion", "churn", "update", "collide_broad_phase", "collide_narrow_phase", "raycast", "nearest", "range"},
+         {"motion", "churn", "update", "collide_pairs", "collide_narrow_phase", "collide_pair_changes", "raycast", "nearest",
+          "range"},
          "step", {"build"}, nullptr},
     };
     return suites;

@@ -16,8 +16,9 @@ COLLIDE = support.suite(
               "n": 1000000, "value": 5.0, "label": ""},
              {"metric": "steps_per_second", "structure": "", "workload": "moving_boxes",
               "n": 100000, "value": 60.0, "label": ">= 60 steps/s at 1e5"}])
-SCENES = support.suite("scenes", stages=["motion", "churn", "update", "collide_broad_phase",
-                                         "collide_narrow_phase", "raycast", "nearest", "range"],
+SCENES = support.suite("scenes", stages=["motion", "churn", "update", "collide_pairs",
+                                         "collide_narrow_phase", "collide_pair_changes", "raycast",
+                                         "nearest", "range"],
                        total_stage="step", once_stages=["build"])
 REGISTRY = support.registry_dict(
     [COLLIDE, SCENES],
@@ -234,7 +235,7 @@ class CollidePlotTest(support.ResultsTestCase):
 def scenes_rows():
     rows = []
     params = "steps=100;strategy=automatic;filter=exact"
-    for scene, stages in (("boxes_100k", ("motion", "update", "collide_broad_phase", "collide_narrow_phase")),
+    for scene, stages in (("boxes_100k", ("motion", "update", "collide_pairs", "collide_pair_changes")),
                           ("queries", ("motion", "churn", "update", "raycast", "nearest", "range"))):
         for structure, bv in (("collision_grid", "-"), ("bvh", "aabb")):
             rows.append(collide_row(structure, scene, 100000, "build", "time", 0.05, params=params, bv=bv,

@@ -24,6 +24,7 @@
 #include <vector>
 
 #include "harness/configured.hpp"
+#include "spatial/collide/pair_sort.hpp"
 
 namespace harness {
 
@@ -69,29 +70,8 @@ inline bool closed_boxes_overlap(const collide_box& a, const collide_box& b) {
 
 // Puts pairs in the interface's answer form: sorted lexicographically, each once (peers that
 // may report a pair twice rely on the unique step). Every participant (ours and the peers)
-// goes through this same function, so it costs all alike. A least-significant-digit radix
-// sort (two stable counting passes: by the second index, then by the first; Knuth TAOCP
-// vol. 3, 5.2.5) when the indices are small relative to the pair count — O(p + m) for p
-// pairs with indices below m, 3-5x faster than std::sort at 1e5-1e6 pairs — else std::sort.
-inline void sort_unique_pairs(std::vector<index_pair>& pairs) {
-    std::uint32_t top = 0;
-    for (const auto& [a, b] : pairs) top = std::max(top, std::max(a, b));
-    const std::size_t m = static_cast<std::size_t>(top) + 1;
-    if (pairs.size() < 4096 || m > 4 * pairs.size() + 65536) {
-        std::sort(pairs.begin(), pairs.end());
-    } else {
-        std::vector<index_pair> tmp(pairs.size());
-        std::vector<std::size_t> start(m + 1);
-        auto pass = [&](std::vector<index_pair>& from, std::vector<index_pair>& to, auto key) {
-            std::fill(start.begin(), start.end(), 0);
-            for (const auto& p : from) ++start[key(p) + 1];
-            for (std::size_t k = 0; k < m; ++k) start[k + 1] += start[k];
-            for (const auto& p : from) to[start[key(p)]++] = p;
-        };
-        pass(pairs, tmp, [](const index_pair& p) { return p.second; });
-        pass(tmp, pairs, [](const index_pair& p) { return p.first; });
-    }
-    pairs.erase(std::unique(pairs.begin(), pairs.end()), pairs.end());
-}
+// goes through this same function, so it costs all alike (the library's, a radix sort for
+// indices: spatial/collide/pair_sort.hpp).
+inline void sort_unique_pairs(std::vector<index_pair>& pairs) { spatial::collide::sort_unique_pairs(pairs); }
 
 }  // namespace harness

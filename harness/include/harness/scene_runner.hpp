@@ -28,8 +28,9 @@ struct scene_counters {
     std::size_t index_builds = 0;        // structures built (one per queried set and structure)
     std::size_t index_updates = 0;       // structure updates after motion or churn
     std::size_t churn_inserts = 0, churn_erases = 0;
-    std::size_t broad_phase_queries = 0; // pair queries on a structure (self or bipartite)
-    std::size_t narrow_phase_tests = 0;  // exact object-pair tests
+    std::size_t pair_queries = 0;        // pair queries on a structure (self or bipartite)
+    std::size_t exact_self_pair_queries = 0;  // self pairs asked exact of the structure itself
+    std::size_t narrow_phase_tests = 0;  // the runner's exact tests of bipartite candidates
     std::size_t rays_cast = 0, nearest_queries = 0, range_queries = 0;
 };
 

@@ -2,7 +2,7 @@
 
 One subplot per scene (the `workload` column) and n.  Each structure gets a bar stacking the
 median per-step times of the stages, in the order of the suite's registry `stages` (motion,
-churn, update, collide_broad_phase, ...); other operations with a time row are stacked after
+churn, update, collide_pairs, ...); other operations with a time row are stacked after
 them, except the registry's `once_stages` (build: once per scene, not per step).  A stage keeps
 its colour in every subplot, so the bars show which stages each scene runs.  The registry's
 `total_stage` (step, the whole step) is not stacked: it is a black mark labelled with the steps

@@ -6,7 +6,8 @@
 // The tracker stores the current set sorted; each step's new set (from any structure's
 // self_pairs / pairs_with, mapped to ids the caller keeps stable for an object's life) is
 // sorted and merged against it: added = new \ old, removed = old \ new, O(p log p + p_old)
-// for p pairs. Ids must not be reused while a pair holding them is in the set: a
+// for p pairs; O(p + p_old) for small unsigned ids such as object indices (radix sort,
+// pair_sort.hpp). Ids must not be reused while a pair holding them is in the set: a
 // structure's slot index is NOT such an id once objects are erased and inserted (a new
 // object may take an erased object's slot), so the scene runner uses its own object ids.
 
@@ -14,6 +15,8 @@
 #include <iterator>
 #include <utility>
 #include <vector>
+
+#include "spatial/collide/pair_sort.hpp"
 
 namespace spatial::collide {
 
@@ -26,8 +29,7 @@ public:
     // for self pairs only if the caller normalises them — self_pairs() already reports
     // (lower, higher)). Returns the number of pairs that changed (added + removed).
     std::size_t step(std::vector<pair_type> pairs) {
-        std::sort(pairs.begin(), pairs.end());
-        pairs.erase(std::unique(pairs.begin(), pairs.end()), pairs.end());
+        sort_unique_pairs(pairs);
         added_.clear();
         removed_.clear();
         std::set_difference(pairs.begin(), pairs.end(), current_.begin(), current_.end(), std::back_inserter(added_));
