@@ -115,7 +115,8 @@ public:
     void self_pairs(spatial::pair_filter filter, std::vector<pair32>& out) override {
         out.clear();
         auto add = [&](const auto& a, const auto& b) {
-            const std::uint32_t i = index_[a.slot()], j = index_[b.slot()];
+            const std::uint32_t i = identity_ ? static_cast<std::uint32_t>(a.slot()) : index_[a.slot()];
+            const std::uint32_t j = identity_ ? static_cast<std::uint32_t>(b.slot()) : index_[b.slot()];
             out.emplace_back(std::min(i, j), std::max(i, j));
         };
         // Unsorted when the structure offers it (collision_grid): the pair tracker sorts.
@@ -167,12 +168,17 @@ private:
         std::uint32_t top = 0;
         for (const auto& h : handles_) top = std::max(top, static_cast<std::uint32_t>(h.slot()));
         index_.assign(static_cast<std::size_t>(top) + 1, 0);
-        for (std::uint32_t i = 0; i < handles_.size(); ++i) index_[handles_[i].slot()] = i;
+        identity_ = true;
+        for (std::uint32_t i = 0; i < handles_.size(); ++i) {
+            index_[handles_[i].slot()] = i;
+            identity_ &= handles_[i].slot() == i;
+        }
     }
 
     C c_;
     std::vector<typename C::iterator> handles_;
-    std::vector<std::uint32_t> index_;
+    std::vector<std::uint32_t> index_;  // object index of each slot
+    bool identity_ = false;             // slot i holds object i for every i (no lookup needed)
     std::vector<std::pair<typename C::iterator, O>> moves_;
 };
 

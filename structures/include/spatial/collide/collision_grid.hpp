@@ -121,8 +121,10 @@ public:
         constexpr bool box_is_exact =
             std::is_same_v<O, objects::box<scalar_type, dimension>> || std::is_same_v<O, point_type>;
         const bool narrow = filter == pair_filter::exact && !box_is_exact;
+        // With no free slot (nothing erased), box i is slot i: no lookup per pair.
+        const bool dense = slot_of_.size() == slots_.capacity();
         grid_.self_pairs(boxes_, [&](std::uint32_t i, std::uint32_t j) {
-            slot_index s = slot_of_[i], t = slot_of_[j];
+            slot_index s = dense ? i : slot_of_[i], t = dense ? j : slot_of_[j];
             if (narrow && !collide::narrow_phase(slots_.value(s), slots_.value(t))) return;
             if (s > t) std::swap(s, t);
             f(make(s), make(t));
