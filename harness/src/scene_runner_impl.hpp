@@ -404,7 +404,7 @@ public:
             times.seconds["build"].push_back(seconds_since(t0));
         }
         const auto strategy = scene_.collide ? to_motion(scene_.collide->strategy) : spatial::motion_strategy::automatic;
-        std::vector<spatial::collide::pair_set_tracker<std::uint64_t>> trackers(scene_.collide ? scene_.collide->between.size() : 0);
+        std::vector<spatial::collide::pair_set_tracker<std::uint32_t>> trackers(scene_.collide ? scene_.collide->between.size() : 0);
         for (std::size_t step = 0; step < steps_; ++step) {
             step_seconds_ = 0;  // the sum of this step's timed stages (validation excluded)
             if (scene_.moves()) {
@@ -482,7 +482,7 @@ private:
     // sets the runner's narrow phase (collide_narrow_phase), then the pairs that appeared and
     // disappeared since the last step (collide_pair_changes): the whole of what a simulation
     // step asks of collision detection. Validation (untimed) sits between the stages.
-    void collide_step(std::size_t step, std::vector<spatial::collide::pair_set_tracker<std::uint64_t>>& trackers) {
+    void collide_step(std::size_t step, std::vector<spatial::collide::pair_set_tracker<std::uint32_t>>& trackers) {
         const bool exact = scene_.collide->filter == datasets::collide_filter::exact;
         double query = 0, narrow = 0, changes = 0;
         bool narrow_ran = false;
@@ -536,20 +536,12 @@ private:
             if (!pairs.empty() && injected_fault(structure_)) pairs.pop_back();
             validate_pairs(a, b, pairs, step, exact);
             t0 = std::chrono::steady_clock::now();
-            std::vector<std::pair<std::uint64_t, std::uint64_t>> ids;
-            ids.reserve(pairs.size());
-            for (const auto& [i, j] : pairs) ids.emplace_back(i, j);
             // Object indices are ids except across churn (swap-and-pop renames the last
             // object): the pairs changed figure then also counts the renamed ones.
-            changed += trackers[e].step(std::move(ids));
+            changed += trackers[e].step(pairs);
             changes += seconds_since(t0);
             total += trackers[e].pairs().size();
-            // The step's pairs, sorted (the tracker's set), for the comparison across structures.
-            std::vector<pair32> sorted;
-            sorted.reserve(trackers[e].pairs().size());
-            for (const auto& [i, j] : trackers[e].pairs())
-                sorted.emplace_back(static_cast<std::uint32_t>(i), static_cast<std::uint32_t>(j));
-            pair_log.push_back(std::move(sorted));
+            pair_log.push_back(trackers[e].pairs());  // sorted: compared across structures
         }
         record("collide_pairs", query);
         if (narrow_ran) record("collide_narrow_phase", narrow);
