@@ -9,6 +9,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <iterator>
 #include <limits>
 #include <random>
 #include <set>
@@ -279,6 +280,40 @@ TEST(collide_collision_grid_motion, a_bulk_move_is_all_or_nothing_and_pairs_foll
         return out;
     };
     EXPECT_EQ(slots(grid.self_pairs()), slots(oracle.self_pairs()));
+}
+
+// A bulk insert validates the whole batch before storing any of it, whether the range can be
+// read twice (validated in place) or only once (copied first).
+TEST(collide_collision_grid_motion, a_bulk_insert_with_a_nan_stores_nothing_from_either_kind_of_range) {
+    std::mt19937_64 rng(spatial_test::test_seed(211));
+    const std::vector<B3> boxes = random_objects<B3>(rng, 300);
+    std::vector<B3> batch = random_objects<B3>(rng, 200);
+    batch[150].lo[0] = std::nan("");
+    collision_grid<B3> grid(boxes.begin(), boxes.end());
+    const auto before = grid.self_pairs();
+    EXPECT_THROW(grid.insert(batch.begin(), batch.end()), std::invalid_argument);  // forward range
+    EXPECT_EQ(grid.size(), boxes.size());
+    struct once {
+        const std::vector<B3>* v;
+        std::size_t i;
+        using iterator_category = std::input_iterator_tag;
+        using value_type = B3;
+        using difference_type = std::ptrdiff_t;
+        using pointer = const B3*;
+        using reference = const B3&;
+        const B3& operator*() const { return (*v)[i]; }
+        once& operator++() { ++i; return *this; }
+        void operator++(int) { ++i; }
+        bool operator==(const once& o) const { return i == o.i; }
+    };
+    static_assert(!std::forward_iterator<once>);
+    EXPECT_THROW(grid.insert(once{&batch, 0}, once{&batch, batch.size()}), std::invalid_argument);
+    EXPECT_EQ(grid.size(), boxes.size());
+    EXPECT_EQ(grid.self_pairs(), before);
+    batch[150] = random_object<B3>(rng);
+    grid.insert(once{&batch, 0}, once{&batch, batch.size()});
+    grid.insert(batch.begin(), batch.end());
+    EXPECT_EQ(grid.size(), boxes.size() + 2 * batch.size());
 }
 
 // 50 steps of `per_step` random pairs of ids in [low, high] (plus one duplicate each step)

@@ -13,6 +13,7 @@
 // buffers: concurrent queries on one object race.
 
 #include <cstddef>
+#include <iterator>
 #include <stdexcept>
 #include <string>
 #include <type_traits>
@@ -52,14 +53,19 @@ public:
         detail::require_finite_object(x, "collision_grid::insert");
         return make(slots_.allocate(x, 1));
     }
-    // Validates the whole batch before storing any of it. O(m).
+    // Validates the whole batch before storing any of it. O(m). A forward range is validated
+    // where it is (a single-pass one is copied first).
     template <class InputIt>
     void insert(InputIt first, InputIt last) {
-        const std::vector<O> batch(first, last);
-        for (const O& x : batch) detail::require_finite_object(x, "collision_grid::insert(first, last)");
-        slots_.require_room_for(batch.size(), "collision_grid::insert(first, last)");
-        slots_.reserve(slots_.capacity() + batch.size());
-        for (const O& x : batch) slots_.allocate(x, 1);
+        if constexpr (std::forward_iterator<InputIt>) {
+            std::size_t m = 0;
+            for (auto it = first; it != last; ++it, ++m) detail::require_finite_object(*it, "collision_grid::insert(first, last)");
+            store(first, last, m);
+        } else {
+            const std::vector<O> batch(first, last);
+            for (const O& x : batch) detail::require_finite_object(x, "collision_grid::insert(first, last)");
+            store(batch.begin(), batch.end(), batch.size());
+        }
     }
     // O(1). Returns the next element in iteration order.
     iterator erase(const_iterator pos) {
@@ -177,6 +183,13 @@ private:
             boxes.push_back(b);
             slot_of.push_back(s);
         }
+    }
+    // Stores m validated objects: the room is made first, so nothing is stored unless all are.
+    template <class It>
+    void store(It first, It last, std::size_t m) {
+        slots_.require_room_for(m, "collision_grid::insert(first, last)");
+        slots_.reserve(slots_.capacity() + m);
+        for (; first != last; ++first) slots_.allocate(*first, 1);
     }
     void check(const_iterator pos, const char* what) const {
         if (pos == end() || !slots_.occupied(pos.slot()))
