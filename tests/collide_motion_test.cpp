@@ -345,16 +345,17 @@ TEST(collide_pair_set_tracker, added_and_removed_are_the_set_differences) {
     check_tracker_against_sets<std::uint32_t>(204, 40, 0, 30);
 }
 
-// Steps of at least 4096 pairs of small unsigned ids are sorted by radix sort
-// (collide/pair_sort.hpp), the others by std::sort: both must give the same sets, on either
-// side of the radix sort's id limit (4 p + 65536) too.
+// Steps of at least 4096 pairs of unsigned ids below 2^32 are sorted by radix sort on one
+// 64-bit key per pair (collide/pair_sort.hpp), the others by std::sort: both must give the
+// same sets, with keys of one to four 12-bit digits and at the 32-bit edge.
 TEST(collide_pair_set_tracker, large_steps_give_the_same_sets_by_either_sort) {
-    check_tracker_against_sets<std::uint32_t>(205, 5000, 0, 2000);          // radix
-    check_tracker_against_sets<std::uint64_t>(206, 5000, 0, 85535);         // radix, ids up to the limit
-    check_tracker_against_sets<std::uint64_t>(207, 5000, 85000, 90000);     // ids past the limit: std::sort
-    check_tracker_against_sets<std::uint64_t>(208, 5000, 0, 1ull << 40);    // std::sort
-    check_tracker_against_sets<std::int64_t>(209, 5000, -1000, 1000);       // signed: std::sort
-    check_tracker_against_sets<std::uint32_t>(210, 5000, 0, 3);             // radix, many duplicates
+    check_tracker_against_sets<std::uint32_t>(205, 5000, 0, 2000);               // radix, 22-bit keys
+    check_tracker_against_sets<std::uint64_t>(206, 5000, 0, 0xffffffffu);        // radix, 64-bit keys
+    check_tracker_against_sets<std::uint32_t>(207, 5000, 0xfffff000u, 0xffffffffu);  // radix, high ids
+    check_tracker_against_sets<std::uint64_t>(208, 5000, 0, 1ull << 40);         // past 2^32: std::sort
+    check_tracker_against_sets<std::int64_t>(209, 5000, -1000, 1000);            // signed: std::sort
+    check_tracker_against_sets<std::uint32_t>(210, 5000, 0, 3);                  // radix, many duplicates
+    check_tracker_against_sets<std::uint32_t>(212, 5000, 0, 1);                  // radix, 2-bit keys
 }
 
 }  // namespace

@@ -4,10 +4,13 @@
 // reports pairs in grid order) and every step of a moving scene (pair_changes.hpp) need it,
 // so it is on the path of every simulation step.
 //
-// For unsigned ids that are small relative to the pair count (object indices: ids below
-// m <= 4 p + 65536 for p pairs) a least-significant-digit radix sort with the ids as digits:
-// two stable counting passes, by the second id and then by the first (Knuth, TAOCP vol. 3,
-// §5.2.5), O(p + m) time and O(p + m) scratch. Otherwise std::sort, O(p log p).
+// Unsigned ids below 2^32 (object indices, slots): each pair becomes one 64-bit key
+// (first << b | second, b = the bits of the largest id) sorted by least-significant-digit
+// radix sort (Knuth, TAOCP vol. 3, §5.2.5): stable counting passes over digits of at most 12
+// bits, so the counts (16 KB) stay in the L1 cache. O(p ceil(2b / 12)) time and O(p)
+// scratch for p pairs. Counting passes with the ids themselves as digits (two passes, counts
+// the size of the id range) were slower at 1e6 pairs, where the counts left the caches
+// (docs/experiments/collisions.md). Other ids (signed, wider, or fewer than 4096 pairs): std::sort, O(p log p).
 
 #include <algorithm>
 #include <cstddef>
@@ -18,32 +21,51 @@
 
 namespace spatial::collide {
 
+namespace detail {
+// Sorts 64-bit keys whose set bits all lie below `bits`.
+inline void radix_sort_keys(std::vector<std::uint64_t>& keys, unsigned bits) {
+    constexpr unsigned max_digit = 12;
+    if (bits == 0 || keys.size() < 2) return;
+    const unsigned passes = (bits + max_digit - 1) / max_digit;
+    const unsigned digit = (bits + passes - 1) / passes;
+    const std::size_t radix = std::size_t(1) << digit;
+    std::vector<std::uint64_t> scratch(keys.size());
+    std::vector<std::size_t> count(radix);
+    for (unsigned pass = 0, shift = 0; pass < passes; ++pass, shift += digit) {
+        std::fill(count.begin(), count.end(), 0);
+        for (const std::uint64_t k : keys) ++count[(k >> shift) & (radix - 1)];
+        std::size_t at = 0;
+        for (std::size_t& c : count) {
+            const std::size_t here = c;
+            c = at;
+            at += here;
+        }
+        for (const std::uint64_t k : keys) scratch[count[(k >> shift) & (radix - 1)]++] = k;
+        keys.swap(scratch);
+    }
+}
+}  // namespace detail
+
 template <class Id>
 void sort_unique_pairs(std::vector<std::pair<Id, Id>>& pairs) {
-    using pair_type = std::pair<Id, Id>;
-    bool radix = false;
-    std::size_t m = 0;
+    bool sorted = false;
     if constexpr (std::is_unsigned_v<Id>) {
         Id top = 0;
         for (const auto& [a, b] : pairs) top = std::max({top, a, b});
-        const std::size_t limit = 4 * pairs.size() + 65536;
-        radix = pairs.size() >= 4096 && static_cast<std::uint64_t>(top) < limit;
-        m = radix ? static_cast<std::size_t>(top) + 1 : 0;
+        if (pairs.size() >= 4096 && static_cast<std::uint64_t>(top) <= 0xffffffffu) {
+            unsigned bits = 0;
+            while (bits < 32 && (std::uint64_t(1) << bits) <= static_cast<std::uint64_t>(top)) ++bits;
+            std::vector<std::uint64_t> keys;
+            keys.reserve(pairs.size());
+            for (const auto& [a, b] : pairs) keys.push_back(static_cast<std::uint64_t>(a) << bits | static_cast<std::uint64_t>(b));
+            detail::radix_sort_keys(keys, 2 * bits);
+            const std::uint64_t low = (std::uint64_t(1) << bits) - 1;
+            for (std::size_t i = 0; i < keys.size(); ++i)
+                pairs[i] = {static_cast<Id>(keys[i] >> bits), static_cast<Id>(keys[i] & low)};
+            sorted = true;
+        }
     }
-    if (!radix) {
-        std::sort(pairs.begin(), pairs.end());
-    } else {
-        std::vector<pair_type> scratch(pairs.size());
-        std::vector<std::size_t> start(m + 1);
-        auto pass = [&](const std::vector<pair_type>& from, std::vector<pair_type>& to, auto key) {
-            std::fill(start.begin(), start.end(), 0);
-            for (const auto& p : from) ++start[static_cast<std::size_t>(key(p)) + 1];
-            for (std::size_t k = 0; k < m; ++k) start[k + 1] += start[k];
-            for (const auto& p : from) to[start[static_cast<std::size_t>(key(p))]++] = p;
-        };
-        pass(pairs, scratch, [](const pair_type& p) { return p.second; });
-        pass(scratch, pairs, [](const pair_type& p) { return p.first; });
-    }
+    if (!sorted) std::sort(pairs.begin(), pairs.end());
     pairs.erase(std::unique(pairs.begin(), pairs.end()), pairs.end());
 }
 
