@@ -80,8 +80,9 @@ public:
     }
     std::vector<index_pair> self_pairs(const exact_test& exact = {}) override {
         std::vector<index_pair> out;
+        out.reserve(last_pair_count_);
         auto add = [&](const auto& a, const auto& b) {
-            std::uint32_t i = index_of_slot_[a.slot()], j = index_of_slot_[b.slot()];
+            std::uint32_t i = index_of(a.slot()), j = index_of(b.slot());
             if (i > j) std::swap(i, j);
             if (!exact || exact(i, j)) out.emplace_back(i, j);
         };
@@ -92,6 +93,7 @@ public:
         else
             for (const auto& [a, b] : c_.self_pairs(spatial::pair_filter::exact)) add(a, b);
         sort_unique_pairs(out);
+        last_pair_count_ = out.size();
         return out;
     }
     std::vector<index_pair> pairs_with(std::span<const collide_box> others, const exact_test& exact = {}) override {
@@ -147,7 +149,15 @@ private:
         std::uint32_t top = 0;
         for (const auto& h : handles_) top = std::max(top, static_cast<std::uint32_t>(h.slot()));
         index_of_slot_.assign(static_cast<std::size_t>(top) + 1, 0);
-        for (std::uint32_t i = 0; i < handles_.size(); ++i) index_of_slot_[handles_[i].slot()] = i;
+        slots_are_indices_ = true;
+        for (std::uint32_t i = 0; i < handles_.size(); ++i) {
+            index_of_slot_[handles_[i].slot()] = i;
+            slots_are_indices_ &= handles_[i].slot() == i;
+        }
+    }
+    // Box i is in slot i after a bulk build of most containers: no lookup per pair then.
+    std::uint32_t index_of(std::size_t slot) const {
+        return slots_are_indices_ ? static_cast<std::uint32_t>(slot) : index_of_slot_[slot];
     }
 
     std::string name_;
@@ -155,6 +165,8 @@ private:
     Container c_;
     std::vector<typename Container::iterator> handles_;
     std::vector<std::uint32_t> index_of_slot_;
+    bool slots_are_indices_ = false;
+    std::size_t last_pair_count_ = 0;  // the last answer's size: the next one's reservation
     std::vector<std::pair<typename Container::iterator, collide_box3>> moves_;
 };
 
