@@ -347,7 +347,7 @@ TEST(collide_pair_set_tracker, added_and_removed_are_the_set_differences) {
 
 // Steps of at least 4096 pairs of unsigned ids below 2^32 are sorted by radix sort on one
 // 64-bit key per pair (collide/pair_sort.hpp), the others by std::sort: both must give the
-// same sets, with keys of one to four 12-bit digits and at the 32-bit edge.
+// same sets, with keys of one to six 12-bit digits and at the 32-bit edge.
 TEST(collide_pair_set_tracker, large_steps_give_the_same_sets_by_either_sort) {
     check_tracker_against_sets<std::uint32_t>(205, 5000, 0, 2000);               // radix, 22-bit keys
     check_tracker_against_sets<std::uint64_t>(206, 5000, 0, 0xffffffffu);        // radix, 64-bit keys
