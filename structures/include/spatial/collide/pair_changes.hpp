@@ -29,7 +29,7 @@ public:
     // for self pairs only if the caller normalises them — self_pairs() already reports
     // (lower, higher)). Returns the number of pairs that changed (added + removed).
     std::size_t step(std::vector<pair_type> pairs) {
-        sort_unique_pairs(pairs);
+        sort_unique_pairs(pairs, buffers_);
         added_.clear();
         removed_.clear();
         std::set_difference(pairs.begin(), pairs.end(), current_.begin(), current_.end(), std::back_inserter(added_));
@@ -50,6 +50,7 @@ public:
 
 private:
     std::vector<pair_type> current_, added_, removed_;
+    pair_sort_buffers buffers_;  // the sort's scratch, reused step after step
 };
 
 }  // namespace spatial::collide

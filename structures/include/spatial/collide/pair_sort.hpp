@@ -21,15 +21,21 @@
 
 namespace spatial::collide {
 
+// Scratch space of sort_unique_pairs, kept by a caller that sorts every step (pair_changes.hpp)
+// so that the buffers are not allocated again each time.
+struct pair_sort_buffers {
+    std::vector<std::uint64_t> keys, scratch;
+};
+
 namespace detail {
 // Sorts 64-bit keys whose set bits all lie below `bits`.
-inline void radix_sort_keys(std::vector<std::uint64_t>& keys, unsigned bits) {
+inline void radix_sort_keys(std::vector<std::uint64_t>& keys, std::vector<std::uint64_t>& scratch, unsigned bits) {
     constexpr unsigned max_digit = 12;
     if (bits == 0 || keys.size() < 2) return;
     const unsigned passes = (bits + max_digit - 1) / max_digit;
     const unsigned digit = (bits + passes - 1) / passes;
     const std::size_t radix = std::size_t(1) << digit;
-    std::vector<std::uint64_t> scratch(keys.size());
+    scratch.resize(keys.size());
     std::vector<std::size_t> count(radix);
     for (unsigned pass = 0, shift = 0; pass < passes; ++pass, shift += digit) {
         std::fill(count.begin(), count.end(), 0);
@@ -47,7 +53,7 @@ inline void radix_sort_keys(std::vector<std::uint64_t>& keys, unsigned bits) {
 }  // namespace detail
 
 template <class Id>
-void sort_unique_pairs(std::vector<std::pair<Id, Id>>& pairs) {
+void sort_unique_pairs(std::vector<std::pair<Id, Id>>& pairs, pair_sort_buffers& buffers) {
     bool sorted = false;
     if constexpr (std::is_unsigned_v<Id>) {
         Id top = 0;
@@ -55,10 +61,11 @@ void sort_unique_pairs(std::vector<std::pair<Id, Id>>& pairs) {
         if (pairs.size() >= 4096 && static_cast<std::uint64_t>(top) <= 0xffffffffu) {
             unsigned bits = 0;
             while (bits < 32 && (std::uint64_t(1) << bits) <= static_cast<std::uint64_t>(top)) ++bits;
-            std::vector<std::uint64_t> keys;
+            std::vector<std::uint64_t>& keys = buffers.keys;
+            keys.clear();
             keys.reserve(pairs.size());
             for (const auto& [a, b] : pairs) keys.push_back(static_cast<std::uint64_t>(a) << bits | static_cast<std::uint64_t>(b));
-            detail::radix_sort_keys(keys, 2 * bits);
+            detail::radix_sort_keys(keys, buffers.scratch, 2 * bits);
             const std::uint64_t low = (std::uint64_t(1) << bits) - 1;
             for (std::size_t i = 0; i < keys.size(); ++i)
                 pairs[i] = {static_cast<Id>(keys[i] >> bits), static_cast<Id>(keys[i] & low)};
@@ -67,6 +74,12 @@ void sort_unique_pairs(std::vector<std::pair<Id, Id>>& pairs) {
     }
     if (!sorted) std::sort(pairs.begin(), pairs.end());
     pairs.erase(std::unique(pairs.begin(), pairs.end()), pairs.end());
+}
+
+template <class Id>
+void sort_unique_pairs(std::vector<std::pair<Id, Id>>& pairs) {
+    pair_sort_buffers buffers;
+    sort_unique_pairs(pairs, buffers);
 }
 
 }  // namespace spatial::collide
