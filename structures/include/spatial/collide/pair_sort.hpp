@@ -6,11 +6,12 @@
 //
 // Unsigned ids below 2^32 (object indices, slots): each pair becomes one 64-bit key
 // (first << b | second, b = the bits of the largest id) sorted by least-significant-digit
-// radix sort (Knuth, TAOCP vol. 3, §5.2.5): stable counting passes over digits of at most 12
-// bits, so the counts (16 KB) stay in the L1 cache. O(p ceil(2b / 12)) time and O(p)
-// scratch for p pairs. Counting passes with the ids themselves as digits (two passes, counts
-// the size of the id range) were slower at 1e6 pairs, where the counts left the caches
-// (docs/experiments/collisions.md). Other ids (signed, wider, or fewer than 4096 pairs): std::sort, O(p log p).
+// radix sort (core/radix_sort.hpp; Knuth, TAOCP vol. 3, §5.2.5): stable counting passes over
+// digits of at most 12 bits, so the counts (16 KB) stay in the L1 cache. O(p ceil(2b / 12))
+// time and O(p) scratch for p pairs. Counting passes with the ids themselves as digits (two
+// passes, counts the size of the id range) were slower at 1e6 pairs, where the counts left
+// the caches (docs/experiments/collisions.md). Other ids (signed, wider, or fewer than 4096
+// pairs): std::sort, O(p log p).
 
 #include <algorithm>
 #include <cstddef>
@@ -18,6 +19,8 @@
 #include <type_traits>
 #include <utility>
 #include <vector>
+
+#include "spatial/core/radix_sort.hpp"
 
 namespace spatial::collide {
 
@@ -27,31 +30,6 @@ struct pair_sort_buffers {
     std::vector<std::uint64_t> keys, scratch;
 };
 
-namespace detail {
-// Sorts 64-bit keys whose set bits all lie below `bits`.
-inline void radix_sort_keys(std::vector<std::uint64_t>& keys, std::vector<std::uint64_t>& scratch, unsigned bits) {
-    constexpr unsigned max_digit = 12;
-    if (bits == 0 || keys.size() < 2) return;
-    const unsigned passes = (bits + max_digit - 1) / max_digit;
-    const unsigned digit = (bits + passes - 1) / passes;
-    const std::size_t radix = std::size_t(1) << digit;
-    scratch.resize(keys.size());
-    std::vector<std::size_t> count(radix);
-    for (unsigned pass = 0, shift = 0; pass < passes; ++pass, shift += digit) {
-        std::fill(count.begin(), count.end(), 0);
-        for (const std::uint64_t k : keys) ++count[(k >> shift) & (radix - 1)];
-        std::size_t at = 0;
-        for (std::size_t& c : count) {
-            const std::size_t here = c;
-            c = at;
-            at += here;
-        }
-        for (const std::uint64_t k : keys) scratch[count[(k >> shift) & (radix - 1)]++] = k;
-        keys.swap(scratch);
-    }
-}
-}  // namespace detail
-
 template <class Id>
 void sort_unique_pairs(std::vector<std::pair<Id, Id>>& pairs, pair_sort_buffers& buffers) {
     bool sorted = false;
@@ -59,13 +37,12 @@ void sort_unique_pairs(std::vector<std::pair<Id, Id>>& pairs, pair_sort_buffers&
         Id top = 0;
         for (const auto& [a, b] : pairs) top = std::max({top, a, b});
         if (pairs.size() >= 4096 && static_cast<std::uint64_t>(top) <= 0xffffffffu) {
-            unsigned bits = 0;
-            while (bits < 32 && (std::uint64_t(1) << bits) <= static_cast<std::uint64_t>(top)) ++bits;
+            const unsigned bits = spatial::detail::bits_below(static_cast<std::uint64_t>(top) + 1);
             std::vector<std::uint64_t>& keys = buffers.keys;
             keys.clear();
             keys.reserve(pairs.size());
             for (const auto& [a, b] : pairs) keys.push_back(static_cast<std::uint64_t>(a) << bits | static_cast<std::uint64_t>(b));
-            detail::radix_sort_keys(keys, buffers.scratch, 2 * bits);
+            spatial::detail::radix_sort_by(keys, buffers.scratch, 2 * bits, [](std::uint64_t k) { return k; }, 12);
             const std::uint64_t low = (std::uint64_t(1) << bits) - 1;
             for (std::size_t i = 0; i < keys.size(); ++i)
                 pairs[i] = {static_cast<Id>(keys[i] >> bits), static_cast<Id>(keys[i] & low)};
