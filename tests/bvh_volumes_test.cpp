@@ -72,3 +72,32 @@ TEST(bvh_tightness, node_surface_areas_are_equal_for_boxes_and_at_most_the_boxes
     EXPECT_EQ(h_box, k_box);                // the builders see boxes only: the same tree
     EXPECT_LE(h_vol, k_vol * (1 + 1e-9));  // and the hull is nested in the 14-DOP
 }
+
+// quality() is the boxes' sum over the root box whatever the volume type: the same number as
+// node_surface_areas().second over the root box (the same box for every tree over these
+// objects), and the same for a 26-DOP and a hull tree (the builders see boxes only, so it is
+// one tree). It used to compute the volumes' areas too and drop them, which made a k-DOP
+// tree's every build pay for vertex enumeration.
+TEST(bvh_tightness, quality_is_the_node_boxes_area_for_every_volume_type) {
+    std::mt19937_64 rng(22);
+    std::uniform_real_distribution<double> u(0, 1), s(0.01, 0.05);
+    std::vector<objects::triangle<double, 3>> tris;
+    for (int i = 0; i < 1500; ++i) {
+        const point<double, 3> c{{u(rng), u(rng), u(rng)}};
+        point<double, 3> v[3];
+        for (auto& p : v)
+            for (std::size_t k = 0; k < 3; ++k) p[k] = c[k] + s(rng) * (2 * u(rng) - 1);
+        tris.emplace_back(v[0], v[1], v[2]);
+    }
+    const bvh<objects::triangle<double, 3>> boxes(tris.begin(), tris.end());
+    const bvh<objects::triangle<double, 3>, kdop<double, 3, 26>> dops(tris.begin(), tris.end());
+    const bvh<objects::triangle<double, 3>, convex_hull<double, 3>> hulls(tris.begin(), tris.end());
+    // For the aabb tree the root volume is the root box.
+    const double root_area = static_cast<double>(boxes.root_volume().surface_area());
+    EXPECT_GT(boxes.quality(), 1.0);
+    EXPECT_DOUBLE_EQ(boxes.quality(), boxes.node_surface_areas().second / root_area);
+    EXPECT_DOUBLE_EQ(dops.quality(), dops.node_surface_areas().second / root_area);
+    EXPECT_DOUBLE_EQ(hulls.quality(), hulls.node_surface_areas().second / root_area);
+    EXPECT_EQ(hulls.quality(), dops.quality());  // the same tree, other volumes
+    EXPECT_EQ(dops.quality_at_build(), dops.quality());
+}

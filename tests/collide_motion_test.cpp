@@ -131,6 +131,55 @@ TEST(collide_cell_sort_grid, equals_the_quadratic_loop_on_hard_inputs) {
     check_cell_sort_grid<double, 5>(seed);  // 64-bit entries, no small-span tables
 }
 
+// The parallel query's slabs (cut along the last axis, boxes clipped to each) give the
+// sequential answer for every slab count: each pair once, none lost at a slab boundary.
+// Counts beyond the grid's layers collapse to fewer slabs.
+template <class T, std::size_t D>
+void check_slabs(std::uint64_t seed) {
+    std::mt19937_64 rng(seed);
+    collide::cell_sort_grid<T, D> g;
+    const auto keep_all = [](std::uint32_t, std::uint32_t) { return true; };
+    for (std::size_t n : {0u, 1u, 2u, 50u, 1500u})
+        for (bool huge : {false, true}) {
+            const auto boxes = hard_boxes<T, D>(rng, n, huge);
+            const auto want = brute_pairs(boxes);
+            for (std::size_t slabs : {1u, 2u, 3u, 7u, 64u, 100000u}) {
+                SCOPED_TRACE(::testing::Message() << "n " << n << " huge " << huge << " slabs " << slabs);
+                std::vector<pair32> got;
+                g.self_pairs_in_slabs(boxes, slabs, keep_all, [&](std::uint32_t i, std::uint32_t j) { got.emplace_back(i, j); });
+                const std::size_t reported = got.size();
+                for (auto& [i, j] : got) {
+                    ASSERT_NE(i, j);
+                    if (i > j) std::swap(i, j);
+                }
+                std::sort(got.begin(), got.end());
+                EXPECT_EQ(std::unique(got.begin(), got.end()), got.end()) << "a pair reported twice";
+                EXPECT_EQ(got.size(), reported);
+                EXPECT_EQ(got, want);
+            }
+        }
+    // The filter runs on candidates whose boxes overlap: keeping the pairs of even sums keeps
+    // exactly those of the brute-force answer.
+    const auto boxes = hard_boxes<T, D>(rng, 800, false);
+    std::vector<pair32> want, got;
+    for (const auto& pr : brute_pairs(boxes))
+        if ((pr.first + pr.second) % 2 == 0) want.push_back(pr);
+    g.self_pairs_in_slabs(boxes, 3, [](std::uint32_t i, std::uint32_t j) { return (i + j) % 2 == 0; },
+                          [&](std::uint32_t i, std::uint32_t j) { got.emplace_back(i, j); });
+    for (auto& [i, j] : got)
+        if (i > j) std::swap(i, j);
+    std::sort(got.begin(), got.end());
+    EXPECT_EQ(got, want);
+}
+
+TEST(collide_cell_sort_grid, slabs_of_a_parallel_query_give_the_sequential_answer_for_any_count) {
+    const spatial_test::logged_seed seed(202);
+    check_slabs<double, 3>(seed);
+    check_slabs<float, 3>(seed);
+    check_slabs<double, 2>(seed);
+    check_slabs<double, 5>(seed);  // no small-span tables: every box on the general path
+}
+
 TEST(collide_cell_sort_grid, memory_stays_linear_when_boxes_are_spread_out) {
     // Two clusters of tiny boxes far apart: the cell cap keeps cells <= 4 n.
     std::vector<collide::box_bounds<double, 3>> boxes(2000);
@@ -280,6 +329,39 @@ TEST(collide_collision_grid_motion, a_bulk_move_is_all_or_nothing_and_pairs_foll
         return out;
     };
     EXPECT_EQ(slots(grid.self_pairs()), slots(oracle.self_pairs()));
+}
+
+// self_pairs(par) is self_pairs(): boxes (the grid's test is exact), spheres (the narrow
+// phase runs in the slabs' threads), and a grid with erased slots (boxes gathered with
+// their slots, not in parallel chunks). Under TBB this runs on every core of the machine.
+template <class O>
+void check_parallel_self_pairs(std::uint64_t seed) {
+    std::mt19937_64 rng(seed);
+    const std::vector<O> objects = random_objects<O>(rng, 3000);
+    collision_grid<O> grid(objects.begin(), objects.end());
+    for (pair_filter filter : {pair_filter::exact, pair_filter::candidates}) {
+        const auto want = grid.self_pairs(filter);
+        EXPECT_FALSE(want.empty());
+        EXPECT_EQ(grid.self_pairs(par, filter), want);
+    }
+    std::vector<typename collision_grid<O>::iterator> erased;
+    for (auto it = grid.begin(); it != grid.end(); ++it)
+        if (rng() % 3 == 0) erased.push_back(it);
+    for (auto it : erased) grid.erase(it);
+    const auto want = grid.self_pairs();
+    EXPECT_EQ(grid.self_pairs(par), want);
+    std::size_t streamed = 0;
+    grid.for_each_self_pair(par, pair_filter::exact, [&](auto a, auto b) {
+        EXPECT_LT(a.slot(), b.slot());
+        ++streamed;
+    });
+    EXPECT_EQ(streamed, want.size());
+}
+
+TEST(collide_collision_grid_motion, self_pairs_on_several_threads_equal_the_sequential_ones) {
+    const spatial_test::logged_seed seed(212);
+    check_parallel_self_pairs<B3>(seed);
+    check_parallel_self_pairs<objects::sphere<double, 3>>(seed);
 }
 
 // A bulk insert validates the whole batch before storing any of it, whether the range can be

@@ -43,7 +43,9 @@
 #include "harness/tuning_sweep.hpp"
 #include "harness/validation.hpp"
 #include "spatial/brute/brute_force.hpp"
+#include "spatial/collide/collision_grid.hpp"
 #include "spatial/collide/pair_changes.hpp"
+#include "spatial/core/parallel.hpp"
 #include "spatial/core/object_geometry.hpp"
 #include "spatial/objects/triangle.hpp"
 
@@ -242,6 +244,75 @@ std::vector<index_pair> validated_self_pairs(const context& ctx, std::vector<par
     return reference;
 }
 
+// ---- self pairs on several threads (issue 18's 2-core figure) ----------------------------
+
+// An order-free checksum of a pair set (the parallel query's order depends on its slabs).
+double unordered_pairs_checksum(const std::vector<index_pair>& pairs) {
+    std::uint64_t sum = 0;
+    for (const auto& [a, b] : pairs) {
+        std::uint64_t h = (std::uint64_t{a} << 32 | b) * 0x9E3779B97F4A7C15ull;
+        h ^= h >> 29;
+        sum += h;
+    }
+    return static_cast<double>(sum >> 11);
+}
+
+// collision_grid's pair query on one thread (for_each_self_pair) against the same query on
+// every thread of the parallel back end (for_each_self_pair(spatial::par): slabs of cell
+// layers, collide/cell_sort_grid.hpp), interleaved, on the grid built once. Both answers
+// must equal the validated reference pair for pair before timing, and every timed run must
+// reproduce its checksum. Rows: parallel_self_pairs, params threads=1 / threads=N, and the
+// speedup.
+void run_parallel_self_pairs(context& ctx, const std::vector<collide_box>& boxes,
+                             const std::vector<index_pair>& reference, const std::string& verified) {
+    std::size_t threads = spatial::detail::parallel_threads();
+    const std::string workload = "boxes";
+    const std::size_t n = boxes.size();
+    if (threads < 2) {
+        ctx.prog.say("collision_grid parallel pairs: skipped (the parallel back end has one thread)");
+        return;
+    }
+    using box3 = spatial::objects::box<double, 3>;
+    using point3 = spatial::point<double, 3>;
+    std::vector<box3> objects;
+    objects.reserve(n);
+    for (const auto& b : boxes) objects.emplace_back(point3{{b.lo[0], b.lo[1], b.lo[2]}}, point3{{b.hi[0], b.hi[1], b.hi[2]}});
+    const spatial::collision_grid<box3> grid(objects.begin(), objects.end());
+    std::vector<index_pair> found;
+    auto query = [&](bool parallel) {
+        found.clear();
+        auto add = [&](auto a, auto b) { found.emplace_back(a.slot(), b.slot()); };
+        if (parallel) grid.for_each_self_pair(spatial::par, spatial::pair_filter::exact, add);
+        else grid.for_each_self_pair(spatial::pair_filter::exact, add);
+        return unordered_pairs_checksum(found);
+    };
+    const std::string where = "collision_grid on boxes n=" + fmt_n(n);
+    for (bool parallel : {false, true}) {
+        query(parallel);
+        sort_unique_pairs(found);
+        if (found != reference)
+            throw validation_error(where + (parallel ? " on " + std::to_string(threads) + " threads" : " on one thread") +
+                                   ": the self pairs differ from the validated reference");
+    }
+    const double checksum = unordered_pairs_checksum(reference);
+    const std::string t1 = "threads=1", tn = "threads=" + std::to_string(threads);
+    const std::size_t reps = n >= 1000000 ? std::max<std::size_t>(1, ctx.cfg.repetitions - 1) : ctx.cfg.repetitions;
+    const auto t = time_interleaved({{where + ", self pairs, " + t1, [&] { return query(false); }, checksum},
+                                     {where + ", self pairs, " + tn, [&] { return query(true); }, checksum}},
+                                    1, reps);
+    const std::string params = "overlaps_per_box=2";
+    const row_sink rows{ctx, "collision_grid", "-", workload, n, check::all_of({verified, check::cross_all})};
+    rows.add_timed("parallel_self_pairs", params + ";" + t1, t[0]);
+    rows.add_timed("parallel_self_pairs", params + ";" + tn, t[1]);
+    rows.add("parallel_self_pairs", params + ";" + tn, "speedup", t[0].median_seconds / t[1].median_seconds, "x",
+             check::derived);
+    std::ostringstream msg;
+    msg.precision(3);
+    msg << where << ", self pairs on " << threads << " threads: " << t[0].median_seconds << " -> " << t[1].median_seconds
+        << " s (" << t[0].median_seconds / t[1].median_seconds << "x)";
+    ctx.prog.say(msg.str());
+}
+
 void run_static_boxes(context& ctx, std::size_t n) {
     const std::string workload = "boxes";
     const std::string params = "overlaps_per_box=2";
@@ -309,6 +380,11 @@ void run_static_boxes(context& ctx, std::size_t n) {
                                    .figure(best->structure, "-", operation, joined_params(params, best->configuration),
                                            "best_peer_ratio", best->ratio, "ratio"));
     }
+    // Embree's devices cap oneTBB (process-wide) at one thread while they live ("threads=1"):
+    // the participants go first.
+    ps.clear();
+    if (n >= ctx.cfg.sweep_min_n && ctx.wants("collision_grid") && verified != check::none)
+        run_parallel_self_pairs(ctx, boxes, reference, verified);
 }
 
 // ---- moving boxes -------------------------------------------------------------------------

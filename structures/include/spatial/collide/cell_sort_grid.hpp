@@ -37,6 +37,16 @@
 // boxes, all reused across queries (buffers keep their capacity).
 // Exactness: every overlap decision is the closed box test in T; the grid only decides which
 // pairs are looked at, and no overlapping pair can be skipped (step 3).
+//
+// Several threads (self_pairs_in_slabs): the grid is cut along its LAST axis into slabs of
+// whole cell layers, one per thread (boundaries at quantiles of a sample of the boxes'
+// first layers, so each slab gets about as many boxes). Each slab runs steps 2-4 alone, in
+// its own buffers, on the boxes that reach into it, clipped to its layers; a box cut at the
+// slab's lower end keeps its first-cell bit on that axis unset there, because its real first
+// layer lies below. Step 3's rule puts every pair in exactly one cell, and every cell in
+// exactly one slab, so the slabs' answers are disjoint and their union is the sequential
+// answer, whatever the number of slabs. Extra work: each slab reads every box's last-axis
+// bounds once (O(S n) for S slabs) and boxes crossing a slab boundary are entered twice.
 
 #include <algorithm>
 #include <array>
@@ -54,6 +64,7 @@
 #endif
 
 #include "spatial/collide/box_bounds.hpp"
+#include "spatial/core/parallel.hpp"
 
 namespace spatial::collide {
 
@@ -103,13 +114,46 @@ public:
         });
     }
 
+    // The self pairs found on up to `slabs` threads (see the header: the grid cut into slabs
+    // of cell layers along the last axis). keep(i, j) is called concurrently from the slabs'
+    // threads (it must be safe to call so: a read-only narrow phase is); then, on the calling
+    // thread, emit(i, j) for every pair kept, i != j, each once, slab by slab in an order
+    // fixed by the slab count. The same set as self_pairs for any count.
+    template <class Keep, class Emit>
+    void self_pairs_in_slabs(const std::vector<bounds>& boxes, std::size_t slabs, Keep&& keep, Emit&& emit) {
+        stats_ = {};
+        const std::size_t n = boxes.size();
+        if (n < 2) return;
+        check_size(n);
+        layout(boxes, true);
+        const std::vector<std::uint32_t> bounds_at = slab_boundaries(boxes, std::max<std::size_t>(slabs, 1));
+        const std::size_t count = bounds_at.size() - 1;
+        if (slabs_.size() < count) slabs_.resize(count);
+        spatial::detail::parallel_chunks(count, 1, [&](std::size_t first, std::size_t last) {
+            for (std::size_t k = first; k < last; ++k) {
+                slab& sl = slabs_[k];
+                sl.layer_begin = bounds_at[k];
+                sl.layer_end = bounds_at[k + 1];
+                sl.pairs.clear();
+                sort_by_corner_cell<true>(sl, boxes);
+                fill(sl);
+                join_cells<false>(sl, static_cast<std::uint32_t>(n), [&](std::uint32_t i, std::uint32_t j) {
+                    if (keep(i, j)) sl.pairs.emplace_back(i, j);
+                });
+            }
+        });
+        for (std::size_t k = 0; k < count; ++k) {
+            stats_.entries += slabs_[k].entry_count;
+            stats_.candidate_tests += slabs_[k].candidates;
+            for (const auto& [i, j] : slabs_[k].pairs) emit(i, j);
+        }
+    }
+
     const query_stats& last_query_stats() const { return stats_; }
     std::size_t memory_bytes() const {
-        return sizeof(*this) +
-               (starts_.capacity() + cursors_.capacity() + corner_.capacity() + ids_.capacity() + sorted_corner_.capacity()) *
-                   sizeof(std::uint32_t) +
-               entries_.capacity() * sizeof(entry_type) + (sorted_.capacity() + combined_.capacity()) * sizeof(bounds) +
-               (span_.capacity() + sorted_span_.capacity()) * sizeof(std::array<std::uint32_t, D>);
+        std::size_t b = sizeof(*this) + combined_.capacity() * sizeof(bounds);
+        for (const slab& sl : slabs_) b += sl.memory_bytes();
+        return b;
     }
 
 private:
@@ -131,13 +175,22 @@ private:
         stats_ = {};
         const std::size_t n = boxes.size();
         if (n < 2) return;
+        check_size(n);
+        layout(boxes);
+        if (slabs_.empty()) slabs_.resize(1);
+        slab& sl = slabs_[0];
+        sl.layer_begin = 0;
+        sl.layer_end = dims_[D - 1];
+        sort_by_corner_cell<false>(sl, boxes);
+        fill(sl);
+        if (split == n) join_cells<false>(sl, static_cast<std::uint32_t>(split), emit);
+        else join_cells<true>(sl, static_cast<std::uint32_t>(split), emit);
+        stats_.entries = sl.entry_count;
+        stats_.candidate_tests = sl.candidates;
+    }
+    static void check_size(std::size_t n) {
         if (n > std::numeric_limits<std::uint32_t>::max() || n > (std::numeric_limits<entry_type>::max() >> D))
             throw std::length_error("cell_sort_grid: too many boxes for 32-bit box indices");
-        layout(boxes);
-        sort_by_corner_cell(boxes);
-        fill();
-        if (split == n) join_cells<false>(static_cast<std::uint32_t>(split), emit);
-        else join_cells<true>(static_cast<std::uint32_t>(split), emit);
     }
 
     // The local copy of one cell (step 4): coordinates per axis in lanes, the first-cell bits
@@ -147,6 +200,36 @@ private:
         alignas(32) std::array<std::array<T, block_size + lanes>, D> lo, hi;
         alignas(16) std::array<std::uint32_t, block_size + lanes> bits;
         std::array<std::uint32_t, block_size + lanes> id;
+    };
+    // Set in a box's last-axis span when the box was cut at its slab's lower end: its first
+    // layer lies below the slab, so no cell of the slab is its first on that axis.
+    static constexpr std::uint32_t cut_below = std::uint32_t(1) << 31;
+
+    // The buffers of one slab of cell layers [layer_begin, layer_end) along the last axis:
+    // the whole grid in a sequential query, one thread's share in a parallel one. Cells are
+    // numbered from the slab's first layer. All buffers keep their capacity across queries.
+    struct slab {
+        std::uint32_t layer_begin = 0, layer_end = 0;
+        std::size_t cells = 0, entry_count = 0, candidates = 0;
+        std::vector<std::uint32_t> starts, cursors, corner, ids, sorted_corner, members;
+        std::vector<entry_type> entries;
+        std::vector<bounds> sorted;
+        std::vector<std::array<std::uint32_t, D>> sorted_span;
+        std::vector<std::pair<std::uint32_t, std::uint32_t>> pairs;  // a parallel query's answer
+        cell_block block{};  // value-initialised: padding lanes read their other axes
+        // One block's hits as block positions: at most m (m - 1) / 2 pairs, plus the lanes a
+        // last group writes past them.
+        std::array<std::pair<std::uint32_t, std::uint32_t>, block_size * (block_size - 1) / 2 + lanes> block_hits{};
+
+        std::size_t memory_bytes() const {
+            return sizeof(*this) +
+                   (starts.capacity() + cursors.capacity() + corner.capacity() + ids.capacity() +
+                    sorted_corner.capacity() + members.capacity()) *
+                       sizeof(std::uint32_t) +
+                   entries.capacity() * sizeof(entry_type) + sorted.capacity() * sizeof(bounds) +
+                   sorted_span.capacity() * sizeof(std::array<std::uint32_t, D>) +
+                   pairs.capacity() * sizeof(std::pair<std::uint32_t, std::uint32_t>);
+        }
     };
 
     // Bit j set when candidate (x, x_next + j) passes the closed box test and belongs to this
@@ -209,27 +292,26 @@ private:
     // Steps 3 and 4, cell by cell. Every box test is the closed test in T (NaN cannot occur:
     // callers store finite boxes).
     template <bool Bipartite, class Emit>
-    void join_cells(std::uint32_t split, Emit& emit) {
-        const std::size_t cells = starts_.size() - 1;
+    void join_cells(slab& sl, std::uint32_t split, Emit&& emit) {
         std::size_t candidates = 0;
-        for (std::size_t c = 0; c < cells; ++c) {
-            const std::uint32_t first = starts_[c], last = starts_[c + 1];
+        for (std::size_t c = 0; c < sl.cells; ++c) {
+            const std::uint32_t first = sl.starts[c], last = sl.starts[c + 1];
             const std::uint32_t m = last - first;
             if (m < 2) continue;
             candidates += static_cast<std::size_t>(m) * (m - 1) / 2;
-            if (m <= block_size) join_block<Bipartite>(first, m, split, emit);
-            else join_large<Bipartite>(first, last, split, emit);
+            if (m <= block_size) join_block<Bipartite>(sl, first, m, split, emit);
+            else join_large<Bipartite>(sl, first, last, split, emit);
         }
-        stats_.candidate_tests = candidates;
+        sl.candidates = candidates;
     }
     template <bool Bipartite, class Emit>
-    void join_block(std::uint32_t first, std::uint32_t m, std::uint32_t split, Emit& emit) {
-        cell_block& k = block_;
+    static void join_block(slab& sl, std::uint32_t first, std::uint32_t m, std::uint32_t split, Emit& emit) {
+        cell_block& k = sl.block;
         for (std::uint32_t j = 0; j < m; ++j) {
-            const entry_type e = entries_[first + j];
-            const bounds& b = sorted_[static_cast<std::size_t>(e >> D)];
+            const entry_type e = sl.entries[first + j];
+            const bounds& b = sl.sorted[static_cast<std::size_t>(e >> D)];
             for (std::size_t i = 0; i < D; ++i) k.lo[i][j] = b.lo[i], k.hi[i][j] = b.hi[i];
-            k.id[j] = ids_[static_cast<std::size_t>(e >> D)];
+            k.id[j] = sl.ids[static_cast<std::size_t>(e >> D)];
             k.bits[j] = static_cast<std::uint32_t>(e & axis_bits);
             if constexpr (Bipartite) k.bits[j] |= static_cast<std::uint32_t>(k.id[j] >= split) << D;
         }
@@ -243,22 +325,22 @@ private:
             for (std::uint32_t y = x + 1; y < m; y += lanes) {
                 const unsigned hits = candidate_lanes<Bipartite>(k, x, y);
                 for (std::uint32_t j = 0; j < lanes; ++j) {
-                    block_hits_[found] = {x, y + j};
+                    sl.block_hits[found] = {x, y + j};
                     found += (hits >> j) & 1u;
                 }
             }
-        for (std::uint32_t h = 0; h < found; ++h) emit(k.id[block_hits_[h].first], k.id[block_hits_[h].second]);
+        for (std::uint32_t h = 0; h < found; ++h) emit(k.id[sl.block_hits[h].first], k.id[sl.block_hits[h].second]);
     }
     template <bool Bipartite, class Emit>
-    void join_large(std::uint32_t first, std::uint32_t last, std::uint32_t split, Emit& emit) {
+    static void join_large(const slab& sl, std::uint32_t first, std::uint32_t last, std::uint32_t split, Emit& emit) {
         for (std::uint32_t x = first; x + 1 < last; ++x) {
-            const entry_type ea = entries_[x];
-            const bounds& ba = sorted_[static_cast<std::size_t>(ea >> D)];
-            const std::uint32_t ia = ids_[static_cast<std::size_t>(ea >> D)];
+            const entry_type ea = sl.entries[x];
+            const bounds& ba = sl.sorted[static_cast<std::size_t>(ea >> D)];
+            const std::uint32_t ia = sl.ids[static_cast<std::size_t>(ea >> D)];
             for (std::uint32_t y = x + 1; y < last; ++y) {
-                const entry_type eb = entries_[y];
-                const bounds& bb = sorted_[static_cast<std::size_t>(eb >> D)];
-                const std::uint32_t ib = ids_[static_cast<std::size_t>(eb >> D)];
+                const entry_type eb = sl.entries[y];
+                const bounds& bb = sl.sorted[static_cast<std::size_t>(eb >> D)];
+                const std::uint32_t ib = sl.ids[static_cast<std::size_t>(eb >> D)];
                 bool here = ((ea | eb) & axis_bits) == axis_bits, apart = false;
                 for (std::size_t i = 0; i < D; ++i) {  // no branch: both tests always run
                     apart |= ba.hi[i] < bb.lo[i];
@@ -269,16 +351,50 @@ private:
             }
         }
     }
-    // Grid geometry from the boxes: origin, cell size, cells per axis.
-    void layout(const std::vector<bounds>& boxes) {
-        bounds all = boxes[0];
+    // The boxes' common bounds and the sum of their edges over [first, last).
+    struct extent {
+        bounds all;
         double edge_sum = 0;
-        for (const bounds& b : boxes)
+    };
+    static extent measure(const std::vector<bounds>& boxes, std::size_t first, std::size_t last) {
+        extent e{boxes[first], 0.0};
+        for (std::size_t k = first; k < last; ++k) {
+            const bounds& b = boxes[k];
             for (std::size_t i = 0; i < D; ++i) {
-                all.lo[i] = std::min(all.lo[i], b.lo[i]);
-                all.hi[i] = std::max(all.hi[i], b.hi[i]);
-                edge_sum += static_cast<double>(b.hi[i]) - static_cast<double>(b.lo[i]);
+                e.all.lo[i] = std::min(e.all.lo[i], b.lo[i]);
+                e.all.hi[i] = std::max(e.all.hi[i], b.hi[i]);
+                e.edge_sum += static_cast<double>(b.hi[i]) - static_cast<double>(b.lo[i]);
             }
+        }
+        return e;
+    }
+    // A parallel query measures the boxes in this many fixed chunks (concurrently), so its
+    // grid does not depend on the thread count.
+    static constexpr std::size_t layout_chunks = 64;
+
+    // Grid geometry from the boxes: origin, cell size, cells per axis. Parallel: the boxes
+    // are measured in layout_chunks chunks, combined in chunk order.
+    void layout(const std::vector<bounds>& boxes, bool parallel = false) {
+        extent whole;
+        if (parallel && boxes.size() >= 2 * layout_chunks) {
+            std::array<extent, layout_chunks> part;
+            const std::size_t count = boxes.size();
+            spatial::detail::parallel_chunks(layout_chunks, 1, [&](std::size_t first, std::size_t last) {
+                for (std::size_t k = first; k < last; ++k) part[k] = measure(boxes, k * count / layout_chunks, (k + 1) * count / layout_chunks);
+            });
+            whole = part[0];
+            for (std::size_t k = 1; k < layout_chunks; ++k) {
+                for (std::size_t i = 0; i < D; ++i) {
+                    whole.all.lo[i] = std::min(whole.all.lo[i], part[k].all.lo[i]);
+                    whole.all.hi[i] = std::max(whole.all.hi[i], part[k].all.hi[i]);
+                }
+                whole.edge_sum += part[k].edge_sum;
+            }
+        } else {
+            whole = measure(boxes, 0, boxes.size());
+        }
+        const bounds& all = whole.all;
+        const double edge_sum = whole.edge_sum;
         const double n = static_cast<double>(boxes.size());
         std::array<double, D> span{};
         double span_max = 0;
@@ -313,6 +429,7 @@ private:
         inv_h_ = 1.0 / h;
         stats_.cell_size = h;
         stats_.cells = stride;
+        if constexpr (small_span_tables) build_small_span_tables();
     }
     // floor((x - origin) / h) clamped to [0, dims - 1]: monotone in x. Every x is >= origin
     // (the least lower bound), so the product is >= 0 and truncation is the floor.
@@ -320,69 +437,125 @@ private:
         const double c = (static_cast<double>(x) - static_cast<double>(origin_[axis])) * inv_h_;
         return static_cast<std::uint32_t>(std::min(c, static_cast<double>(dims_[axis] - 1)));
     }
-    // Locality: a copy of the boxes ordered by the cell of their lower corner (a counting
-    // sort, O(n + cells)), so the boxes met in one cell, and in consecutive cells, sit close
-    // together in memory. In the caller's (random) order every candidate test was a cache
-    // miss; this halves the query time at 1e6 boxes. Each box's cell range is computed here,
-    // once: its first cell (linear index) and how many further cells it spans per axis.
-    void sort_by_corner_cell(const std::vector<bounds>& boxes) {
-        const std::size_t cells = stats_.cells;
-        const std::size_t n = boxes.size();
-        starts_.assign(cells + 1, 0);
-        corner_.resize(n);
-        span_.resize(n);
-        std::size_t total = 0;
-        for (std::size_t b = 0; b < n; ++b) {
-            std::size_t corner = 0, spanned = 1;
-            auto& extra = span_[b];
-            for (std::size_t i = 0; i < D; ++i) {
-                const std::uint32_t first = cell_coordinate(boxes[b].lo[i], i);
-                extra[i] = cell_coordinate(boxes[b].hi[i], i) - first;
-                corner += first * stride_[i];
-                spanned *= static_cast<std::size_t>(extra[i]) + 1;
+    // Slab boundaries for a parallel query: layer indices 0 = b_0 < b_1 < ... < b_S = dims
+    // along the last axis, S <= slabs, at quantiles of the first layers of a sample of the
+    // boxes (about 4096, evenly spaced in the input), so slabs get similar box counts on
+    // clustered data too. Deterministic for given boxes and slab count. O(sample log sample).
+    std::vector<std::uint32_t> slab_boundaries(const std::vector<bounds>& boxes, std::size_t slabs) const {
+        const std::uint32_t layers = dims_[D - 1];
+        std::vector<std::uint32_t> out{0};
+        if (slabs > 1 && layers > 1) {
+            const std::size_t n = boxes.size(), step = std::max<std::size_t>(1, n / 4096);
+            std::vector<std::uint32_t> sample;
+            sample.reserve(n / step + 1);
+            for (std::size_t b = 0; b < n; b += step) sample.push_back(cell_coordinate(boxes[b].lo[D - 1], D - 1));
+            std::sort(sample.begin(), sample.end());
+            for (std::size_t k = 1; k < slabs; ++k) {
+                const std::uint32_t at = sample[k * sample.size() / slabs];
+                if (at > out.back() && at < layers) out.push_back(at);
             }
+        }
+        out.push_back(layers);
+        return out;
+    }
+
+    // Box b's cells in the slab: its first cell (linear index within the slab) and how many
+    // further cells it spans per axis (the last axis clipped to the slab, cut_below set when
+    // its first layer is below). Returns the number of cells, 0 when b misses the slab.
+    template <bool Sliced>
+    std::size_t cell_range(const slab& sl, const bounds& b, std::size_t& corner, std::array<std::uint32_t, D>& extra) const {
+        corner = 0;
+        std::size_t spanned = 1;
+        constexpr std::size_t free_axes = Sliced ? D - 1 : D;  // the last axis first when sliced
+        if constexpr (Sliced) {
+            std::uint32_t first = cell_coordinate(b.lo[D - 1], D - 1), last = cell_coordinate(b.hi[D - 1], D - 1);
+            if (last < sl.layer_begin || first >= sl.layer_end) return 0;
+            const std::uint32_t cut = first < sl.layer_begin ? cut_below : 0;
+            first = std::max(first, sl.layer_begin) - sl.layer_begin;
+            last = std::min(last, sl.layer_end - 1) - sl.layer_begin;
+            extra[D - 1] = (last - first) | cut;
+            corner = first * stride_[D - 1];
+            spanned = static_cast<std::size_t>(last - first) + 1;
+        }
+        for (std::size_t i = 0; i < free_axes; ++i) {
+            const std::uint32_t first = cell_coordinate(b.lo[i], i), last = cell_coordinate(b.hi[i], i);
+            extra[i] = last - first;
+            corner += first * stride_[i];
+            spanned *= static_cast<std::size_t>(extra[i]) + 1;
+        }
+        return spanned;
+    }
+
+    // Locality: a copy of the slab's boxes ordered by the cell of their lower corner (a
+    // counting sort, O(n + cells)), so the boxes met in one cell, and in consecutive cells,
+    // sit close together in memory. In the caller's (random) order every candidate test was
+    // a cache miss; this halves the query time at 1e6 boxes. Sliced: only the boxes reaching
+    // into the slab's layers, clipped to them (members lists their input indices).
+    template <bool Sliced>
+    void sort_by_corner_cell(slab& sl, const std::vector<bounds>& boxes) const {
+        const std::size_t n = boxes.size();
+        sl.cells = stride_[D - 1] * (sl.layer_end - sl.layer_begin);
+        sl.starts.assign(sl.cells + 1, 0);
+        sl.corner.resize(n);  // by input index
+        if constexpr (Sliced) sl.members.resize(n);
+        std::size_t total = 0, m = 0;
+        std::array<std::uint32_t, D> extra;
+        for (std::size_t b = 0; b < n; ++b) {
+            std::size_t corner;
+            const std::size_t spanned = cell_range<Sliced>(sl, boxes[b], corner, extra);
+            if (Sliced && spanned == 0) continue;
             total += spanned;
-            corner_[b] = static_cast<std::uint32_t>(corner);
-            ++starts_[corner + 1];
+            sl.corner[b] = static_cast<std::uint32_t>(corner);
+            if constexpr (Sliced) sl.members[m] = static_cast<std::uint32_t>(b);
+            ++sl.starts[corner + 1];
+            ++m;
         }
         if (total > std::numeric_limits<std::uint32_t>::max())
             throw std::length_error("cell_sort_grid: more than 2^32 - 1 (cell, box) entries");
-        stats_.entries = total;
-        for (std::size_t c = 0; c < cells; ++c) starts_[c + 1] += starts_[c];
-        sorted_.resize(n);
-        ids_.resize(n);
-        sorted_corner_.resize(n);
-        sorted_span_.resize(n);
+        sl.entry_count = total;
+        for (std::size_t c = 0; c < sl.cells; ++c) sl.starts[c + 1] += sl.starts[c];
+        sl.sorted.resize(m);
+        sl.ids.resize(m);
+        sl.sorted_corner.resize(m);
+        sl.sorted_span.resize(m);
         // Only the box numbers are scattered (4 bytes, one random write per box); the boxes are
         // then copied in their new order: sequential writes and independent random reads,
         // which the processor overlaps (prefetched a few boxes ahead). Scattering whole boxes
-        // missed the cache on every write of 1e6 boxes.
-        for (std::size_t b = 0; b < n; ++b) ids_[starts_[corner_[b]]++] = static_cast<std::uint32_t>(b);
+        // missed the cache on every write of 1e6 boxes. Each box's cell range is computed
+        // again from the box just read rather than read back: a few multiplications instead
+        // of two more random reads per box. ids holds the caller's indices.
+        if constexpr (Sliced) {
+            for (std::size_t k = 0; k < m; ++k) {
+                const std::uint32_t b = sl.members[k];
+                sl.ids[sl.starts[sl.corner[b]]++] = b;
+            }
+        } else {
+            for (std::size_t b = 0; b < n; ++b) sl.ids[sl.starts[sl.corner[b]]++] = static_cast<std::uint32_t>(b);
+        }
         constexpr std::size_t ahead = 8;
-        for (std::size_t at = 0; at < n; ++at) {
-            if (at + ahead < n) __builtin_prefetch(&boxes[ids_[at + ahead]]);
-            const std::uint32_t b = ids_[at];
-            sorted_[at] = boxes[b];
-            sorted_corner_[at] = corner_[b];
-            sorted_span_[at] = span_[b];
+        for (std::size_t at = 0; at < m; ++at) {
+            if (at + ahead < m) __builtin_prefetch(&boxes[sl.ids[at + ahead]]);
+            const bounds& box = boxes[sl.ids[at]];
+            sl.sorted[at] = box;
+            std::size_t corner;
+            cell_range<Sliced>(sl, box, corner, sl.sorted_span[at]);
+            sl.sorted_corner[at] = static_cast<std::uint32_t>(corner);
         }
     }
-    // Counting sort of the (cell, box) entries into entries_, grouped by cell, each tagged
-    // with its first-cell bits (step 3).
-    void fill() {
-        if constexpr (small_span_tables) build_small_span_tables();
-        const std::size_t cells = stats_.cells;
-        starts_.assign(cells + 1, 0);
-        const std::size_t n = sorted_.size();
-        for (std::size_t b = 0; b < n; ++b) for_each_cell(b, [&](std::size_t c, entry_type) { ++starts_[c + 1]; });
-        for (std::size_t c = 0; c < cells; ++c) starts_[c + 1] += starts_[c];
-        entries_.resize(stats_.entries);
+    // Counting sort of the slab's (cell, box) entries into its entries, grouped by cell, each
+    // tagged with its first-cell bits (step 3).
+    void fill(slab& sl) const {
+        sl.starts.assign(sl.cells + 1, 0);
+        const std::size_t n = sl.sorted.size();
+        for (std::size_t b = 0; b < n; ++b) for_each_cell(sl, b, [&](std::size_t c, entry_type) { ++sl.starts[c + 1]; });
+        for (std::size_t c = 0; c < sl.cells; ++c) sl.starts[c + 1] += sl.starts[c];
+        sl.entries.resize(sl.entry_count);
         // Each cell is filled from its end down (cursor = the next cell's start), boxes in
         // decreasing order, so every cell lists its boxes in increasing order.
-        cursors_.assign(starts_.begin() + 1, starts_.end());
+        sl.cursors.assign(sl.starts.begin() + 1, sl.starts.end());
         for (std::size_t b = n; b-- > 0;)
-            for_each_cell(b, [&](std::size_t c, entry_type first_bits) {
-                entries_[--cursors_[c]] = static_cast<entry_type>(b) << D | first_bits;
+            for_each_cell(sl, b, [&](std::size_t c, entry_type first_bits) {
+                sl.entries[--sl.cursors[c]] = static_cast<entry_type>(b) << D | first_bits;
             });
     }
     // Boxes spanning at most 2 cells on every axis (nearly all: h is twice the mean edge) are
@@ -404,11 +577,13 @@ private:
             small_count_[code] = k;
         }
     }
-    // f(cell, first-cell bits) for every cell box b (sorted order) overlaps.
+    // f(cell, first-cell bits) for every cell of the slab that box b (sorted order) overlaps.
+    // A box cut below the slab (cut_below) never takes the table path (its span exceeds 1)
+    // and has no first cell on the last axis here.
     template <class F>
-    void for_each_cell(std::size_t b, F&& f) const {
-        const auto& extra = sorted_span_[b];
-        const std::size_t base = sorted_corner_[b];
+    void for_each_cell(const slab& sl, std::size_t b, F&& f) const {
+        const auto& extra = sl.sorted_span[b];
+        const std::size_t base = sl.sorted_corner[b];
         if constexpr (small_span_tables) {
             std::uint32_t code = 0;
             bool small = true;
@@ -421,6 +596,9 @@ private:
                 return;
             }
         }
+        std::array<std::uint32_t, D> ends = extra;
+        ends[D - 1] &= ~cut_below;
+        const entry_type first_mask = (extra[D - 1] & cut_below) ? axis_bits >> 1 : axis_bits;
         std::array<std::uint32_t, D> at{};  // offsets from the first cell, per axis
         for (;;) {
             std::size_t offset = 0;
@@ -429,10 +607,10 @@ private:
                 offset += at[i] * stride_[i];
                 first_bits |= static_cast<entry_type>(at[i] == 0) << i;
             }
-            f(base + offset, first_bits);
+            f(base + offset, first_bits & first_mask);
             std::size_t i = 0;
             for (; i < D; ++i) {
-                if (at[i] < extra[i]) {
+                if (at[i] < ends[i]) {
                     ++at[i];
                     break;
                 }
@@ -448,17 +626,11 @@ private:
     std::array<std::uint32_t, D> dims_{};
     std::array<std::size_t, D> stride_{};
     double inv_h_ = 1;
-    std::vector<std::uint32_t> starts_, cursors_, corner_, ids_, sorted_corner_;
-    std::vector<entry_type> entries_;
-    std::vector<bounds> sorted_, combined_;
-    std::vector<std::array<std::uint32_t, D>> span_, sorted_span_;
+    std::vector<slab> slabs_;  // [0] serves the sequential queries
+    std::vector<bounds> combined_;
     std::array<std::array<std::size_t, table_size>, table_size> small_offset_{};
     std::array<std::array<entry_type, table_size>, table_size> small_bits_{};
     std::array<std::uint32_t, table_size> small_count_{};
-    cell_block block_{};  // value-initialised: padding lanes read their other axes
-    // One block's hits as block positions: at most m (m - 1) / 2 pairs, plus the lanes a
-    // last group writes past them.
-    std::array<std::pair<std::uint32_t, std::uint32_t>, block_size * (block_size - 1) / 2 + lanes> block_hits_{};
     query_stats stats_;
 };
 

@@ -25,6 +25,7 @@
 #include "spatial/core/input_checks.hpp"
 #include "spatial/core/object_concepts.hpp"
 #include "spatial/core/object_geometry.hpp"
+#include "spatial/core/parallel.hpp"
 #include "spatial/core/slot_storage.hpp"
 #include "spatial/objects/box.hpp"
 
@@ -136,6 +137,46 @@ public:
             f(make(s), make(t));
         });
     }
+    // The same pairs as for_each_self_pair(filter, f), found on the threads of the parallel
+    // back end (spatial::par, core/parallel.hpp): the boxes are gathered in parallel chunks
+    // and the grid is cut into one slab of cell layers per thread (cell_sort_grid.hpp,
+    // self_pairs_in_slabs), the narrow phase running in the slabs' threads. f is then called
+    // on the calling thread, once per pair, in an order that depends on the thread count.
+    template <class F>
+    void for_each_self_pair(parallel_policy, pair_filter filter, F&& f) const {
+        const bool dense = slots_.size() == slots_.capacity();
+        if (dense) {
+            // Slot i is object i: each chunk of boxes is written independently.
+            boxes_.resize(slots_.size());
+            slot_of_.clear();
+            detail::parallel_chunks(boxes_.size(), 1 << 14, [&](std::size_t first, std::size_t last) {
+                for (std::size_t i = first; i < last; ++i) boxes_[i] = bounds_of(slots_.value(static_cast<slot_index>(i)));
+            });
+        } else {
+            gather(*this, boxes_, slot_of_);
+        }
+        constexpr bool box_is_exact =
+            std::is_same_v<O, objects::box<scalar_type, dimension>> || std::is_same_v<O, point_type>;
+        const bool narrow = filter == pair_filter::exact && !box_is_exact;
+        auto slot = [&](std::uint32_t i) { return dense ? static_cast<slot_index>(i) : slot_of_[i]; };
+        grid_.self_pairs_in_slabs(
+            boxes_, detail::parallel_threads(),
+            [&](std::uint32_t i, std::uint32_t j) {
+                return !narrow || collide::narrow_phase(slots_.value(slot(i)), slots_.value(slot(j)));
+            },
+            [&](std::uint32_t i, std::uint32_t j) {
+                slot_index s = slot(i), t = slot(j);
+                if (s > t) std::swap(s, t);
+                f(make(s), make(t));
+            });
+    }
+    // self_pairs(filter) on several threads: the same sorted answer.
+    std::vector<std::pair<iterator, iterator>> self_pairs(parallel_policy, pair_filter filter = pair_filter::exact) const {
+        std::vector<std::pair<iterator, iterator>> out;
+        for_each_self_pair(par, filter, [&](iterator a, iterator b) { out.emplace_back(a, b); });
+        sort_pairs(out);
+        return out;
+    }
     // Bipartite pairs. With another collision_grid, one grid over both sets; otherwise the
     // generic pairs_between (other's box queries).
     template <class Other>
@@ -170,6 +211,11 @@ public:
     iterator make_iterator(slot_index s) const { return make(s); }
 
 private:
+    static bounds bounds_of(const O& x) {
+        bounds b;
+        for (std::size_t i = 0; i < dimension; ++i) b.lo[i] = object_lower(x, i), b.hi[i] = object_upper(x, i);
+        return b;
+    }
     template <class Self, class Bounds>
     static void gather(const Self& self, std::vector<Bounds>& boxes, std::vector<slot_index>& slot_of) {
         boxes.clear();

@@ -15,6 +15,7 @@
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
 #include <tbb/parallel_invoke.h>
+#include <tbb/task_arena.h>
 #endif
 
 namespace spatial {
@@ -33,6 +34,16 @@ inline constexpr bool parallel_backend_available =
 #endif
 
 namespace detail {
+
+// The number of threads `par` may use here: the back end's for the current task arena (a
+// tbb::global_control or task_arena limit included), 1 without one.
+inline std::size_t parallel_threads() {
+#if defined(SPATIAL_HAVE_TBB)
+    return static_cast<std::size_t>(tbb::this_task_arena::max_concurrency());
+#else
+    return 1;
+#endif
+}
 
 // Calls body(begin, end) on disjoint chunks covering [0, n), chunks of at least `grain`
 // indices, concurrently when the back end allows.
