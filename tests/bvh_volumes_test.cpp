@@ -45,20 +45,28 @@ TYPED_TEST(bvh_volumes, small_trees) {
 
 }  // namespace
 
-// node_surface_areas(): the aabb tree's two sums coincide; volumes nested in the node's box
-// (k-DOPs include the box's six directions, hulls are the tightest convex sets) never exceed
-// its area (area is monotone under inclusion of convex sets), so their ratio is at most 1.
-TEST(bvh_tightness, node_surface_areas_are_equal_for_boxes_and_at_most_the_boxes_for_nested_volumes) {
-    std::mt19937_64 rng(21);
+namespace {
+// n small random triangles (edges up to 0.1) in the unit cube.
+std::vector<objects::triangle<double, 3>> small_triangle_soup(std::uint64_t seed, int n) {
+    std::mt19937_64 rng(seed);
     std::uniform_real_distribution<double> u(0, 1), s(0.01, 0.05);
     std::vector<objects::triangle<double, 3>> tris;
-    for (int i = 0; i < 2000; ++i) {
+    for (int i = 0; i < n; ++i) {
         const point<double, 3> c{{u(rng), u(rng), u(rng)}};
         point<double, 3> v[3];
         for (auto& p : v)
             for (std::size_t k = 0; k < 3; ++k) p[k] = c[k] + s(rng) * (2 * u(rng) - 1);
         tris.emplace_back(v[0], v[1], v[2]);
     }
+    return tris;
+}
+}  // namespace
+
+// node_surface_areas(): the aabb tree's two sums coincide; volumes nested in the node's box
+// (k-DOPs include the box's six directions, hulls are the tightest convex sets) never exceed
+// its area (area is monotone under inclusion of convex sets), so their ratio is at most 1.
+TEST(bvh_tightness, node_surface_areas_are_equal_for_boxes_and_at_most_the_boxes_for_nested_volumes) {
+    const auto tris = small_triangle_soup(21, 2000);
     const auto [a_vol, a_box] = bvh<objects::triangle<double, 3>>(tris.begin(), tris.end()).node_surface_areas();
     EXPECT_GT(a_box, 0);
     EXPECT_EQ(a_vol, a_box);
@@ -79,16 +87,7 @@ TEST(bvh_tightness, node_surface_areas_are_equal_for_boxes_and_at_most_the_boxes
 // one tree). It used to compute the volumes' areas too and drop them, which made a k-DOP
 // tree's every build pay for vertex enumeration.
 TEST(bvh_tightness, quality_is_the_node_boxes_area_for_every_volume_type) {
-    std::mt19937_64 rng(22);
-    std::uniform_real_distribution<double> u(0, 1), s(0.01, 0.05);
-    std::vector<objects::triangle<double, 3>> tris;
-    for (int i = 0; i < 1500; ++i) {
-        const point<double, 3> c{{u(rng), u(rng), u(rng)}};
-        point<double, 3> v[3];
-        for (auto& p : v)
-            for (std::size_t k = 0; k < 3; ++k) p[k] = c[k] + s(rng) * (2 * u(rng) - 1);
-        tris.emplace_back(v[0], v[1], v[2]);
-    }
+    const auto tris = small_triangle_soup(22, 1500);
     const bvh<objects::triangle<double, 3>> boxes(tris.begin(), tris.end());
     const bvh<objects::triangle<double, 3>, kdop<double, 3, 26>> dops(tris.begin(), tris.end());
     const bvh<objects::triangle<double, 3>, convex_hull<double, 3>> hulls(tris.begin(), tris.end());

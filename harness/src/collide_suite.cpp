@@ -272,12 +272,10 @@ void run_parallel_self_pairs(context& ctx, const std::vector<collide_box>& boxes
         ctx.prog.say("collision_grid parallel pairs: skipped (the parallel back end has one thread)");
         return;
     }
-    using box3 = spatial::objects::box<double, 3>;
-    using point3 = spatial::point<double, 3>;
-    std::vector<box3> objects;
+    std::vector<collide_box3> objects;
     objects.reserve(n);
-    for (const auto& b : boxes) objects.emplace_back(point3{{b.lo[0], b.lo[1], b.lo[2]}}, point3{{b.hi[0], b.hi[1], b.hi[2]}});
-    const spatial::collision_grid<box3> grid(objects.begin(), objects.end());
+    for (const auto& b : boxes) objects.push_back(to_object(b));
+    const spatial::collision_grid<collide_box3> grid(objects.begin(), objects.end());
     std::vector<index_pair> found;
     auto query = [&](bool parallel) {
         found.clear();

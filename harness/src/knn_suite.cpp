@@ -1092,7 +1092,10 @@ context make_context(const suite_options& options) {
     if (!options.sizes.empty()) ctx.cfg.sizes = options.sizes;
     // Workloads named on the command line are swept whatever the preset's sweep_workloads
     // (knn_order_1e6.csv's far-query figures come from such a run).
-    if (!options.workloads.empty()) ctx.cfg.workloads = options.workloads, ctx.cfg.sweep_workloads.clear();
+    if (!options.workloads.empty()) {
+        ctx.cfg.workloads = options.workloads;
+        ctx.cfg.sweep_workloads.clear();
+    }
     for (const auto& w : ctx.cfg.workloads) (void)datasets::parse_point_workload(w);  // fail fast on a typo
     return ctx;
 }

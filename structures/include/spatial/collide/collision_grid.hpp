@@ -211,8 +211,9 @@ public:
     iterator make_iterator(slot_index s) const { return make(s); }
 
 private:
-    static bounds bounds_of(const O& x) {
-        bounds b;
+    template <class Bounds = bounds>
+    static Bounds bounds_of(const O& x) {
+        Bounds b;
         for (std::size_t i = 0; i < dimension; ++i) b.lo[i] = object_lower(x, i), b.hi[i] = object_upper(x, i);
         return b;
     }
@@ -223,10 +224,7 @@ private:
         boxes.reserve(self.slots_.size());
         slot_of.reserve(self.slots_.size());
         for (slot_index s = self.slots_.next_occupied(0); s < self.slots_.capacity(); s = self.slots_.next_occupied(s + 1)) {
-            const O& x = self.slots_.value(s);
-            Bounds b;
-            for (std::size_t i = 0; i < dimension; ++i) b.lo[i] = object_lower(x, i), b.hi[i] = object_upper(x, i);
-            boxes.push_back(b);
+            boxes.push_back(bounds_of<Bounds>(self.slots_.value(s)));
             slot_of.push_back(s);
         }
     }
