@@ -456,6 +456,35 @@ TYPED_TEST(allocation_failure, erase_range_keeps_its_documented_guarantee) {
     }
 }
 
+// Objects of very different sizes: boxes hundreds of times larger than the rest (a grid keeps
+// them in its list of large objects, grid_core.hpp large_object_cells), inserted one by one and
+// in bulk among small ones, then erased. Points have no extent, so this runs on boxes.
+TYPED_TEST(allocation_failure, large_objects_keep_the_documented_guarantee) {
+    using C = TypeParam;
+    using O = typename C::value_type;
+    if constexpr (!std::is_same_v<O, B3>) GTEST_SKIP() << "points have no extent";
+    else {
+        std::vector<O> large;
+        for (int i = 0; i < 4; ++i) large.push_back(B3(P3{{-5.0 - i, -5, 0.1 * i}}, P3{{6.0 + i, 6, 0.1 * i + 0.05}}));
+        C c = this->filled(random_objects<O>(grown, 14));
+        for (const O& x : large) {
+            inject_every_failure(c, [&](C& d) { d.insert(x); }, documented<C>(operation::insert), "insert (large)");
+            if (this->HasFailure()) return;
+            c.insert(x);
+        }
+        const C some = this->filled(random_objects<O>(24, 15));
+        inject_every_failure(some, [&](C& d) { d.insert(large.begin(), large.end()); }, documented<C>(operation::bulk_insert),
+                             "bulk insert (large)");
+        for (const O& x : large) {
+            const slot_index s = std::find(c.begin(), c.end(), x).slot();
+            inject_every_failure(c, [&](C& d) { d.erase(at_slot(d, s)); }, documented<C>(operation::erase_iterator),
+                                 "erase(iterator) (large)");
+            if (this->HasFailure()) return;
+            c.erase(at_slot(c, s));
+        }
+    }
+}
+
 // Moves of stored objects: near (within their cell or leaf) and far (across the space).
 template <class O>
 std::vector<O> moved_objects(std::size_t n, std::uint64_t seed) {

@@ -129,15 +129,17 @@ TEST(hashed_grid, sparse_scene_spanning_1e15_cells_answers_quickly_and_exactly) 
 
 TEST(hashed_grid, an_object_spanning_many_cells_is_reported_once_and_erased_from_all) {
     hashed_grid<B3> g(0.1);
-    const B3 big(P3{{0, 0, 0}}, P3{{1.05, 1.05, 1.05}});  // 11^3 cells
+    const B3 big(P3{{0, 0, 0}}, P3{{0.35, 0.35, 0.35}});  // 4^3 cells: still listed in its cells
     g.insert(big);
-    g.insert(B3(P3{{0.5, 0.5, 0.5}}, P3{{0.5, 0.5, 0.5}}));
-    EXPECT_GE(g.occupied_cells(), 1331u);
+    g.insert(B3(P3{{0.2, 0.2, 0.2}}, P3{{0.2, 0.2, 0.2}}));
+    EXPECT_EQ(g.occupied_cells(), 64u);
+    EXPECT_EQ(g.large_objects(), 0u);
     EXPECT_EQ(g.find_in_box(P3{{-1, -1, -1}}, P3{{2, 2, 2}}).size(), 2u);
-    EXPECT_EQ(g.find_in_ball(P3{{0.5, 0.5, 0.5}}, 3).size(), 2u);
-    EXPECT_EQ(g.find_nearest(P3{{0.5, 0.5, 0.5}}, 5).size(), 2u);
+    EXPECT_EQ(g.find_in_ball(P3{{0.2, 0.2, 0.2}}, 3).size(), 2u);
+    EXPECT_EQ(g.find_nearest(P3{{0.2, 0.2, 0.2}}, 5).size(), 2u);
+    EXPECT_EQ(g.self_pairs().size(), 1u);
     intersect_info<P3> info;
-    const auto it = g.intersect_object(P3{{-1, 0.5, 0.5}}, P3{{1, 0, 0}}, 0, info);
+    const auto it = g.intersect_object(P3{{-1, 0.1, 0.1}}, P3{{1, 0, 0}}, 0, info);
     ASSERT_TRUE(it != g.end());
     EXPECT_EQ(*it, big);
     EXPECT_EQ(info.hit_time, 1.0);
@@ -146,15 +148,90 @@ TEST(hashed_grid, an_object_spanning_many_cells_is_reported_once_and_erased_from
     EXPECT_EQ(g.check_invariants(), "");
 }
 
-TEST(hashed_grid, rejects_bad_cell_sizes_and_objects_spanning_too_many_cells) {
+// An object over more than 4^D cells is kept in the list of large objects, not in its cells:
+// a box of 10^12 cells (it was refused with std::length_error past 2^24 cells, and one of
+// 2^24 cells cost 2^24 map entries) is stored in O(1), found by every query, paired, erased.
+TEST(hashed_grid, an_object_over_many_cells_is_kept_among_the_large_objects_and_answered_exactly) {
+    hashed_grid<B3> g(1e-3);
+    brute_force<B3> b;
+    const B3 small(P3{{0, 0, 0}}, P3{{0.001, 0.001, 0.001}}), floor(P3{{-500, -500, -1}}, P3{{500, 500, 0}}),
+        wall(P3{{0.0005, -10, -10}}, P3{{0.0006, 10, 10}}), far(P3{{2, 2, 2}}, P3{{2.0005, 2.0005, 2.0005}});
+    for (const B3& x : {small, floor, wall, far}) {
+        g.insert(x);
+        b.insert(x);
+    }
+    EXPECT_EQ(g.size(), 4u);
+    EXPECT_EQ(g.large_objects(), 2u);
+    EXPECT_LE(g.occupied_cells(), 16u);
+    EXPECT_EQ(g.check_invariants(), "");
+    EXPECT_EQ(g.count(floor), 1u);
+    EXPECT_EQ(spatial_test::signatures_of(g.find_in_box(P3{{-1, -1, -1}}, P3{{0.0001, 0.0001, 0.0001}})),
+              spatial_test::signatures_of(b.find_in_box(P3{{-1, -1, -1}}, P3{{0.0001, 0.0001, 0.0001}})));
+    EXPECT_EQ(g.find_in_box(P3{{1.9, 1.9, 1.9}}, P3{{2.1, 2.1, 2.1}}).size(), 1u);
+    EXPECT_EQ(g.find_in_ball(P3{{0, 0, 0.5}}, 0.5).size(), 3u);  // small, floor, wall
+    for (std::size_t k = 1; k <= 4; ++k) {
+        const P3 q{{2, 2, 1.5}};
+        EXPECT_EQ(spatial_test::distances_from(q, g.find_nearest(q, k)), spatial_test::distances_from(q, b.find_nearest(q, k)));
+    }
+    EXPECT_EQ(g.self_pairs().size(), b.self_pairs().size());
+    EXPECT_EQ(g.self_pairs().size(), 3u);  // small-floor, small-wall, floor-wall
+    intersect_info<P3> a, e;
+    const P3 o{{0.2, 0.2, 5}}, d{{0, 0, -1}};
+    const auto hit = g.intersect_object(o, d, 0, a);
+    ASSERT_TRUE(hit != g.end());
+    EXPECT_EQ(*hit, floor);
+    ASSERT_TRUE(b.intersect_object(o, d, 0, e) != b.end());
+    EXPECT_EQ(a.hit_time, e.hit_time);
+    EXPECT_EQ(g.erase(floor), 1u);
+    EXPECT_EQ(g.large_objects(), 1u);
+    EXPECT_EQ(g.find_in_ball(P3{{0, 0, 0.5}}, 0.5).size(), 2u);
+    EXPECT_EQ(g.check_invariants(), "");
+    // A bulk insert of large objects, then a ray that only they can stop.
+    const std::vector<B3> slabs{B3(P3{{-1e6, -1e6, 3}}, P3{{1e6, 1e6, 3.5}}), B3(P3{{-1e6, -1e6, 7}}, P3{{1e6, 1e6, 8}})};
+    g.insert(slabs.begin(), slabs.end());
+    EXPECT_EQ(g.large_objects(), 3u);
+    EXPECT_EQ(g.check_invariants(), "");
+    intersect_info<P3> up;
+    const auto roof = g.intersect_object(P3{{5, 5, 5}}, P3{{0, 0, 1}}, 0, up);
+    ASSERT_TRUE(roof != g.end());
+    EXPECT_EQ(*roof, slabs[1]);
+    EXPECT_EQ(up.hit_time, 2.0);
+    g.clear();
+    EXPECT_EQ(g.large_objects(), 0u);
+    EXPECT_EQ(g.check_invariants(), "");
+}
+
+// The uniform grid keeps an object much larger than its cells among the large objects too,
+// and a re-grid moves objects between the cells and that list as the cell size changes.
+TEST(uniform_grid, objects_much_larger_than_the_cells_are_large_objects_and_a_regrid_reclassifies_them) {
+    uniform_grid<B3> g;
+    brute_force<B3> b;
+    std::mt19937_64 rng(20261127);
+    std::uniform_real_distribution<double> u(0, 100);
+    std::vector<B3> boxes;
+    for (int i = 0; i < 20000; ++i) {
+        const P3 lo{{u(rng), u(rng), u(rng)}};
+        boxes.push_back(B3(lo, P3{{lo[0] + 0.5, lo[1] + 0.5, lo[2] + 0.5}}));
+    }
+    boxes.push_back(B3(P3{{0, 0, 0}}, P3{{100, 100, 1}}));  // a floor over the whole scene
+    g.insert(boxes.begin(), boxes.end());
+    b.insert(boxes.begin(), boxes.end());
+    EXPECT_GE(g.large_objects(), 1u);
+    EXPECT_EQ(g.check_invariants(), "");
+    EXPECT_EQ(g.self_pairs().size(), b.self_pairs().size());
+    const P3 q{{50, 50, 0.5}};
+    EXPECT_EQ(spatial_test::distances_from(q, g.find_nearest(q, 5)), spatial_test::distances_from(q, b.find_nearest(q, 5)));
+    // Erasing all but the floor and a few small boxes shrinks the grid's box (a re-grid).
+    const std::size_t grids = g.regrid_count();
+    while (g.size() > 20) g.erase(g.begin());
+    EXPECT_GT(g.regrid_count(), grids);
+    EXPECT_EQ(g.check_invariants(), "");
+}
+
+TEST(hashed_grid, rejects_bad_cell_sizes) {
     EXPECT_THROW(hashed_grid<P3>(0.0), std::invalid_argument);
     EXPECT_THROW(hashed_grid<P3>(-1.0), std::invalid_argument);
     EXPECT_THROW(hashed_grid<P3>(std::numeric_limits<double>::quiet_NaN()), std::invalid_argument);
-    hashed_grid<B3> g(1e-3);
-    g.insert(B3(P3{{0, 0, 0}}, P3{{0.001, 0.001, 0.001}}));
-    EXPECT_THROW(g.insert(B3(P3{{0, 0, 0}}, P3{{10, 10, 10}})), std::length_error);
-    EXPECT_EQ(g.size(), 1u);
-    EXPECT_EQ(g.check_invariants(), "");
 }
 
 }  // namespace

@@ -42,8 +42,7 @@ public:
         : in_(in), limits_(limits), log_(structure), a_(log_, "a"), b_(log_, "b"), values_(in) {}
 
     // The mutated container is checked after each mutation (queries change nothing, and a
-    // structure's own check can be as slow as a rebuild: a hashed_grid object may span 2^24
-    // cells); both fully every 16 steps. Skipped steps (an operation the structure does not
+    // structure's own check can be as slow as a rebuild); both fully every 16 steps. Skipped steps (an operation the structure does not
     // have, an insertion into a full container, a clear or range erase the limits held back)
     // are not counted as operations. With limits.validate_one_in > 1 (a long soak) those checks
     // and the query comparisons happen at one step in that many (sequence_limits.hpp); the

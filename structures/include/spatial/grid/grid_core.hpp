@@ -152,7 +152,6 @@ public:
                 extent_sum += max_extent(e);
             }
             derived().prepare_insert(all, m, extent_sum);
-            for (auto it = first; it != last; ++it) derived().check_span(extent_of(*it), where);
             slots_.reserve(slots_.capacity() + m);
             // Strong guarantee: if a cell list cannot grow, the batch is taken out of the cells
             // again (a slot a cell does not list is skipped there) and its slots given back,
@@ -204,6 +203,7 @@ public:
     void clear() {
         slots_.clear();
         derived().reset_cells();
+        large_.clear();
         reset_data_box();
     }
 
@@ -231,19 +231,20 @@ public:
         require_nonzero_direction(direction, site("intersect"));
         require_nonnegative(thickness, site("intersect"), "ray thickness");
         if (slots_.size() == 0) return end();
+        slot_index hit = no_slot;
+        auto test = [&](slot_index s) {
+            if (slots_.value(s).intersect(origin, direction, thickness, info)) hit = s;
+        };
+        for (slot_index s : large_) test(s);  // first: a hit shortens the walk
         const box R = cells_.bounds();
-        if (R.empty()) return end();
+        if (R.empty()) return hit == no_slot ? end() : make(hit);
         coords o, v;
         for (std::size_t i = 0; i < D; ++i) {
             o[i] = origin[i];
             v[i] = direction[i];
         }
         T t_begin = 0, t_end = info.hit_time;
-        if (!clip_box<T, D>(o, v, data_lo_, data_hi_, thickness, t_begin, t_end)) return end();
-        slot_index hit = no_slot;
-        auto test = [&](slot_index s) {
-            if (slots_.value(s).intersect(origin, direction, thickness, info)) hit = s;
-        };
+        if (!clip_box<T, D>(o, v, data_lo_, data_hi_, thickness, t_begin, t_end)) return hit == no_slot ? end() : make(hit);
         auto scan_all = [&] {
             for (slot_index s = slots_.next_occupied(0); s < slots_.capacity(); s = slots_.next_occupied(s + 1)) test(s);
         };
@@ -333,11 +334,15 @@ public:
         require_nonnegative(eps, site("find_nearest"), "eps");
         std::vector<iterator> out;
         if (k == 0 || slots_.size() == 0) return out;
-        const box R = cells_.bounds();
-        if (R.empty()) return out;
         const T factor = (1 + eps) * (1 + eps);
         knn_result_set<T> best(std::min<std::size_t>(k, slots_.size()));
         const std::size_t wanted = std::min<std::size_t>(k, slots_.size());
+        for (slot_index s : large_) best.add(object_squared_distance(slots_.value(s), x), s);
+        const box R = cells_.bounds();
+        if (R.empty()) {
+            for (const auto& cand : best.finish()) out.push_back(make(cand.slot));
+            return out;
+        }
         key cq;
         std::int64_t r0 = 0, r_max = 0;
         for (std::size_t i = 0; i < D; ++i) {
@@ -361,9 +366,11 @@ public:
                 // Sparse: the shell has more cells than there are occupied cells (or objects);
                 // finish over those, each object once (only those no earlier shell reached).
                 if (objects < cells_.occupied_cells()) {
-                    for (slot_index s = slots_.next_occupied(0); s < slots_.capacity(); s = slots_.next_occupied(s + 1))
-                        if (chebyshev_to_range(cq, range_of(extent_of(slots_.value(s)))) >= r)
+                    for (slot_index s = slots_.next_occupied(0); s < slots_.capacity(); s = slots_.next_occupied(s + 1)) {
+                        const box Ro = range_of(extent_of(slots_.value(s)));
+                        if (!is_large(Ro) && chebyshev_to_range(cq, Ro) >= r)
                             best.add(object_squared_distance(slots_.value(s), x), s);
+                    }
                     break;
                 }
                 cells_.for_each_nonempty([&](const key& cell, const std::vector<slot_index>& list) {
@@ -446,6 +453,20 @@ public:
                     out.emplace_back(make(std::min(list[i], list[j])), make(std::max(list[i], list[j])));
                 }
         });
+        // A large object against every other object; a pair of two large ones once, from the
+        // one in the lower slot. O(large objects x n).
+        for (slot_index l : large_) {
+            const O& a = slots_.value(l);
+            for (slot_index s = slots_.next_occupied(0); s < slots_.capacity(); s = slots_.next_occupied(s + 1)) {
+                if (s == l || (s < l && is_large(range_of(extent_of(slots_.value(s)))))) continue;
+                const O& b = slots_.value(s);
+                bool overlap = true;
+                for (std::size_t k = 0; k < D && overlap; ++k)
+                    overlap = !(std::min(object_upper(a, k), object_upper(b, k)) < std::max(object_lower(a, k), object_lower(b, k)));
+                if (!overlap || (filter == pair_filter::exact && !collide::narrow_phase(a, b))) continue;
+                out.emplace_back(make(std::min(l, s)), make(std::max(l, s)));
+            }
+        }
         sort_pairs(out);
         return out;
     }
@@ -456,16 +477,28 @@ public:
         return pairs_between(static_cast<const Derived&>(*this), other, filter);
     }
 
-    std::size_t memory_bytes() const { return sizeof(Derived) + slots_.memory_bytes() + cells_.memory_bytes(); }
+    std::size_t memory_bytes() const {
+        return sizeof(Derived) + slots_.memory_bytes() + cells_.memory_bytes() + large_.capacity() * sizeof(slot_index);
+    }
+    // Objects kept in the list of large objects rather than in cells (see large_object_cells).
+    std::size_t large_objects() const { return large_.size(); }
     // The cell edge (0 before the first insertion of a grid that chooses it from the data).
     scalar_type cell_size() const { return h_; }
 
-    // Every object is listed in exactly the cells its box maps to, and nowhere else. O(n * cells).
+    // Every object is listed in exactly the cells its box maps to, and nowhere else, or, if
+    // it is large, once in the list of large objects and in no cell. O(n * cells + large^2).
     std::string check_invariants() const {
         std::size_t listed = 0, expected = 0;
         std::string err;
+        for (slot_index l : large_)
+            if (!slots_.occupied(l) || !is_large(range_of(extent_of(slots_.value(l)))))
+                err = "the large objects list " + std::to_string(l) + ", erased or not large";
         for (slot_index s = slots_.next_occupied(0); s < slots_.capacity(); s = slots_.next_occupied(s + 1)) {
             const box Ro = range_of(extent_of(slots_.value(s)));
+            if (is_large(Ro)) {
+                if (std::count(large_.begin(), large_.end(), s) != 1) err = "large object " + std::to_string(s) + " not listed once";
+                continue;
+            }
             expected += static_cast<std::size_t>(Ro.count());
             for_each_cell(Ro, [&](const key& c) {
                 const std::vector<slot_index>* list = cells_.find(c);
@@ -538,9 +571,25 @@ protected:
         return b;
     }
 
+    // An object whose box maps to more cells than this (4^D: an object of up to about three
+    // cells along every axis stays in its cells) is not listed in cells but kept in large_,
+    // which every query tests: listing it would cost O(its cells) time and memory per
+    // insertion and erasure (an unbounded hashed_grid allowed 2^24 cells) for one object a
+    // query can test in O(1). A grid suits objects about its cell size (Ericson 2005,
+    // "Real-Time Collision Detection", section 7.2); the few that are not (a floor, a wall,
+    // an outlier thousands of cells long) cost each query one test instead.
+    static constexpr double large_object_cells = [] {
+        double c = 1;
+        for (std::size_t i = 0; i < D; ++i) c *= 4;
+        return c;
+    }();
+    static bool is_large(const box& cells) { return cells.count() > large_object_cells; }
+
     void add_to_cells(slot_index s) {
         const extent e = extent_of(slots_.value(s));
-        for_each_cell(range_of(e), [&](const key& c) { cells_.add(c, s); });
+        const box r = range_of(e);
+        if (is_large(r)) large_.push_back(s);
+        else for_each_cell(r, [&](const key& c) { cells_.add(c, s); });
         for (std::size_t i = 0; i < D; ++i) {
             data_lo_[i] = std::min(data_lo_[i], e.lo[i]);
             data_hi_[i] = std::max(data_hi_[i], e.hi[i]);
@@ -551,11 +600,16 @@ protected:
         std::vector<cell_entry<D>> entries;
         if constexpr (bounded_object<O>) {
             double cells = 0;
-            for (const auto& st : stored) cells += range_of(extent_of(slots_.value(st.first))).count();
-            entries.reserve(static_cast<std::size_t>(cells));  // at most 2^24 per object (check_span)
-            for (const auto& st : stored)
-                for_each_cell(range_of(extent_of(slots_.value(st.first))),
-                              [&](const key& c) { entries.push_back({c, st.first}); });
+            for (const auto& st : stored) {
+                const double c = range_of(extent_of(slots_.value(st.first))).count();
+                if (c <= large_object_cells) cells += c;
+            }
+            entries.reserve(static_cast<std::size_t>(cells));
+            for (const auto& st : stored) {
+                const box r = range_of(extent_of(slots_.value(st.first)));
+                if (is_large(r)) large_.push_back(st.first);
+                else for_each_cell(r, [&](const key& c) { entries.push_back({c, st.first}); });
+            }
         } else {
             entries.reserve(stored.size());
             for (const auto& st : stored) {
@@ -571,11 +625,20 @@ protected:
             data_hi_[i] = std::max(data_hi_[i], all.hi[i]);
         }
     }
+    // Does not allocate (a failed insertion's undo relies on it): a slot that no cell or list
+    // holds yet is skipped.
     void remove_from_cells(slot_index s) {
-        for_each_cell(range_of(extent_of(slots_.value(s))), [&](const key& c) { cells_.remove(c, s); });
+        const box r = range_of(extent_of(slots_.value(s)));
+        if (is_large(r)) {
+            const auto it = std::find(large_.begin(), large_.end(), s);
+            if (it != large_.end()) large_.erase(it);
+            return;
+        }
+        for_each_cell(r, [&](const key& c) { cells_.remove(c, s); });
     }
     // Re-lists every live object (after the storage was reset).
     void refill_cells() {
+        large_.clear();
         reset_data_box();
         for (slot_index s = slots_.next_occupied(0); s < slots_.capacity(); s = slots_.next_occupied(s + 1))
             add_to_cells(s);
@@ -584,13 +647,23 @@ protected:
         data_lo_.fill(std::numeric_limits<T>::infinity());
         data_hi_.fill(-std::numeric_limits<T>::infinity());
     }
-    // Refuses an object that would occupy an absurd number of cells (a hashed grid with a
-    // cell size far below the object size), before anything is stored.
-    void check_span_limit(const extent& e, detail::call_site where) const {
-        const double n = range_of(e).count();
-        if (n > double(1 << 24))
-            throw std::length_error(site_text(where) + ": an object would occupy " + std::to_string(n) +
-                                    " cells (more than 2^24); use a larger cell size");
+    // What a re-grid sets aside before it lists the objects afresh, and puts back if that
+    // fails (strong guarantee): moves only, no allocation.
+    struct listing {
+        Cells cells;
+        std::vector<slot_index> large;
+        coords data_lo, data_hi;
+    };
+    listing set_aside_listing() {
+        listing old{std::move(cells_), std::move(large_), data_lo_, data_hi_};
+        large_.clear();
+        return old;
+    }
+    void restore_listing(listing& old) noexcept {
+        cells_ = std::move(old.cells);
+        large_ = std::move(old.large);
+        data_lo_ = old.data_lo;
+        data_hi_ = old.data_hi;
     }
 
     // Bounding box and mean size of the live objects plus an optional extra box (count m,
@@ -612,6 +685,7 @@ protected:
     }
 
     Cells cells_;
+    std::vector<slot_index> large_;  // the large objects (large_object_cells), listed in no cell
     coords origin_{};
     T h_ = 0;
     coords data_lo_{}, data_hi_{};  // box of everything listed since the last refill (grow-only)
@@ -621,7 +695,6 @@ private:
         require_finite_object(x, where);
         const extent e = extent_of(x);
         derived().prepare_insert(e, 1, max_extent(e));
-        derived().check_span(e, where);
         return make(store(x));
     }
     // Stores x in a slot and lists it in its cells; if a cell list cannot grow, x is taken out
@@ -642,7 +715,7 @@ private:
     void collect_equal(const O& x, std::vector<slot_index>& out, bool first_only) const {
         if (slots_.size() == 0 || !(h_ > 0)) return;
         const box Rx = range_of(extent_of(x));
-        const std::vector<slot_index>* list = cells_.find(Rx.lo);
+        const std::vector<slot_index>* list = is_large(Rx) ? &large_ : cells_.find(Rx.lo);
         if (!list) return;
         for (slot_index s : *list)
             if (slots_.value(s) == x) {
@@ -668,10 +741,12 @@ private:
         return m;
     }
 
-    // Calls f(slot) once per object listed in the cells of Q (clipped to the occupied box),
-    // each object at its canonical cell; scans the occupied cells when Q is larger.
+    // Calls f(slot) once per large object and once per object listed in the cells of Q
+    // (clipped to the occupied box), each at its canonical cell; scans the occupied cells when
+    // Q is larger. f tests the object exactly.
     template <class F>
     void for_each_in_query(box Q, F&& f) const {
+        for (slot_index s : large_) f(s);
         Q = Q.clipped(cells_.bounds());
         if (Q.empty()) return;
         auto visit = [&](const key& cell, const std::vector<slot_index>& list) {
@@ -685,7 +760,8 @@ private:
         const double objects = static_cast<double>(slots_.size());
         if (Q.count() > std::min(cells_.occupied_cells(), objects) + 8) {
             if (objects < cells_.occupied_cells()) {  // objects span many cells: test each once
-                for (slot_index s = slots_.next_occupied(0); s < slots_.capacity(); s = slots_.next_occupied(s + 1)) f(s);
+                for (slot_index s = slots_.next_occupied(0); s < slots_.capacity(); s = slots_.next_occupied(s + 1))
+                    if (!is_large(range_of(extent_of(slots_.value(s))))) f(s);
                 return;
             }
             cells_.for_each_nonempty([&](const key& cell, const std::vector<slot_index>& list) {

@@ -11,8 +11,9 @@
 // coordinate magnitude (1 at the origin). Pass a size when the scale is known. clear() keeps
 // the size. Cell coordinates are floor(x / h) clamped to +-2^50.
 //
-// Costs: insert/erase O(cells an object overlaps) expected (hash operations); an object may
-// not span more than 2^24 cells (std::length_error before anything is stored). Queries as in
+// Costs: insert/erase O(cells an object overlaps) expected (hash operations). An object
+// spanning more than 4^D cells is kept in a list of large objects that every query tests
+// (grid_core.hpp, large_object_cells), so no object costs more than O(4^D) cells. Queries as in
 // grid_core.hpp; the DDA and the kNN shells walk empty cells too, and fall back to a scan of the
 // occupied cells when that is cheaper, so no query exceeds O(occupied cells + n).
 
@@ -105,19 +106,16 @@ private:
     // Strong guarantee: the old cells are set aside and put back if the new ones cannot be
     // filled.
     void rebuild() {
-        auto old_cells = std::move(this->cells_);
-        const auto old_lo = this->data_lo_, old_hi = this->data_hi_;
+        auto old = this->set_aside_listing();
         try {
             this->cells_.clear();
             this->refill_cells();
         } catch (const std::bad_alloc&) {
-            this->cells_ = std::move(old_cells);
-            this->data_lo_ = old_lo, this->data_hi_ = old_hi;
+            this->restore_listing(old);
             throw;
         }
     }
     void reset_cells() { this->cells_.clear(); }
-    void check_span(const extent& e, detail::call_site where) const { this->check_span_limit(e, where); }
 };
 
 }  // namespace spatial

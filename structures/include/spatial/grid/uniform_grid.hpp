@@ -112,7 +112,6 @@ private:
         built_ = false;
         size_at_grid_ = 0;
     }
-    void check_span(const extent&, detail::call_site) const {}  // bounded by the grid's cell count
 
     bool inside(const extent& e) const {
         for (std::size_t i = 0; i < D; ++i)
@@ -139,8 +138,8 @@ private:
         }
         // Strong guarantee: the old grid is set aside, and put back if the new one cannot be
         // filled (moves and swaps of the cells do not allocate).
-        auto old_cells = std::move(this->cells_);
-        const auto old_origin = this->origin_, old_lo = this->data_lo_, old_hi = this->data_hi_;
+        auto old = this->set_aside_listing();
+        const auto old_origin = this->origin_;
         const T old_h = this->h_;
         try {
             this->origin_ = bb.lo;
@@ -148,8 +147,8 @@ private:
             this->cells_.reset(dims);
             this->refill_cells();
         } catch (const std::bad_alloc&) {
-            this->cells_ = std::move(old_cells);
-            this->origin_ = old_origin, this->data_lo_ = old_lo, this->data_hi_ = old_hi, this->h_ = old_h;
+            this->restore_listing(old);
+            this->origin_ = old_origin, this->h_ = old_h;
             throw;
         }
         box_lo_ = bb.lo;
