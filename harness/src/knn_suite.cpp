@@ -66,8 +66,9 @@ struct preset_config {
     std::size_t batch_queries;
     // Bulk against looped insertion also for every other in-house point structure of the
     // registry (in::structures beyond in::knn: octree, the grids, the bvh) on the uniform
-    // workload at these sizes only (issue 18's target: the quick preset's largest size), with
-    // at most bulk_all_repetitions timed repetitions (a loop of 10^6 bvh insertions takes
+    // workload at these sizes only (issue 18's target: the quick preset's largest size). At
+    // these sizes every structure's bulk comparison (the dynamic ones' too, on any workload)
+    // has at most bulk_all_repetitions timed repetitions (a loop of 10^6 bvh insertions takes
     // seconds, and every repetition is validated).
     std::size_t bulk_all_min_n, bulk_all_max_n, bulk_all_repetitions;
     // The workloads the tuning sweep runs on (empty: every one). The quick preset sweeps only
@@ -935,13 +936,16 @@ private:
         merged.insert(merged.end(), batch.begin(), batch.end());
         std::vector<std::unique_ptr<point_index<T, D>>> structures = dynamic_structures();
         const std::size_t dynamic_count = structures.size();
-        if (wc_.label == "uniform" && n >= ctx_.cfg.bulk_all_min_n && n <= ctx_.cfg.bulk_all_max_n)
-            add_registered_bulk_only(ctx_, structures, n);
+        const bool bulk_all_size = n >= ctx_.cfg.bulk_all_min_n && n <= ctx_.cfg.bulk_all_max_n;
+        if (wc_.label == "uniform" && bulk_all_size) add_registered_bulk_only(ctx_, structures, n);
         for (std::size_t k = 0; k < structures.size(); ++k) {
             auto& s = structures[k];
             if (!s->can(capability::bulk_insert)) continue;  // insert_bulk would be the loop itself
-            const std::size_t repetitions =
-                k < dynamic_count ? ctx_.cfg.repetitions : std::min(ctx_.cfg.repetitions, ctx_.cfg.bulk_all_repetitions);
+            // At the bulk_all sizes every structure gets the same (smaller) count: there a
+            // loop of insertions takes seconds and each repetition is validated.
+            const std::size_t repetitions = k < dynamic_count && !bulk_all_size
+                                                ? ctx_.cfg.repetitions
+                                                : std::min(ctx_.cfg.repetitions, ctx_.cfg.bulk_all_repetitions);
             const std::string name = s->name();
             for (bool into_empty : {true, false}) {
                 const std::vector<point_type>& add = into_empty ? wc_.points : batch;
