@@ -42,11 +42,12 @@ public:
         : in_(in), limits_(limits), log_(structure), a_(log_, "a"), b_(log_, "b"), values_(in) {}
 
     // The mutated container is checked after each mutation (queries change nothing, and a
-    // structure's own check can be as slow as a rebuild); both fully every 16 steps. Skipped steps (an operation the structure does not
-    // have, an insertion into a full container, a clear or range erase the limits held back)
-    // are not counted as operations. With limits.validate_one_in > 1 (a long soak) those checks
-    // and the query comparisons happen at one step in that many (sequence_limits.hpp); the
-    // sizes are compared after every mutation, and the final check always runs.
+    // structure's own check can be as slow as a rebuild); both fully every 16 steps. Skipped
+    // steps (an operation the structure does not have, an insertion into a full container, a
+    // clear or range erase the limits held back) are not counted as operations. With
+    // limits.validate_one_in > 1 (a long soak) those checks and the query comparisons happen at
+    // one step in that many (sequence_limits.hpp); the sizes are compared after every mutation,
+    // and the final check always runs.
     sequence_summary run() {
         sequence_summary done;
         const std::size_t every = limits_.validate_one_in == 0 ? 1 : limits_.validate_one_in;

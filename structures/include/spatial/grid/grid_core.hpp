@@ -458,12 +458,9 @@ public:
         for (slot_index l : large_) {
             const O& a = slots_.value(l);
             for (slot_index s = slots_.next_occupied(0); s < slots_.capacity(); s = slots_.next_occupied(s + 1)) {
-                if (s == l || (s < l && is_large(range_of(extent_of(slots_.value(s)))))) continue;
+                if (s == l || (s < l && is_large_slot(s))) continue;
                 const O& b = slots_.value(s);
-                bool overlap = true;
-                for (std::size_t k = 0; k < D && overlap; ++k)
-                    overlap = !(std::min(object_upper(a, k), object_upper(b, k)) < std::max(object_lower(a, k), object_lower(b, k)));
-                if (!overlap || (filter == pair_filter::exact && !collide::narrow_phase(a, b))) continue;
+                if (!object_boxes_overlap(a, b) || (filter == pair_filter::exact && !collide::narrow_phase(a, b))) continue;
                 out.emplace_back(make(std::min(l, s)), make(std::max(l, s)));
             }
         }
@@ -491,7 +488,7 @@ public:
         std::size_t listed = 0, expected = 0;
         std::string err;
         for (slot_index l : large_)
-            if (!slots_.occupied(l) || !is_large(range_of(extent_of(slots_.value(l)))))
+            if (!slots_.occupied(l) || !is_large_slot(l))
                 err = "the large objects list " + std::to_string(l) + ", erased or not large";
         for (slot_index s = slots_.next_occupied(0); s < slots_.capacity(); s = slots_.next_occupied(s + 1)) {
             const box Ro = range_of(extent_of(slots_.value(s)));
@@ -584,6 +581,7 @@ protected:
         return c;
     }();
     static bool is_large(const box& cells) { return cells.count() > large_object_cells; }
+    bool is_large_slot(slot_index s) const { return is_large(range_of(extent_of(slots_.value(s)))); }
 
     void add_to_cells(slot_index s) {
         const extent e = extent_of(slots_.value(s));
@@ -647,17 +645,15 @@ protected:
         data_lo_.fill(std::numeric_limits<T>::infinity());
         data_hi_.fill(-std::numeric_limits<T>::infinity());
     }
-    // What a re-grid sets aside before it lists the objects afresh, and puts back if that
-    // fails (strong guarantee): moves only, no allocation.
+    // What a re-grid sets aside before it lists the objects afresh (refill_cells), and puts
+    // back if that fails (strong guarantee): moves only, no allocation.
     struct listing {
         Cells cells;
         std::vector<slot_index> large;
         coords data_lo, data_hi;
     };
     listing set_aside_listing() {
-        listing old{std::move(cells_), std::move(large_), data_lo_, data_hi_};
-        large_.clear();
-        return old;
+        return listing{std::move(cells_), std::move(large_), data_lo_, data_hi_};
     }
     void restore_listing(listing& old) noexcept {
         cells_ = std::move(old.cells);
@@ -761,7 +757,7 @@ private:
         if (Q.count() > std::min(cells_.occupied_cells(), objects) + 8) {
             if (objects < cells_.occupied_cells()) {  // objects span many cells: test each once
                 for (slot_index s = slots_.next_occupied(0); s < slots_.capacity(); s = slots_.next_occupied(s + 1))
-                    if (!is_large(range_of(extent_of(slots_.value(s))))) f(s);
+                    if (!is_large_slot(s)) f(s);
                 return;
             }
             cells_.for_each_nonempty([&](const key& cell, const std::vector<slot_index>& list) {
