@@ -10,6 +10,8 @@
 
 #include <gtest/gtest.h>
 
+#include <boost/multiprecision/cpp_int.hpp>
+
 #include <algorithm>
 #include <array>
 #include <cmath>
@@ -1092,6 +1094,91 @@ TEST(hull_predicates, orientation_signs_match_integer_arithmetic) {
     EXPECT_NE(predicates::orient_3d(p0, p1, p2, p3), 0);
     EXPECT_NE(predicates::orient_3d_exact(p0, p1, p2, p4), 0);
     EXPECT_EQ(predicates::orient_3d_exact(p0, p1, p2, p4), -predicates::orient_3d_exact(p0, p1, p2, p3));
+}
+
+// Every stage of the adaptive predicates (the filter; B, exact determinant of rounded
+// differences; C, first-order tail terms; D, the determinant from the coordinates; and the
+// coplanarity certificates) against big-integer arithmetic (Boost.Multiprecision cpp_int on
+// the coordinates scaled by 2^300 to integers). Inputs mix magnitudes from 2^-100 to 2^100
+// so that differences do not round exactly: coplanar and collinear sets built exactly, each
+// nudged by one ulp in half the trials, box corners, repeated points.
+namespace {
+using big = boost::multiprecision::cpp_int;
+big exactly_scaled(double x) {  // x * 2^300, exactly an integer for the inputs below
+    int e = 0;
+    const double m = std::frexp(x, &e);                        // x = m * 2^e, 0.5 <= |m| < 1
+    big r(static_cast<long long>(std::ldexp(m, 53)));          // the 53-bit integer mantissa
+    const int shift = e - 53 + 300;
+    if (shift >= 0) return r << shift;
+    EXPECT_EQ(r % (big(1) << -shift), 0) << x << " is off the test's grid";
+    return r >> -shift;
+}
+int big_sign(const big& x) { return x > 0 ? 1 : (x < 0 ? -1 : 0); }
+int orient_3d_by_big_integers(const double* a, const double* b, const double* c, const double* d) {
+    big u[3], v[3], w[3];
+    for (int i = 0; i < 3; ++i) {
+        const big ai = exactly_scaled(a[i]);
+        u[i] = exactly_scaled(b[i]) - ai, v[i] = exactly_scaled(c[i]) - ai, w[i] = exactly_scaled(d[i]) - ai;
+    }
+    return big_sign(w[0] * (u[1] * v[2] - u[2] * v[1]) + w[1] * (u[2] * v[0] - u[0] * v[2]) + w[2] * (u[0] * v[1] - u[1] * v[0]));
+}
+int orient_2d_by_big_integers(const double* a, const double* b, const double* c) {
+    const big ax = exactly_scaled(a[0]), ay = exactly_scaled(a[1]);
+    return big_sign((exactly_scaled(b[0]) - ax) * (exactly_scaled(c[1]) - ay) - (exactly_scaled(b[1]) - ay) * (exactly_scaled(c[0]) - ax));
+}
+}  // namespace
+
+TEST(hull_predicates, every_adaptive_stage_matches_big_integer_arithmetic_across_magnitudes) {
+    spatial_test::seeded_rng rng(23);
+    // A double with a 20-bit mantissa and an exponent in [-100, 100]: sums of two such with
+    // exponents within 30 of each other are exact, which builds exactly coplanar points.
+    auto coarse = [&](int lo, int hi) {
+        const double m = double(long(rng() % (1u << 20)) - (1 << 19));
+        return std::ldexp(m, lo + int(rng() % unsigned(hi - lo + 1)) - 20);
+    };
+    int zeros = 0, nonzeros = 0;
+    for (int trial = 0; trial < 20000; ++trial) {
+        double p[4][3];
+        const int kind = trial % 4;
+        const int scale = int(rng() % 160) - 80;  // the set's magnitude
+        const int spread = int(rng() % 60);        // how far apart the points' magnitudes are
+        for (auto& q : p) {
+            const int e = scale + int(rng() % unsigned(spread + 1));
+            q[0] = coarse(e - 15, e), q[1] = coarse(e - 15, e);
+            if (kind == 0) q[2] = q[0] + q[1];                 // the plane z = x + y, exactly
+            else if (kind == 1) q[2] = coarse(e - 15, e);      // general position
+            else q[2] = q[0];                                  // the plane z = x, exactly
+        }
+        if (kind == 3) {  // a box's corners: two x, two y, two z values
+            const double x[2] = {p[0][0], p[1][0]}, y[2] = {p[0][1], p[1][1]}, z[2] = {p[2][2], p[3][2]};
+            for (int k = 0; k < 4; ++k) {
+                const unsigned bits = unsigned(rng() % 8);
+                p[k][0] = x[bits & 1], p[k][1] = y[(bits >> 1) & 1], p[k][2] = z[(bits >> 2) & 1];
+            }
+        }
+        if (rng() % 2) {  // 1 to 64 ulps off the plane: stages B and C decide the larger ones
+            double& x = p[rng() % 4][rng() % 3];
+            const double to = rng() % 2 ? 1e300 : -1e300;
+            for (int ulps = 1 + int(rng() % 64); ulps > 0; --ulps) x = std::nextafter(x, to);
+        }
+        if (rng() % 16 == 0) std::copy(p[0], p[0] + 3, p[1 + rng() % 3]);  // a repeated point
+        const int want = orient_3d_by_big_integers(p[0], p[1], p[2], p[3]);
+        ASSERT_EQ(predicates::orient_3d(p[0], p[1], p[2], p[3]), want) << "trial " << trial;
+        ASSERT_EQ(predicates::orient_3d_exact(p[0], p[1], p[2], p[3]), want) << "trial " << trial;
+        ASSERT_EQ(predicates::orient_3d_from_coordinates(p[0], p[1], p[2], p[3]), want) << "trial " << trial;
+        ASSERT_EQ(predicates::orient_3d_exact(p[1], p[0], p[2], p[3]), -want) << "trial " << trial;  // a swap flips it
+        if (predicates::certainly_coplanar(p[0], p[1], p[2], p[3])) {
+            ASSERT_EQ(want, 0) << "trial " << trial;
+        }
+        (want == 0 ? zeros : nonzeros) += 1;
+        // 2D: the first three points' (x, z) on the plane z = x (kind 2) are collinear.
+        const double a2[2] = {p[0][0], p[0][2]}, b2[2] = {p[1][0], p[1][2]}, c2[2] = {p[2][0], p[2][2]};
+        const int want2 = orient_2d_by_big_integers(a2, b2, c2);
+        ASSERT_EQ(predicates::orient_2d(a2, b2, c2), want2) << "trial " << trial;
+        ASSERT_EQ(predicates::orient_2d_exact(a2, b2, c2), want2) << "trial " << trial;
+    }
+    EXPECT_GT(zeros, 4000);
+    EXPECT_GT(nonzeros, 4000);
 }
 
 TEST(hull_predicates, hull_2d_is_exact_on_nearly_collinear_points) {

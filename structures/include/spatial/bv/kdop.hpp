@@ -95,6 +95,7 @@
 
 #include "spatial/bv/bounding_volume.hpp"
 #include "spatial/bv/kdop_tables.hpp"
+#include "spatial/bv/predicates.hpp"
 #include "spatial/core/input_checks.hpp"
 #include "spatial/core/point.hpp"
 #include "spatial/core/rigid_transform.hpp"
@@ -356,11 +357,6 @@ private:
         double tau = 0;        // tolerance unit for for_each_vertex
         double floor_err = 0;  // each l, h is within 2 eps |value| + floor_err of exact
     };
-    static void two_sum(double a, double b, double& s, double& e) {
-        s = a + b;
-        const double bv = s - a, av = s - bv;
-        e = (a - av) + (b - bv);
-    }
     static local_slabs make_local(const std::array<double, axis_count>& l, const std::array<double, axis_count>& h) {
         local_slabs c;
         for (std::size_t i = 0; i < D; ++i) c.r[i] = l[i];
@@ -370,7 +366,7 @@ private:
             for (std::size_t i = 0; i < D; ++i) {
                 if (directions[j][i] == 0) continue;
                 double e;
-                two_sum(sum, static_cast<double>(directions[j][i]) * c.r[i], sum, e);  // products exact
+                predicates::two_sum(sum, static_cast<double>(directions[j][i]) * c.r[i], sum, e);  // products exact
                 err += e;  // |err| <= 2 eps |sum|: its own rounding is negligible (eps^2)
             }
             c.l[j] = (l[j] - sum) - err;

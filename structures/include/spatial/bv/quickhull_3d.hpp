@@ -155,7 +155,7 @@ private:
         u32 v[3];    // counter-clockwise seen from outside
         u32 nb[3];   // nb[k]: the facet across edge (v[k], v[k+1])
         double n[3]; // (v0 - v2) x (v1 - v2) in floating point (outward, not normalised)
-        double perm; // filter bound per unit of |p - v2|_1 (orient_3d_filter * permanent)
+        double perm[3]; // filter bound per unit of |p_k - v2_k| (orient_3d_filter * that row of the permanent)
         double far_det;
         u32 list;    // conflict list (index into lists_) or none
         u32 far;     // position of the farthest conflict point in the list
@@ -238,7 +238,7 @@ private:
         const vec3& c = pts_[f.v[2]];  // the base point: the eye for the newest facets (cached)
         const double px = p.x - c[0], py = p.y - c[1], pz = p.z - c[2];
         det = f.n[0] * px + f.n[1] * py + f.n[2] * pz;
-        const double bound = f.perm * (std::abs(px) + std::abs(py) + std::abs(pz));
+        const double bound = f.perm[0] * std::abs(px) + f.perm[1] * std::abs(py) + f.perm[2] * std::abs(pz);
         if (det > bound) return 1;
         if (det < -bound) return -1;
         const double q[3] = {p.x, p.y, p.z};
@@ -257,14 +257,12 @@ private:
         const vec3 &pa = pts_[a], &pb = pts_[b], &pc = pts_[c];
         const double u[3] = {pa[0] - pc[0], pa[1] - pc[1], pa[2] - pc[2]};
         const double w[3] = {pb[0] - pc[0], pb[1] - pc[1], pb[2] - pc[2]};
-        double pmax = 0;
         for (int k = 0; k < 3; ++k) {
             const int i = (k + 1) % 3, j = (k + 2) % 3;
             const double l = u[i] * w[j], r = u[j] * w[i];
             f.n[k] = l - r;
-            pmax = std::max(pmax, std::abs(l) + std::abs(r));
+            f.perm[k] = predicates::orient_3d_filter * (std::abs(l) + std::abs(r));
         }
-        f.perm = predicates::orient_3d_filter * pmax;
         f.far_det = 0;
         f.list = none;
         f.far = 0;
