@@ -5,7 +5,7 @@
 # of the full matrix (days at the rates in docs/fuzzing.md; --seconds bounds each). Exits with spatial_soak's status: 1 if any answer differed from
 # brute_force; the failing sequences are then in soak_findings/ (replay: fuzz_operations FILE).
 #
-#   scripts/soak.sh [--structure NAME]... [--operations N] [--seconds T] [--seed S] [--findings DIR] [--list]
+#   scripts/soak.sh [--structure NAME]... [--operations N] [--seconds T] [--seed S] [--first-sequence K] [--findings DIR] [--list]
 #   scripts/soak.sh --replay FILE    one failing sequence again (SPATIAL_FUZZ_TRACE=1: every operation)
 #   SOAK_BUILD_JOBS=1   build jobs (default: all cores)
 set -euo pipefail

@@ -9,7 +9,7 @@
 // counted as a mismatch, its sequence written to a file the fuzz target replays, and the next
 // sequence starts; the exit status is 1 if there was any.
 //
-//   spatial_soak [--structure NAME]... [--operations N] [--seconds T] [--validate-every V] [--seed S] [--findings DIR] [--list]
+//   spatial_soak [--structure NAME]... [--operations N] [--seconds T] [--validate-every V] [--seed S] [--first-sequence K] [--findings DIR] [--list]
 //   spatial_soak --replay FILE     one written sequence again, every step validated (SPATIAL_FUZZ_TRACE=1: every operation)
 
 #include <algorithm>
@@ -55,18 +55,23 @@ struct settings {
     std::uint64_t seconds = 0;  // per structure; 0: no limit (the operations decide)
     std::uint64_t validate_every = 64;  // sequence_limits::validate_one_in
     std::uint64_t seed = 0;
+    // Sequences are numbered per structure and each is a function of (seed, structure,
+    // number) alone, so a run that starts at K continues one that ran sequences 0 .. K - 1:
+    // a soak longer than one sitting adds up over runs, every sequence a new one.
+    std::uint64_t first_sequence = 0;
     std::filesystem::path findings = "soak_findings";
 };
 
 [[noreturn]] void usage(const std::string& problem) {
     std::fprintf(stderr,
                  "spatial_soak: %s\n"
-                 "usage: spatial_soak [--structure NAME]... [--operations N] [--seconds T] [--validate-every V] [--seed S] [--findings DIR] [--list]\n"
+                 "usage: spatial_soak [--structure NAME]... [--operations N] [--seconds T] [--validate-every V] [--seed S] [--first-sequence K] [--findings DIR] [--list]\n"
                  "  --structure  a structure of --list (repeatable; default: all)\n"
                  "  --operations operations per structure (default 1e7; 1e7 and 10000000 both read)\n"
                  "  --seconds    also stop a structure after its first sequence that ends past T seconds (default: no limit)\n"
                  "  --validate-every  compare with brute_force at one step in V, full contents every 16 V (default 64; 1: every step)\n"
                  "  --seed       the seed of every sequence (default: random, printed)\n"
+                 "  --first-sequence  start at sequence K: continues a run of the same seed that ended after K sequences (default 0)\n"
                  "  --findings   where failing sequences are written (default soak_findings/)\n"
                  "  --replay     run one written sequence, every step validated (SPATIAL_FUZZ_TRACE=1 prints every operation)\n",
                  problem.c_str());
@@ -101,6 +106,7 @@ settings parse(int argc, char** argv) {
         if (flag == "--structure") s.structures.push_back(value);
         else if (flag == "--operations") s.operations = count_argument(flag, value);
         else if (flag == "--seed") s.seed = count_argument(flag, value);
+        else if (flag == "--first-sequence") s.first_sequence = count_argument(flag, value);
         else if (flag == "--seconds") s.seconds = count_argument(flag, value);
         else if (flag == "--validate-every") {
             s.validate_every = count_argument(flag, value);
@@ -209,7 +215,7 @@ structure_result soak(const settings& s, const named_structure& structure, std::
     double sum_largest = 0;
     const auto out_of_time = [&] { return s.seconds > 0 && clock::now() - start > std::chrono::seconds(s.seconds); };
     while (r.operations < s.operations && r.mismatches < mismatches_before_giving_up && !out_of_time()) {
-        const std::uint64_t sequence = r.sequences++;
+        const std::uint64_t sequence = s.first_sequence + r.sequences++;
         fill(bytes, mix(s.seed ^ mix(structure_index ^ mix(sequence))));
         spatial_fuzz::fuzz_input in(bytes.data(), bytes.size());
         std::string problem;
@@ -233,10 +239,13 @@ structure_result soak(const settings& s, const named_structure& structure, std::
         }
         if (clock::now() - last_report > std::chrono::seconds(60)) {
             last_report = clock::now();
-            std::fprintf(stderr, "spatial_soak:   %.*s: %llu operations, %llu sequences, %llu mismatches so far\n",
+            std::fprintf(stderr,
+                         "spatial_soak:   %.*s: %llu operations, %llu sequences, %llu mismatches so far (to continue: "
+                         "--first-sequence %llu)\n",
                          static_cast<int>(structure.name.size()), structure.name.data(),
                          static_cast<unsigned long long>(r.operations), static_cast<unsigned long long>(r.sequences),
-                         static_cast<unsigned long long>(r.mismatches));
+                         static_cast<unsigned long long>(r.mismatches),
+                         static_cast<unsigned long long>(s.first_sequence + r.sequences));
         }
     }
     r.seconds = std::chrono::duration<double>(clock::now() - start).count();
@@ -272,11 +281,11 @@ int main(int argc, char** argv) {
     for (int signal : {SIGSEGV, SIGABRT, SIGFPE, SIGILL, SIGBUS}) std::signal(signal, write_sequence_and_die);
 
     const auto limits = limits_of(s);
-    std::printf("spatial_soak: seed %llu, %llu operations per structure (or %llu s; 0: no limit), %zu structures, limits: "
+    std::printf("spatial_soak: seed %llu, sequences from %llu, %llu operations per structure (or %llu s; 0: no limit), %zu structures, limits: "
                 "%zu steps per sequence, %zu objects per container, clear and range erase 1 in %zu; "
                 "validated: 1 step in %zu, full contents every %zu steps and at each sequence's end\n",
-                static_cast<unsigned long long>(s.seed), static_cast<unsigned long long>(s.operations),
-                static_cast<unsigned long long>(s.seconds), structures.size(), limits.max_steps, limits.max_size,
+                static_cast<unsigned long long>(s.seed), static_cast<unsigned long long>(s.first_sequence),
+                static_cast<unsigned long long>(s.operations), static_cast<unsigned long long>(s.seconds), structures.size(), limits.max_steps, limits.max_size,
                 limits.wholesale_removal_one_in, limits.validate_one_in, 16 * limits.validate_one_in);
     std::printf("%-36s %12s %10s %10s %8s %8s %9s\n", "structure", "operations", "sequences", "mismatches", "largest",
                 "mean", "seconds");
