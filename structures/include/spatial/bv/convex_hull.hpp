@@ -204,16 +204,18 @@ public:
 
     // Cyrus-Beck: intersect the parameter intervals of the line o + t d in every thickened
     // half-space. A component of n . d that is (negative) zero means the line is parallel
-    // to that plane: inside it for all t or for none; no division happens then.
-    bool ray_interval(const point_type& o, const point_type& d, T& t0, T& t1) const {
+    // to that plane: inside it for all t or for none; no division happens then. `grow`
+    // pushes every plane out by that much more (a thick ray's radius: bvh/node_volume.hpp).
+    bool ray_interval(const point_type& o, const point_type& d, T& t0, T& t1, T grow = 0) const {
         if (is_empty()) return false;
         T lo = -std::numeric_limits<T>::infinity(), hi = std::numeric_limits<T>::infinity();
+        const T push = tol_ + grow;
         std::array<T, D> q;
         for (std::size_t i = 0; i < D; ++i) q[i] = o[i] - ref_[i];
         for (const plane& h : planes_) {
             T nq = 0, nd = 0;
             for (std::size_t i = 0; i < D; ++i) nq += h.normal[i] * q[i], nd += h.normal[i] * d[i];
-            const T room = h.offset + tol_ - nq;  // >= 0 iff o is inside this half-space
+            const T room = h.offset + push - nq;  // >= 0 iff o is inside this half-space
             if (nd == 0) {
                 if (room < 0) return false;
                 continue;

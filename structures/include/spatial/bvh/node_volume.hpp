@@ -123,27 +123,7 @@ bool grown_ray_interval(const ellipsoid<T, D>& e, const aabb<T, D>& box, const p
 template <class T, std::size_t D>
 bool grown_ray_interval(const convex_hull<T, D>& h, const aabb<T, D>&, const point<T, D>& o, const point<T, D>& d,
                         T r, T& t0, T& t1) {
-    if (h.is_empty()) return false;
-    T lo = -std::numeric_limits<T>::infinity(), hi = std::numeric_limits<T>::infinity();
-    const T push = h.tolerance() + r * (1 + T(4 * D) * std::numeric_limits<T>::epsilon());
-    std::array<T, D> q;
-    for (std::size_t i = 0; i < D; ++i) q[i] = o[i] - h.reference()[i];
-    for (const auto& pl : h.planes()) {
-        T nq = 0, nd = 0;
-        for (std::size_t i = 0; i < D; ++i) nq += pl.normal[i] * q[i], nd += pl.normal[i] * d[i];
-        const T room = pl.offset + push - nq;
-        if (nd == 0) {
-            if (room < 0) return false;
-            continue;
-        }
-        const T t = room / nd;
-        if (nd > 0) hi = std::min(hi, t);
-        else lo = std::max(lo, t);
-        if (lo > hi) return false;
-    }
-    t0 = lo;
-    t1 = hi;
-    return true;
+    return h.ray_interval(o, d, t0, t1, r * (1 + T(4 * D) * std::numeric_limits<T>::epsilon()));
 }
 
 // ---------------------------------------------------------------- memory, names
