@@ -29,9 +29,8 @@
 // Correct under fused multiply-add contraction too (two_sum has no product; two_product
 // uses std::fma explicitly).
 
-#include <array>
 #include <cmath>
-#include <cstddef>
+#include <initializer_list>
 
 namespace spatial::predicates {
 
