@@ -110,13 +110,16 @@ int execute(harness::scene_arguments& a) {
         const auto t0 = std::chrono::steady_clock::now();
         std::vector<harness::result_row> rows;
         harness::scene_counters counters;
+        std::vector<std::pair<std::string, double>> scene_seconds;
         for (const auto& f : a.files) {
+            const auto scene_started = std::chrono::steady_clock::now();
             auto r = harness::run_scene(datasets::load_scene(f), a.opt, counters);
             rows.insert(rows.end(), r.begin(), r.end());
+            scene_seconds.emplace_back(f, harness::seconds_since(scene_started));
         }
         harness::write_csv_atomically(a.results / a.output, rows);
         harness::write_registry_json(a.results);
-        harness::run_info info{a.opt.run_id, "scenes", "scene", {}, {}};
+        harness::run_info info{a.opt.run_id, "scenes", "scene", {}, {}, std::move(scene_seconds)};
         for (std::size_t i = 0; i < a.files.size(); ++i) info.extra["scene_" + std::to_string(i)] = a.files[i];
         if (!a.shard.empty()) info.extra["shard"] = a.shard;
         harness::write_run_sidecar(a.results, info, harness::seconds_since(t0));

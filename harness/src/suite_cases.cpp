@@ -3,6 +3,8 @@
 #include "harness/suite_cases.hpp"
 
 #include <algorithm>
+#include <chrono>
+#include <cstdio>
 #include <stdexcept>
 #include <string_view>
 
@@ -34,12 +36,13 @@ std::vector<std::string> ids_of(const std::vector<suite_case>& cases, const suit
     return ids;
 }
 
-void run_cases(const std::vector<suite_case>& all, const suite_options& options, run_journal& journal,
-               std::vector<result_row>& rows, const progress& prog) {
+std::vector<case_time> run_cases(const std::vector<suite_case>& all, const suite_options& options,
+                                 run_journal& journal, std::vector<result_row>& rows, const progress& prog) {
     const auto selected = selected_cases(all, options);
     // Before anything runs: a case that cannot fit is refused now, not killed hours later.
     for (const suite_case* c : selected) require_memory("case " + c->id, c->objects, c->bytes_per_object);
     std::size_t completed_here = 0;
+    std::vector<case_time> times;
     for (const suite_case* c : selected) {
         const auto position = static_cast<std::size_t>(c - all.data());
         if (journal.completed(position)) {
@@ -49,23 +52,31 @@ void run_cases(const std::vector<suite_case>& all, const suite_options& options,
             continue;
         }
         const std::size_t before = rows.size();
+        const auto case_started = std::chrono::steady_clock::now();
         try {
             c->run();
         } catch (const validation_error&) {
             journal.finish();  // a run that met a wrong answer keeps nothing
             throw;
         }
+        times.push_back({c->id, seconds_since(case_started)});
         journal.record(position, std::vector<result_row>(rows.begin() + static_cast<std::ptrdiff_t>(before), rows.end()));
+        char took[32];
+        std::snprintf(took, sizeof took, "%.1f s", times.back().seconds);
+        prog.say("finished " + c->id + " in " + took);
         injected_interrupt(++completed_here);
     }
+    return times;
 }
 
 void finish_suite(const suite_options& options, const std::vector<result_row>& rows, const std::string& run_id,
                   const std::map<std::string, std::uint64_t>& seeds, const std::map<std::string, std::string>& extra,
-                  std::chrono::steady_clock::time_point started, const progress& prog) {
+                  const std::vector<case_time>& case_times, std::chrono::steady_clock::time_point started,
+                  const progress& prog) {
     const auto table = options.results_dir / options.output_name;
     write_csv_atomically(table, rows);
-    run_info info{run_id, options.suite_name, options.preset, seeds, extra};
+    run_info info{run_id, options.suite_name, options.preset, seeds, extra, {}};
+    for (const case_time& t : case_times) info.case_seconds.emplace_back(t.id, t.seconds);
     if (options.shard_count > 1) info.extra["shard"] = std::to_string(options.shard_index) + "/" + std::to_string(options.shard_count);
     write_run_sidecar(options.results_dir, info, seconds_since(started));
     prog.say("wrote " + table.string() + " (" + std::to_string(rows.size()) + " rows), run " + run_id);

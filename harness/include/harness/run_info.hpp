@@ -6,6 +6,8 @@
 #include <filesystem>
 #include <map>
 #include <string>
+#include <utility>
+#include <vector>
 
 namespace harness {
 
@@ -14,6 +16,9 @@ struct run_info {
     std::string suite, preset;
     std::map<std::string, std::uint64_t> seeds;
     std::map<std::string, std::string> extra;
+    // Each case run and its wall time in seconds, in the order run (the sidecar's
+    // "case_seconds"): where a preset's time goes.
+    std::vector<std::pair<std::string, double>> case_seconds;
 };
 
 // A fresh run id: <suite>-<preset>-<UTC timestamp>-<short commit>, then -<shard> for a

@@ -40,17 +40,26 @@ std::vector<const suite_case*> selected_cases(const std::vector<suite_case>& all
 // `spatialbench list --cases` prints.
 std::vector<std::string> ids_of(const std::vector<suite_case>& cases, const suite_options& options);
 
+// The wall time one case took in this run (validation and timed repetitions together): the
+// sidecar lists them so that a preset's time budget can be checked case by case.
+struct case_time {
+    std::string id;
+    double seconds = 0;
+};
+
 // Runs the selected cases in order, each case's rows appended to `rows` and recorded in
 // `journal` as it completes; a case the journal already holds (a resumed run) is not run
-// again, its journaled rows are appended instead.
-void run_cases(const std::vector<suite_case>& all, const suite_options& options, run_journal& journal,
-               std::vector<result_row>& rows, const progress& prog);
+// again, its journaled rows are appended instead. Returns the wall time of each case run here
+// (resumed cases are not listed), in order.
+std::vector<case_time> run_cases(const std::vector<suite_case>& all, const suite_options& options,
+                                 run_journal& journal, std::vector<result_row>& rows, const progress& prog);
 
 // The end every suite shares: writes options.results_dir / options.output_name atomically,
-// then the run's JSON sidecar (seeds and `extra`), and says so.
+// then the run's JSON sidecar (seeds, `extra` and the cases' wall times), and says so.
 void finish_suite(const suite_options& options, const std::vector<result_row>& rows, const std::string& run_id,
                   const std::map<std::string, std::uint64_t>& seeds, const std::map<std::string, std::string>& extra,
-                  std::chrono::steady_clock::time_point started, const progress& prog);
+                  const std::vector<case_time>& case_times, std::chrono::steady_clock::time_point started,
+                  const progress& prog);
 
 // "n=1000" style size label used in case ids.
 std::string case_size(std::size_t n);

@@ -31,6 +31,7 @@ struct suite_context {
     std::map<std::string, std::uint64_t> seeds;
     std::chrono::steady_clock::time_point started = std::chrono::steady_clock::now();
     std::unique_ptr<run_journal> journal = nullptr;  // while the cases run (run_journal.hpp)
+    std::vector<case_time> case_times{};             // of the cases run here (the sidecar's)
 
     // Whether --structure (empty: every structure) selects `structure`.
     bool wants(const std::string& structure) const {
@@ -49,13 +50,14 @@ struct suite_context {
     void run(const std::vector<suite_case>& cases) {
         journal = std::make_unique<run_journal>(opt, run_id, ids_of(cases, suite_options{}));
         run_id = journal->run_id();
-        run_cases(cases, opt, *journal, rows, prog);
+        case_times = run_cases(cases, opt, *journal, rows, prog);
     }
 
-    // The suite's end (finish_suite): the table, the sidecar with the seeds and `extra`; then
+    // The suite's end (finish_suite): the table, the sidecar with the seeds, `extra` and the
+    // cases' wall times; then
     // the journal goes (the table holds every case now).
     void finish(const std::map<std::string, std::string>& extra = {}) {
-        finish_suite(opt, rows, run_id, seeds, extra, started, prog);
+        finish_suite(opt, rows, run_id, seeds, extra, case_times, started, prog);
         if (journal) journal->finish();
     }
 };
