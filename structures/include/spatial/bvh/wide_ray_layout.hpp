@@ -39,6 +39,7 @@
 #include <cstdint>
 #include <cstring>
 #include <limits>
+#include <new>
 #include <type_traits>
 #include <vector>
 
@@ -163,6 +164,12 @@ public:
                 kids[k++] = tree.left(opened) + 1;
             }
             fill_node(tree, tk.wide, kids, k, objects_below, todo);
+        }
+        // Pass 1 pushed the wide nodes one at a time: release the doubling's spare room (up
+        // to 40 % of the array; immutable from here on). A failed reallocation keeps it.
+        try {
+            nodes_.shrink_to_fit();
+        } catch (const std::bad_alloc&) {
         }
         // Pass 2: the leaves' objects, in the order the nodes were filled (depth first: a
         // subtree's leaves end up near each other).
