@@ -5,11 +5,14 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <chrono>
 #include <cmath>
 #include <filesystem>
 #include <fstream>
 #include <random>
 #include <sstream>
+#include <thread>
+#include <vector>
 
 #include "fuzz/command_line/vocabulary.hpp"
 #include "harness/check.hpp"
@@ -97,6 +100,34 @@ TEST(timing, median_of_repetitions_and_checks_run_on_every_repetition) {
     EXPECT_LE(t.median_seconds, t.max_seconds);
     EXPECT_DOUBLE_EQ(summarize({3, 1, 2}).median_seconds, 2);
     EXPECT_DOUBLE_EQ(summarize({4, 1, 2, 3}).median_seconds, 2.5);
+}
+
+TEST(timing, a_long_run_is_timed_once_after_its_warm_up_and_the_others_every_round) {
+    int quick_runs = 0, long_runs = 0;
+    const std::vector<timed_work> work{
+        {"quick", [&] { return double(++quick_runs > 0); }, 1},
+        {"long",
+         [&] {
+             ++long_runs;
+             std::this_thread::sleep_for(std::chrono::milliseconds(20));
+             return 2.0;
+         },
+         2}};
+    // A 20 ms run is "long" against a 10 ms threshold: its warm-up and one timed round.
+    const auto t = time_interleaved(work, 1, 5, 0.01);
+    EXPECT_EQ(quick_runs, 6);
+    EXPECT_EQ(long_runs, 2);
+    EXPECT_EQ(t[0].repetitions, 5u);
+    EXPECT_EQ(t[1].repetitions, 1u);
+    EXPECT_GE(t[1].median_seconds, 0.02);
+    // Without a warm-up, the first (timed) run is its only one.
+    long_runs = 0;
+    EXPECT_EQ(time_interleaved(work, 0, 3, 0.01)[1].repetitions, 1u);
+    EXPECT_EQ(long_runs, 1);
+    // At the default threshold nothing here is long: every round runs.
+    long_runs = 0;
+    EXPECT_EQ(time_interleaved(work, 0, 3)[1].repetitions, 3u);
+    EXPECT_EQ(long_runs, 3);
 }
 
 TEST(csv, rows_have_the_documented_columns_and_files_are_replaced_atomically) {

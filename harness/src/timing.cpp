@@ -9,10 +9,12 @@
 namespace harness {
 
 std::vector<timing_result> time_interleaved(const std::vector<timed_work>& work, std::size_t warmup,
-                                            std::size_t repetitions) {
+                                            std::size_t repetitions, double long_run) {
     std::vector<std::vector<double>> samples(work.size());
+    std::vector<bool> long_runs(work.size(), false);
     for (std::size_t round = 0; round < warmup + repetitions; ++round)
         for (std::size_t i = 0; i < work.size(); ++i) {
+            if (long_runs[i] && !samples[i].empty()) continue;  // timed once: enough for a long run
             const auto t0 = std::chrono::steady_clock::now();
             const double checksum = work[i].run();
             const double seconds = seconds_since(t0);
@@ -24,6 +26,7 @@ std::vector<timing_result> time_interleaved(const std::vector<timed_work>& work,
                 throw validation_error(os.str());
             }
             if (round >= warmup) samples[i].push_back(seconds);
+            if (seconds >= long_run) long_runs[i] = true;
         }
     std::vector<timing_result> out;
     out.reserve(work.size());

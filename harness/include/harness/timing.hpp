@@ -67,11 +67,18 @@ struct timed_work {
     double validated = 0;         // the checksum of the answers that passed validation
 };
 
+// A run at least this long is timed once: it averages the machine's noise over its own
+// length, and more rounds of it would dominate a suite's time (the convex-hull bvh's rays on
+// the 1e5 sphere took 20 s a round: 7 rounds were most of the raycast suite's quick preset).
+inline constexpr double long_run_seconds = 2.0;
+
 // `warmup` untimed rounds, then `repetitions` timed rounds; each round runs every work once,
-// in order. A run whose checksum differs from its validated one throws validation_error
-// (harness/validation.hpp): a timing is kept only for the validated answers. Returns one
-// timing per work, in order.
+// in order, except that a work whose run (warm-up or timed) took at least `long_run` seconds
+// stops after its first timed run (its timing_result has repetitions = 1, which the CSV's
+// repetitions column shows). A run whose checksum differs from its validated one throws
+// validation_error (harness/validation.hpp): a timing is kept only for the validated answers.
+// Returns one timing per work, in order.
 std::vector<timing_result> time_interleaved(const std::vector<timed_work>& work, std::size_t warmup,
-                                            std::size_t repetitions);
+                                            std::size_t repetitions, double long_run = long_run_seconds);
 
 }  // namespace harness
