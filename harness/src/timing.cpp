@@ -25,8 +25,9 @@ std::vector<timing_result> time_interleaved(const std::vector<timed_work>& work,
                    << checksum << ", validated " << work[i].validated << ")";
                 throw validation_error(os.str());
             }
-            if (round >= warmup) samples[i].push_back(seconds);
+            // A long warm-up is its own warm-up: it counts as the timed run.
             if (seconds >= long_run) long_runs[i] = true;
+            if (round >= warmup || long_runs[i]) samples[i].push_back(seconds);
         }
     std::vector<timing_result> out;
     out.reserve(work.size());
