@@ -110,12 +110,12 @@ int execute(harness::scene_arguments& a) {
         const auto t0 = std::chrono::steady_clock::now();
         std::vector<harness::result_row> rows;
         harness::scene_counters counters;
-        std::vector<std::pair<std::string, double>> scene_seconds;
+        std::vector<harness::case_time> scene_seconds;
         for (const auto& f : a.files) {
             const auto scene_started = std::chrono::steady_clock::now();
             auto r = harness::run_scene(datasets::load_scene(f), a.opt, counters);
             rows.insert(rows.end(), r.begin(), r.end());
-            scene_seconds.emplace_back(f, harness::seconds_since(scene_started));
+            scene_seconds.push_back({f, harness::seconds_since(scene_started)});
         }
         harness::write_csv_atomically(a.results / a.output, rows);
         harness::write_registry_json(a.results);

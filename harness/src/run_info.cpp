@@ -100,7 +100,7 @@ void write_run_sidecar(const std::filesystem::path& results_dir, const run_info&
     j["wall_seconds"] = wall_seconds;
     if (!info.case_seconds.empty()) {
         nlohmann::json cases = nlohmann::json::array();
-        for (const auto& [id, seconds] : info.case_seconds) cases.push_back({{"case", id}, {"seconds", seconds}});
+        for (const case_time& c : info.case_seconds) cases.push_back({{"case", c.id}, {"seconds", c.seconds}});
         j["case_seconds"] = std::move(cases);
     }
     write_text_atomically(results_dir / "runs" / (info.run_id + ".json"), j.dump(2) + "\n");

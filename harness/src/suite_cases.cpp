@@ -75,8 +75,7 @@ void finish_suite(const suite_options& options, const std::vector<result_row>& r
                   const progress& prog) {
     const auto table = options.results_dir / options.output_name;
     write_csv_atomically(table, rows);
-    run_info info{run_id, options.suite_name, options.preset, seeds, extra, {}};
-    for (const case_time& t : case_times) info.case_seconds.emplace_back(t.id, t.seconds);
+    run_info info{run_id, options.suite_name, options.preset, seeds, extra, case_times};
     if (options.shard_count > 1) info.extra["shard"] = std::to_string(options.shard_index) + "/" + std::to_string(options.shard_count);
     write_run_sidecar(options.results_dir, info, seconds_since(started));
     prog.say("wrote " + table.string() + " (" + std::to_string(rows.size()) + " rows), run " + run_id);

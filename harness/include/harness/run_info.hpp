@@ -6,19 +6,25 @@
 #include <filesystem>
 #include <map>
 #include <string>
-#include <utility>
 #include <vector>
 
 namespace harness {
+
+// The wall time one case of a run took (validation and timed repetitions together; a scene
+// file for the scene runner): the sidecar lists them so that a preset's time budget can be
+// checked case by case.
+struct case_time {
+    std::string id;
+    double seconds = 0;
+};
 
 struct run_info {
     std::string run_id;
     std::string suite, preset;
     std::map<std::string, std::uint64_t> seeds;
     std::map<std::string, std::string> extra;
-    // Each case run and its wall time in seconds, in the order run (the sidecar's
-    // "case_seconds"): where a preset's time goes.
-    std::vector<std::pair<std::string, double>> case_seconds;
+    // Each case run and its wall time, in the order run (the sidecar's "case_seconds").
+    std::vector<case_time> case_seconds;
 };
 
 // A fresh run id: <suite>-<preset>-<UTC timestamp>-<short commit>, then -<shard> for a

@@ -18,6 +18,7 @@
 
 #include "harness/csv_writer.hpp"
 #include "harness/progress.hpp"
+#include "harness/run_info.hpp"
 #include "harness/run_journal.hpp"
 #include "harness/suite_options.hpp"
 
@@ -39,13 +40,6 @@ std::vector<const suite_case*> selected_cases(const std::vector<suite_case>& all
 // The ids of the cases of `cases` that `options` selects (--case, --shard), in order: what
 // `spatialbench list --cases` prints.
 std::vector<std::string> ids_of(const std::vector<suite_case>& cases, const suite_options& options);
-
-// The wall time one case took in this run (validation and timed repetitions together): the
-// sidecar lists them so that a preset's time budget can be checked case by case.
-struct case_time {
-    std::string id;
-    double seconds = 0;
-};
 
 // Runs the selected cases in order, each case's rows appended to `rows` and recorded in
 // `journal` as it completes; a case the journal already holds (a resumed run) is not run

@@ -54,8 +54,7 @@ struct suite_context {
     }
 
     // The suite's end (finish_suite): the table, the sidecar with the seeds, `extra` and the
-    // cases' wall times; then
-    // the journal goes (the table holds every case now).
+    // cases' wall times; then the journal goes (the table holds every case now).
     void finish(const std::map<std::string, std::string>& extra = {}) {
         finish_suite(opt, rows, run_id, seeds, extra, case_times, started, prog);
         if (journal) journal->finish();

@@ -76,9 +76,9 @@ inline constexpr double long_run_seconds = 2.0;
 // in order, except that a work whose run took at least `long_run` seconds is timed by that
 // one run, a warm-up included (a run that long warms its own caches; the validated run the
 // suites make first has built anything built lazily): its timing_result has repetitions = 1,
-// which the CSV's repetitions column shows. A run whose checksum differs from its validated one throws
-// validation_error (harness/validation.hpp): a timing is kept only for the validated answers.
-// Returns one timing per work, in order.
+// which the CSV's repetitions column shows. A run whose checksum differs from its validated
+// one throws validation_error (harness/validation.hpp): a timing is kept only for the
+// validated answers. Returns one timing per work, in order.
 std::vector<timing_result> time_interleaved(const std::vector<timed_work>& work, std::size_t warmup,
                                             std::size_t repetitions, double long_run = long_run_seconds);
 
