@@ -42,6 +42,11 @@ first_case() { "$bin" list --cases --suite "$1" --preset smoke | head -n 1; }
 # kNN: our kd_tree reports a point twice; the nanoflann peer likewise.
 expect_fail_closed knn_ours knn.csv kd_tree run --suite knn --preset smoke --case "$(first_case knn)"
 expect_fail_closed knn_peer knn.csv nanoflann run --suite knn --preset smoke --case "$(first_case knn)"
+# Dynamic kNN contents (after churn, streams, bulk and looped insertion): a point goes missing
+# from what a structure holds — from nanoflann's dynamic index (churn at n = 1e3), and from our
+# octree (the bulk comparison of every in-house structure, smoke's 1e4).
+expect_fail_closed knn_contents_peer knn.csv nanoflann_dynamic run --suite knn --preset smoke --case "$(first_case knn)"
+expect_fail_closed knn_contents_ours knn.csv octree run --suite knn --preset smoke --case knn/uniform/n=10000/3d/double
 # Rays: our bvh's hits move; Embree's likewise.
 expect_fail_closed raycast_ours raycast.csv bvh run --suite raycast --preset smoke --case "$(first_case raycast)"
 expect_fail_closed raycast_peer raycast.csv embree run --suite raycast --preset smoke --case "$(first_case raycast)"

@@ -15,8 +15,9 @@
 //                     cost(split) = C_trav + C_isect (A_L N_L + A_R N_R) / A_node
 //                 (N counted in blocks of sah_costs::block objects where leaves are tested
 //                 a block at a time)
-//                 at the B - 1 bin boundaries of every axis; O(m (D + B)) per node, O(n log n)
-//                 per build for balanced splits. A node with at most leaf_size items becomes a
+//                 at the B - 1 bin boundaries of every axis (every axis binned in one pass
+//                 over the items, the sweeps over the non-empty bins only); O(m D + B D) per
+//                 node, O(n log n) per build for balanced splits. A node with at most leaf_size items becomes a
 //                 leaf when C_isect N is not more than the best split; a node with more items
 //                 is always split. When every centroid coincides (no axis to bin along) the
 //                 object median is used, so identical objects still give a balanced tree.
@@ -24,6 +25,7 @@
 #include <algorithm>
 #include <array>
 #include <cstddef>
+#include <cstdint>
 #include <limits>
 
 #include "spatial/core/slot_storage.hpp"
@@ -110,36 +112,57 @@ std::size_t binned_sah_split(build_item<T, D>* first, std::size_t m, std::size_t
     double best_cost = std::numeric_limits<double>::infinity();
     std::size_t best_axis = D, best_boundary = 0;
     const double parent_area = node_box.area();
+    // Every axis is binned in one pass over the items (each item is read once, not once per
+    // axis: the items of a large node do not stay in cache between passes, and these passes
+    // were most of a build's time). The bins get the same items in the same order as one
+    // pass per axis would, so the tree is the same.
+    std::array<double, D> scale{};
+    std::array<bool, D> binned{};
     for (std::size_t axis = 0; axis < D; ++axis) {
         const double extent = static_cast<double>(cb.hi[axis]) - static_cast<double>(cb.lo[axis]);
-        if (!(extent > 0)) continue;
-        const double scale = static_cast<double>(Bins) / extent;
-        std::array<box_accumulator<T, D>, Bins> bins;
-        std::array<std::size_t, Bins> counts{};
-        for (std::size_t i = 0; i < m; ++i) {
-            const std::size_t b = bin_of(first[i], axis, scale);
-            bins[b].add(first[i].lo, first[i].hi);
-            ++counts[b];
+        binned[axis] = extent > 0;
+        scale[axis] = binned[axis] ? static_cast<double>(Bins) / extent : 0;
+    }
+    std::array<std::array<box_accumulator<T, D>, Bins>, D> bins;
+    std::array<std::array<std::uint32_t, Bins>, D> counts{};  // a node holds < 2^32 items (slot_index)
+    for (std::size_t i = 0; i < m; ++i)
+        for (std::size_t axis = 0; axis < D; ++axis) {
+            if (!binned[axis]) continue;
+            const std::size_t b = bin_of(first[i], axis, scale[axis]);
+            bins[axis][b].add(first[i].lo, first[i].hi);
+            ++counts[axis][b];
         }
-        // Sweep from the right: area and count of bins [b, Bins).
-        std::array<double, Bins> right_area{};
-        std::array<std::size_t, Bins> right_count{};
+    // The sweeps visit the non-empty bins only: a boundary between two empty bins splits the
+    // items as the boundary right after the last non-empty bin on its left does, at the same
+    // cost, and that earlier boundary is the one kept on ties. So the split is the one every
+    // boundary's sweep would choose, at O(non-empty bins) instead of O(Bins) per axis: most
+    // nodes of a large tree hold a few items (a point tree's nodes down to one), where the
+    // Bins-wide sweeps dominated.
+    for (std::size_t axis = 0; axis < D; ++axis) {
+        if (!binned[axis]) continue;
+        // Written before read (no zeroing: these arrays are set up for every node of a build).
+        std::array<std::size_t, Bins> used;  // the non-empty bins, in order
+        std::size_t k = 0;
+        for (std::size_t b = 0; b < Bins; ++b)
+            if (counts[axis][b] != 0) used[k++] = b;
+        // Sweep from the right: area and count of the non-empty bins [j, k).
+        std::array<double, Bins> right_area;
+        std::array<std::size_t, Bins> right_count;
         box_accumulator<T, D> acc;
         std::size_t n = 0;
-        for (std::size_t b = Bins; b-- > 1;) {
-            acc.add(bins[b]);
-            n += counts[b];
-            right_area[b] = acc.area();
-            right_count[b] = n;
+        for (std::size_t j = k; j-- > 1;) {
+            acc.add(bins[axis][used[j]]);
+            n += counts[axis][used[j]];
+            right_area[j] = acc.area();
+            right_count[j] = n;
         }
         box_accumulator<T, D> left;
         std::size_t nl = 0;
-        for (std::size_t b = 1; b < Bins; ++b) {  // boundary b: bins [0, b) | [b, Bins)
-            left.add(bins[b - 1]);
-            nl += counts[b - 1];
-            if (nl == 0 || right_count[b] == 0) continue;
-            const double c = left.area() * costs.blocks(nl) + right_area[b] * costs.blocks(right_count[b]);
-            if (c < best_cost) best_cost = c, best_axis = axis, best_boundary = b;
+        for (std::size_t j = 1; j < k; ++j) {  // boundary used[j - 1] + 1: bins [0, used[j - 1]] | the rest
+            left.add(bins[axis][used[j - 1]]);
+            nl += counts[axis][used[j - 1]];
+            const double c = left.area() * costs.blocks(nl) + right_area[j] * costs.blocks(right_count[j]);
+            if (c < best_cost) best_cost = c, best_axis = axis, best_boundary = used[j - 1] + 1;
         }
     }
     if (best_axis == D) {  // all centroids coincide
@@ -148,9 +171,9 @@ std::size_t binned_sah_split(build_item<T, D>* first, std::size_t m, std::size_t
     const double split_cost =
         costs.traversal + costs.intersection * (parent_area > 0 ? best_cost / parent_area : costs.blocks(m));
     if (m <= leaf_size && costs.intersection * costs.blocks(m) <= split_cost) return 0;
-    const double scale = static_cast<double>(Bins) / (static_cast<double>(cb.hi[best_axis]) - static_cast<double>(cb.lo[best_axis]));
-    auto* mid = std::partition(first, first + m,
-                               [&](const build_item<T, D>& it) { return bin_of(it, best_axis, scale) < best_boundary; });
+    auto* mid = std::partition(first, first + m, [&](const build_item<T, D>& it) {
+        return bin_of(it, best_axis, scale[best_axis]) < best_boundary;
+    });
     const auto left = static_cast<std::size_t>(mid - first);
     if (left == 0 || left == m) return median_split(first, m);  // cannot happen; safety net
     return left;
