@@ -123,14 +123,26 @@ std::size_t binned_sah_split(build_item<T, D>* first, std::size_t m, std::size_t
         binned[axis] = extent > 0;
         scale[axis] = binned[axis] ? static_cast<double>(Bins) / extent : 0;
     }
-    std::array<std::array<box_accumulator<T, D>, Bins>, D> bins;
+    // A bin's box is set by its first item and read only once it has one (the sweeps below
+    // skip empty bins), so the D * Bins boxes are not initialised: for the many small nodes of
+    // a build (and every leaf split of an insertion) that initialisation cost more than the
+    // binning itself.
+    struct bin_box {
+        std::array<T, D> lo, hi;
+    };
+    std::array<std::array<bin_box, Bins>, D> bins;
     std::array<std::array<std::uint32_t, Bins>, D> counts{};  // a node holds < 2^32 items (slot_index)
     for (std::size_t i = 0; i < m; ++i)
         for (std::size_t axis = 0; axis < D; ++axis) {
             if (!binned[axis]) continue;
             const std::size_t b = bin_of(first[i], axis, scale[axis]);
-            bins[axis][b].add(first[i].lo, first[i].hi);
-            ++counts[axis][b];
+            bin_box& box = bins[axis][b];
+            if (counts[axis][b]++ == 0) {
+                box.lo = first[i].lo, box.hi = first[i].hi;
+            } else {
+                for (std::size_t d = 0; d < D; ++d)
+                    box.lo[d] = std::min(box.lo[d], first[i].lo[d]), box.hi[d] = std::max(box.hi[d], first[i].hi[d]);
+            }
         }
     // The sweeps visit the non-empty bins only: a boundary between two empty bins splits the
     // items as the boundary right after the last non-empty bin on its left does, at the same
@@ -151,7 +163,7 @@ std::size_t binned_sah_split(build_item<T, D>* first, std::size_t m, std::size_t
         box_accumulator<T, D> acc;
         std::size_t n = 0;
         for (std::size_t j = k; j-- > 1;) {
-            acc.add(bins[axis][used[j]]);
+            acc.add(bins[axis][used[j]].lo, bins[axis][used[j]].hi);
             n += counts[axis][used[j]];
             right_area[j] = acc.area();
             right_count[j] = n;
@@ -159,7 +171,7 @@ std::size_t binned_sah_split(build_item<T, D>* first, std::size_t m, std::size_t
         box_accumulator<T, D> left;
         std::size_t nl = 0;
         for (std::size_t j = 1; j < k; ++j) {  // boundary used[j - 1] + 1: bins [0, used[j - 1]] | the rest
-            left.add(bins[axis][used[j - 1]]);
+            left.add(bins[axis][used[j - 1]].lo, bins[axis][used[j - 1]].hi);
             nl += counts[axis][used[j - 1]];
             const double c = left.area() * costs.blocks(nl) + right_area[j] * costs.blocks(right_count[j]);
             if (c < best_cost) best_cost = c, best_axis = axis, best_boundary = used[j - 1] + 1;
