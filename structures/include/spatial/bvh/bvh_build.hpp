@@ -16,6 +16,7 @@
 #include <new>
 
 #include "spatial/bvh/bvh.hpp"
+#include "spatial/core/capacity_headroom.hpp"
 
 namespace spatial {
 
@@ -216,14 +217,13 @@ inline void bvh<O, BV, Config>::rebuild_in_place(parallel_policy) {
 // The bookkeeping after a full build (rebuild() and rebuild(par)).
 template <stored_object O, class BV, class Config>
 inline void bvh<O, BV, Config>::finish_build() {
-    // The sequential builder grows the arrays by doubling: up to half of them spare (on 1e5
-    // triangles 28 % of the nodes, 9 bytes a triangle of memory_bytes()). Released here as
-    // kd_tree's build does; a failed reallocation keeps the (complete) tree with its slack.
-    try {
-        nodes_.shrink_to_fit();
-        items_.shrink_to_fit();
-    } catch (const std::bad_alloc&) {
-    }
+    // The sequential builder grows the arrays by doubling (up to half of them spare: on 1e5
+    // triangles 28 % of the nodes, 9 bytes a triangle of memory_bytes()), the parallel one
+    // reserves them exactly. Both leave an eighth spare (core/capacity_headroom.hpp): an exact
+    // fit, as from 2026-11-27 to 11-28, made the first insertion after a build copy the whole
+    // node array, a batch of n/10 insertions into 1e6 points half again as slow.
+    detail::keep_headroom(nodes_);
+    detail::keep_headroom(items_);
     size_at_build_ = slots_.size();
     updates_since_build_ = 0;
     stale_ = false;
