@@ -43,6 +43,21 @@ struct build_item {
     slot_index slot;
 };
 
+// Surface area (perimeter in 2D) of the box [lo, hi], 0 for an empty one, in double: AABB
+// areas of 1e15-sized boxes overflow float.
+template <class T, std::size_t D>
+double box_area(const std::array<T, D>& lo, const std::array<T, D>& hi) {
+    if (!(lo[0] <= hi[0])) return 0;
+    double s = 0;
+    for (std::size_t i = 0; i < D; ++i) {
+        double face = 1;
+        for (std::size_t j = 0; j < D; ++j)
+            if (j != i) face *= static_cast<double>(hi[j]) - static_cast<double>(lo[j]);
+        s += face;
+    }
+    return D == 1 ? 1 : 2 * s;
+}
+
 template <class T, std::size_t D>
 struct box_accumulator {
     std::array<T, D> lo, hi;
@@ -54,18 +69,7 @@ struct box_accumulator {
         for (std::size_t i = 0; i < D; ++i) lo[i] = std::min(lo[i], a[i]), hi[i] = std::max(hi[i], b[i]);
     }
     void add(const box_accumulator& o) { add(o.lo, o.hi); }
-    // Surface area (perimeter in 2D), in double: AABB areas of 1e15-sized boxes overflow float.
-    double area() const {
-        if (!(lo[0] <= hi[0])) return 0;
-        double s = 0;
-        for (std::size_t i = 0; i < D; ++i) {
-            double face = 1;
-            for (std::size_t j = 0; j < D; ++j)
-                if (j != i) face *= static_cast<double>(hi[j]) - static_cast<double>(lo[j]);
-            s += face;
-        }
-        return D == 1 ? 1 : 2 * s;
-    }
+    double area() const { return box_area<T, D>(lo, hi); }
 };
 
 // Splits [first, first + m) at the object median of the widest centroid axis. Returns m / 2.

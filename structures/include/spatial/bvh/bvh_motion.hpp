@@ -353,12 +353,14 @@ inline void bvh<O, BV, Config>::place(slot_index s, node_index n) {
         const node_index c = nodes_[n].first;
         double grow[2], area[2];
         for (int k = 0; k < 2; ++k) {
-            bvh_detail::box_accumulator<T, D> acc;
+            // The child's box area before and after taking the object (no accumulator: this
+            // runs twice per level of every insertion, and was most of a bulk insertion's work).
             const box_type& b = box_of(nodes_[c + static_cast<node_index>(k)]);
-            acc.add(b.lo.coords, b.hi.coords);
-            const double before = acc.area();
-            acc.add(it.lo, it.hi);
-            area[k] = acc.area();
+            std::array<T, D> lo, hi;
+            for (std::size_t d = 0; d < D; ++d)
+                lo[d] = std::min(b.lo[d], it.lo[d]), hi[d] = std::max(b.hi[d], it.hi[d]);
+            const double before = bvh_detail::box_area<T, D>(b.lo.coords, b.hi.coords);
+            area[k] = bvh_detail::box_area<T, D>(lo, hi);
             grow[k] = area[k] - before;
         }
         n = (grow[1] < grow[0] || (grow[1] == grow[0] && area[1] < area[0])) ? c + 1 : c;
