@@ -3,10 +3,10 @@
 // With SPATIALBENCH_INJECT_FAULT=<name> in the environment, the participant of that name (a
 // structure, a peer, or in the bv suite a volume type) gets one of its answers corrupted
 // after it answered and BEFORE validation, in the way each suite's answers can be wrong:
-// a kNN answer reports one point twice (a dynamic structure's contents lose a point), ray hits move, a pair goes missing, an overlap test
-// says "disjoint" where the volumes meet. The run must then stop with exit status 2 and
-// leave every table it would have written as it was. Unset, it costs one string compare
-// per validated answer set, outside every timed region.
+// a kNN answer reports one point twice (a dynamic structure's contents lose a point), ray
+// hits move, a pair goes missing, an overlap test says "disjoint" where the volumes meet. The
+// run must then stop with exit status 2 and leave every table it would have written as it
+// was. Unset, it costs one string compare per validated answer set, outside every timed region.
 
 #include <csignal>
 #include <cstdlib>

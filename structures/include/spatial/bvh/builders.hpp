@@ -17,9 +17,9 @@
 //                 a block at a time)
 //                 at the B - 1 bin boundaries of every axis (every axis binned in one pass
 //                 over the items, the sweeps over the non-empty bins only); O(m D + B D) per
-//                 node, O(n log n) per build for balanced splits. A node with at most leaf_size items becomes a
-//                 leaf when C_isect N is not more than the best split; a node with more items
-//                 is always split. When every centroid coincides (no axis to bin along) the
+//                 node, O(n log n) per build for balanced splits. A node with at most
+//                 leaf_size items becomes a leaf when C_isect N is not more than the best
+//                 split; a node with more items is always split. When every centroid coincides (no axis to bin along) the
 //                 object median is used, so identical objects still give a balanced tree.
 
 #include <algorithm>
