@@ -58,6 +58,13 @@ double box_area(const std::array<T, D>& lo, const std::array<T, D>& hi) {
     return D == 1 ? 1 : 2 * s;
 }
 
+// Grows the box [lo, hi] to contain [a, b] (the one min/max union of the builders and of
+// bvh::place; min(lo, a) in this order, so an infinite empty box takes [a, b] exactly).
+template <class T, std::size_t D>
+void extend_box(std::array<T, D>& lo, std::array<T, D>& hi, const std::array<T, D>& a, const std::array<T, D>& b) {
+    for (std::size_t i = 0; i < D; ++i) lo[i] = std::min(lo[i], a[i]), hi[i] = std::max(hi[i], b[i]);
+}
+
 template <class T, std::size_t D>
 struct box_accumulator {
     std::array<T, D> lo, hi;
@@ -65,10 +72,7 @@ struct box_accumulator {
         lo.fill(std::numeric_limits<T>::infinity());
         hi.fill(-std::numeric_limits<T>::infinity());
     }
-    void add(const std::array<T, D>& a, const std::array<T, D>& b) {
-        for (std::size_t i = 0; i < D; ++i) lo[i] = std::min(lo[i], a[i]), hi[i] = std::max(hi[i], b[i]);
-    }
-    void add(const box_accumulator& o) { add(o.lo, o.hi); }
+    void add(const std::array<T, D>& a, const std::array<T, D>& b) { extend_box(lo, hi, a, b); }
     double area() const { return box_area<T, D>(lo, hi); }
 };
 
@@ -141,12 +145,8 @@ std::size_t binned_sah_split(build_item<T, D>* first, std::size_t m, std::size_t
             if (!binned[axis]) continue;
             const std::size_t b = bin_of(first[i], axis, scale[axis]);
             bin_box& box = bins[axis][b];
-            if (counts[axis][b]++ == 0) {
-                box.lo = first[i].lo, box.hi = first[i].hi;
-            } else {
-                for (std::size_t d = 0; d < D; ++d)
-                    box.lo[d] = std::min(box.lo[d], first[i].lo[d]), box.hi[d] = std::max(box.hi[d], first[i].hi[d]);
-            }
+            if (counts[axis][b]++ == 0) box.lo = first[i].lo, box.hi = first[i].hi;
+            else extend_box(box.lo, box.hi, first[i].lo, first[i].hi);
         }
     // The sweeps visit the non-empty bins only: a boundary between two empty bins splits the
     // items as the boundary right after the last non-empty bin on its left does, at the same

@@ -356,9 +356,8 @@ inline void bvh<O, BV, Config>::place(slot_index s, node_index n) {
             // The child's box area before and after taking the object (no accumulator: this
             // runs twice per level of every insertion, and was most of a bulk insertion's work).
             const box_type& b = box_of(nodes_[c + static_cast<node_index>(k)]);
-            std::array<T, D> lo, hi;
-            for (std::size_t d = 0; d < D; ++d)
-                lo[d] = std::min(b.lo[d], it.lo[d]), hi[d] = std::max(b.hi[d], it.hi[d]);
+            std::array<T, D> lo = b.lo.coords, hi = b.hi.coords;
+            bvh_detail::extend_box(lo, hi, it.lo, it.hi);
             const double before = bvh_detail::box_area<T, D>(b.lo.coords, b.hi.coords);
             area[k] = bvh_detail::box_area<T, D>(lo, hi);
             grow[k] = area[k] - before;
