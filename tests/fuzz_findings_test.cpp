@@ -208,6 +208,20 @@ TYPED_TEST(fuzz_findings, knn_does_not_prune_a_cell_whose_distance_rounds_up_nea
             << "k = " << k;
 }
 
+// Found by the operations fuzzer (CI, 2026-11-28): the bvh places a small batch (below a quarter
+// of its size) in the Morton order of the objects' centres (bvh_motion.hpp). A batch a denormal
+// wide made the encoder's scale +inf, and the centre at the low end was encoded as 0 * inf = NaN,
+// converted to an integer: undefined behaviour (-fsanitize=float-cast-overflow).
+TYPED_TEST(fuzz_findings, a_small_batch_a_denormal_wide_is_inserted_whole) {
+    this->store({P3{{1, 2, 3}}, P3{{-1, 0, 2}}, P3{{0.5, 7, -1}}, P3{{2, 2, 2}}, P3{{3, -1, 0}}, P3{{0, 0, 1}},
+                 P3{{1e30, 0, 0}}, P3{{-1e30, 1, 1}}, P3{{0.25, 0.25, 0.25}}});
+    this->store({P3{{0, 0, 0}}, P3{{denormal, 0, 0}}}, true);
+    this->expect_sound();
+    EXPECT_EQ(this->c.size(), this->oracle.size());
+    this->expect_same_nearest(P3{{0, 0, 0}});
+    this->expect_same_nearest(P3{{denormal, 0, 0}});
+}
+
 // collision_grid lays its cells out over the objects' bounds; for two points a denormal apart the
 // cell size (the span over a cube root of the cell budget) underflowed to 0, then became NaN, and
 // the layout loop never ended (a hang in self_pairs and pairs_with).

@@ -95,6 +95,12 @@ TEST(morton_order, degenerate_boxes_huge_extents_and_empty_input) {
     // never produces NaN codes or a crash.
     const std::vector<P> wide{P{{1e308, 3}}, P{{-1e308, 1}}, P{{0, 2}}};
     EXPECT_EQ(spatial::morton_order(std::span<const P>(wide)), (std::vector<std::uint32_t>{1, 2, 0}));
+    // An extent of one denormal on x makes that axis's scale +inf (found by the operations
+    // fuzzer: 0 * inf = NaN converted to an integer, caught by -fsanitize=float-cast-overflow):
+    // the point at the low end goes to cell 0, the other to the last cell.
+    constexpr double denormal = std::numeric_limits<double>::denorm_min();
+    const std::vector<P> thin{P{{denormal, 1}}, P{{0, 1}}, P{{denormal, 0}}};
+    EXPECT_EQ(spatial::morton_order(std::span<const P>(thin)), (std::vector<std::uint32_t>{2, 1, 0}));
 }
 
 template <class Tree, class P>

@@ -42,7 +42,9 @@ public:
             lo_[i] = static_cast<double>(lo[i]);
             const double extent = static_cast<double>(hi[i]) - lo_[i];
             // extent may overflow to +inf (lo = -1e308, hi = 1e308): the scale is then 0 and
-            // that axis does not order the points, which is still a valid order.
+            // that axis does not order the points, which is still a valid order. An extent of a
+            // few denormals makes the scale +inf: the points at lo go to cell 0, the others to
+            // the last cell.
             scale_[i] = extent > 0 && std::isfinite(extent) ? cells / extent : 0.0;
         }
     }
@@ -66,7 +68,10 @@ public:
         std::uint64_t out = 0;
         for (std::size_t i = 0; i < D; ++i) {
             const double at = (static_cast<double>(c[i]) - lo_[i]) * scale_[i];
-            const auto q = static_cast<std::uint64_t>(std::clamp(at, 0.0, cells));  // clamp also maps NaN to 0
+            // NaN goes to cell 0: 0 * inf where an extent of a few denormals makes the scale
+            // overflow, inf * 0 where the extent overflows (std::clamp would pass NaN through,
+            // and its conversion to an integer is undefined).
+            const auto q = static_cast<std::uint64_t>(at > 0 ? std::min(at, cells) : 0.0);
             out |= spread(q) << i;
         }
         return out;
