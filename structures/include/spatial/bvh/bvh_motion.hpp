@@ -75,16 +75,27 @@ inline void bvh<O, BV, Config>::bulk_insert(InputIt first, InputIt last, bool pa
             return;
         }
         reserve_removals(m);
-        // Placed in Morton order of their centres: consecutive descents then share most of
-        // their path, which is still in cache (the tree of n objects is not), so the batch
-        // costs far less than the same placements in the caller's order.
+        // Placed in Morton order of their centres: consecutive objects are close, so each
+        // descent starts where the previous object landed, at the deepest node on its leaf's
+        // path to the root whose box contains the new object (as a hinted insert does), instead
+        // of at the root. The greedy descent from the root would pass through that node too
+        // unless a box on the way overlaps it, so the trees are those of placements from the
+        // root in this order, less the upper levels' area comparisons: the climb and the
+        // rest of the descent touch nodes still in cache.
         std::vector<point<T, D>> centres(m);
         for (std::size_t i = 0; i < m; ++i)
             for (std::size_t d = 0; d < D; ++d) centres[i][d] = object_center(first[static_cast<std::ptrdiff_t>(i)], d);
         const std::vector<std::uint32_t> order = morton_order(std::span<const point<T, D>>(centres));
         const std::size_t before = updates_since_build_;
         try {
-            for (std::uint32_t i : order) place(allocate(first[static_cast<std::ptrdiff_t>(i)]), root);
+            node_index from = root;
+            for (std::uint32_t i : order) {
+                const slot_index s = allocate(first[static_cast<std::ptrdiff_t>(i)]);
+                const item it = item_of(slots_.value(s), s);
+                while (from != root && !box_contains(box_of(nodes_[from]), it)) from = nodes_[from].parent;
+                place(s, from);
+                from = slots_.meta(s);
+            }
         } catch (const std::bad_alloc&) {
             // The failed placement undid itself (its slot is not in the tree).
             slots_.undo_allocate(stored.back().first, stored.back().second);
@@ -369,6 +380,10 @@ inline void bvh<O, BV, Config>::place(slot_index s, node_index n) {
     if (L.count < leaf_size) {
         block(L.first)[L.count++] = s;
         slots_.set_meta(s, n);
+        if constexpr (volume_is_box) {
+            grow_upward(n, it);
+            return;
+        }
         try {
             refit_upward_or_undo(n);
         } catch (const std::bad_alloc&) {
@@ -394,6 +409,18 @@ inline void bvh<O, BV, Config>::place(slot_index s, node_index n) {
         restore(backup);
         throw;
     }
+}
+// The path's boxes after object `it` joined leaf n: each box is the exact union of its
+// children's (or its objects'), so it becomes itself extended by the object, up to the first box
+// that already holds it. The same boxes as refit_upward(n) (the leaf's union is taken in the
+// same order, the new object last), without reading the leaf's other objects or the siblings,
+// which a batch of placements in Morton order spent most of its time waiting for.
+template <stored_object O, class BV, class Config>
+inline void bvh<O, BV, Config>::grow_upward(node_index n, const item& it) noexcept {
+    static_assert(volume_is_box);
+    if constexpr (wide_rays) wide_.reset();  // the wide layout copies the leaves' objects
+    for (; n != no_node && !box_contains(nodes_[n].volume, it); n = nodes_[n].parent)
+        bvh_detail::extend_box(nodes_[n].volume.lo.coords, nodes_[n].volume.hi.coords, it.lo, it.hi);
 }
 // Removes slot s from its leaf (swap with the last entry); an emptied non-root leaf is
 // removed and its sibling replaces the parent. Refits the path. Does not release s.
