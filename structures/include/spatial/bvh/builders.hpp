@@ -21,12 +21,17 @@
 //                 leaf_size items becomes a leaf when C_isect N is not more than the best
 //                 split; a node with more items is always split. When every centroid coincides (no axis to bin along) the
 //                 object median is used, so identical objects still give a balanced tree.
+//
+// Both take the node's bounds (range_bounds: the items' box and their centres' box) from the
+// caller and return the two parts' bounds, computed while partitioning, so each level of a
+// build reads its items twice (binning and partitioning).
 
 #include <algorithm>
 #include <array>
 #include <cstddef>
 #include <cstdint>
 #include <limits>
+#include <utility>
 
 #include "spatial/core/slot_storage.hpp"
 
@@ -76,11 +81,63 @@ struct box_accumulator {
     double area() const { return box_area<T, D>(lo, hi); }
 };
 
-// Splits [first, first + m) at the object median of the widest centroid axis. Returns m / 2.
+// The box of a range of items and the box of their centres: what a split decision needs of a
+// node before it reads the node's items. A split computes its two parts' bounds while it
+// partitions them, and the builder hands them down with the parts, so a build reads a node's
+// items twice (binning, partitioning) rather than four times (these bounds, binning,
+// partitioning, the node's box). The items of the upper levels do not fit in cache: those
+// passes over memory were most of a build's time.
 template <class T, std::size_t D>
-std::size_t median_split(build_item<T, D>* first, std::size_t m) {
-    box_accumulator<T, D> cb;
-    for (std::size_t i = 0; i < m; ++i) cb.add(first[i].c, first[i].c);
+struct range_bounds {
+    box_accumulator<T, D> box, centres;
+    // Inlined by force: GCC 12 left it a call in partition_with_bounds's loops (1e8 calls on a
+    // build of 2e5 points, which then ran more instructions than the passes it replaced).
+    [[gnu::always_inline]] void add(const build_item<T, D>& it) { box.add(it.lo, it.hi), centres.add(it.c, it.c); }
+    static range_bounds of(const build_item<T, D>* first, std::size_t m) {
+        range_bounds r;
+        for (std::size_t i = 0; i < m; ++i) r.add(first[i]);
+        return r;
+    }
+};
+// The bounds of both parts of [first, first + m) split at `left`.
+template <class T, std::size_t D>
+void bounds_of_parts(const build_item<T, D>* first, std::size_t m, std::size_t left, std::array<range_bounds<T, D>, 2>& parts) {
+    parts[0] = range_bounds<T, D>::of(first, left);
+    parts[1] = range_bounds<T, D>::of(first + left, m - left);
+}
+
+// std::partition (the bidirectional algorithm of libstdc++: the same order of the items) that
+// adds each item to the bounds of the part it goes to. Returns the size of the first part.
+template <class T, std::size_t D, class GoesFirst>
+std::size_t partition_with_bounds(build_item<T, D>* first, std::size_t m, GoesFirst goes_first,
+                                  std::array<range_bounds<T, D>, 2>& parts) {
+    parts = {};
+    build_item<T, D>*lo = first, *hi = first + m;
+    for (;;) {
+        for (;; ++lo) {
+            if (lo == hi) return static_cast<std::size_t>(lo - first);
+            if (!goes_first(*lo)) break;
+            parts[0].add(*lo);
+        }
+        --hi;
+        for (;; --hi) {
+            if (lo == hi) {
+                parts[1].add(*lo);  // the item the first scan stopped at
+                return static_cast<std::size_t>(lo - first);
+            }
+            if (goes_first(*hi)) break;
+            parts[1].add(*hi);
+        }
+        parts[0].add(*hi), parts[1].add(*lo);
+        std::swap(*lo, *hi);
+        ++lo;
+    }
+}
+
+// Splits [first, first + m) at the object median of the widest axis of `cb`, the box of their
+// centres. Returns m / 2.
+template <class T, std::size_t D>
+std::size_t median_split(build_item<T, D>* first, std::size_t m, const box_accumulator<T, D>& cb) {
     std::size_t axis = 0;
     for (std::size_t i = 1; i < D; ++i)
         if (cb.hi[i] - cb.lo[i] > cb.hi[axis] - cb.lo[axis]) axis = i;
@@ -103,13 +160,17 @@ struct sah_costs {
     double blocks(std::size_t n) const { return static_cast<double>((n + block - 1) / block); }
 };
 
-// Binned SAH decision for [first, first + m). Returns 0 for "make a leaf", else the size of
-// the left part after partitioning the items in place (0 < left < m).
+// Binned SAH decision for [first, first + m), whose bounds are `bounds`. Returns 0 for "make a
+// leaf", else the size of the left part after partitioning the items in place (0 < left < m),
+// with the bounds of both parts in `parts`.
 template <std::size_t Bins, class T, std::size_t D>
-std::size_t binned_sah_split(build_item<T, D>* first, std::size_t m, std::size_t leaf_size, sah_costs costs) {
+std::size_t binned_sah_split(build_item<T, D>* first, std::size_t m, std::size_t leaf_size, sah_costs costs,
+                             const range_bounds<T, D>& bounds, std::array<range_bounds<T, D>, 2>& parts) {
     static_assert(Bins >= 2, "binned SAH needs at least 2 bins");
-    box_accumulator<T, D> node_box, cb;
-    for (std::size_t i = 0; i < m; ++i) node_box.add(first[i].lo, first[i].hi), cb.add(first[i].c, first[i].c);
+    // One item is a leaf (what the code below decides too, its centroids' box being a point):
+    // half the nodes of a point tree, whose SAH splits down to single points, skip the setup.
+    if (m <= 1) return 0;
+    const box_accumulator<T, D>&node_box = bounds.box, &cb = bounds.centres;
     // Bin index of a centroid along `axis`: the same function for binning and partitioning.
     auto bin_of = [&](const build_item<T, D>& it, std::size_t axis, double scale) {
         const double x = (static_cast<double>(it.c[axis]) - static_cast<double>(cb.lo[axis])) * scale;
@@ -181,17 +242,20 @@ std::size_t binned_sah_split(build_item<T, D>* first, std::size_t m, std::size_t
             if (c < best_cost) best_cost = c, best_axis = axis, best_boundary = used[j - 1] + 1;
         }
     }
+    auto median = [&] {
+        const std::size_t half = median_split(first, m, cb);
+        bounds_of_parts(first, m, half, parts);
+        return half;
+    };
     if (best_axis == D) {  // all centroids coincide
-        return m <= leaf_size ? 0 : median_split(first, m);
+        return m <= leaf_size ? 0 : median();
     }
     const double split_cost =
         costs.traversal + costs.intersection * (parent_area > 0 ? best_cost / parent_area : costs.blocks(m));
     if (m <= leaf_size && costs.intersection * costs.blocks(m) <= split_cost) return 0;
-    auto* mid = std::partition(first, first + m, [&](const build_item<T, D>& it) {
-        return bin_of(it, best_axis, scale[best_axis]) < best_boundary;
-    });
-    const auto left = static_cast<std::size_t>(mid - first);
-    if (left == 0 || left == m) return median_split(first, m);  // cannot happen; safety net
+    const std::size_t left = partition_with_bounds(
+        first, m, [&](const build_item<T, D>& it) { return bin_of(it, best_axis, scale[best_axis]) < best_boundary; }, parts);
+    if (left == 0 || left == m) return median();  // cannot happen; safety net
     return left;
 }
 

@@ -412,17 +412,19 @@ private:
     node_index write_inner(node_index at);
     void make_leaf(node_index at, const item* first, std::size_t m);
     void build_subtree(node_index at, item* first, std::size_t m);
-    std::size_t choose_split(item* f, std::size_t m) const;
+    using item_bounds = bvh_detail::range_bounds<T, D>;
+    static box_type box_from(const item_bounds& b);
+    std::size_t choose_split(item* f, std::size_t m, const item_bounds& bounds, std::array<item_bounds, 2>& parts) const;
     void fit_inner_from_items(node_index n, const item* f, std::size_t m);
     void fit_items(const item* f, std::size_t m, std::vector<bv_point>& scratch, box_type& box, BV& volume) const;
     void add_hull_points(const O& v);
     // Below this many items a range is planned sequentially (and the whole build is).
     static constexpr std::size_t parallel_grain = 4096;
     struct split_record;
-    split_record make_record(const item* base, std::size_t b, std::size_t m, std::size_t left,
+    split_record make_record(const item* base, std::size_t b, std::size_t m, std::size_t left, const item_bounds& bounds,
                              std::vector<bv_point>& scratch) const;
     struct split_plan;
-    void plan_splits(item* base, std::size_t b, std::size_t m, split_plan& plan) const;
+    void plan_splits(item* base, std::size_t b, std::size_t m, item_bounds bounds, split_plan& plan) const;
 
     // ---- dynamic updates (bvh_motion.hpp) ---------------------------------------------
     void refit_node(node_index n);

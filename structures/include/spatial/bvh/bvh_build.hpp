@@ -60,35 +60,59 @@ inline void bvh<O, BV, Config>::make_leaf(node_index at, const item* first, std:
 // Builds the subtree rooted at `at` over the items (in place), iteratively (an explicit
 // task stack: a skewed SAH split sequence cannot overflow the call stack). Each inner
 // node's volume is fitted to ALL hull points below it (tighter than merging).
+// Each task carries its items' bounds, computed by its parent's split (builders.hpp,
+// range_bounds); a box-volume node takes its box from them instead of reading its items (or,
+// for a leaf, its objects) again.
 template <stored_object O, class BV, class Config>
 inline void bvh<O, BV, Config>::build_subtree(node_index at, item* first, std::size_t m) {
     struct task {
         node_index n;
         std::size_t begin, count;
+        item_bounds bounds;
     };
-    std::vector<task> tasks{{at, 0, m}};
+    std::vector<task> tasks{{at, 0, m, item_bounds::of(first, m)}};
+    std::array<item_bounds, 2> parts;
     while (!tasks.empty()) {
         const task t = tasks.back();
         tasks.pop_back();
         item* f = first + t.begin;
-        const std::size_t left = choose_split(f, t.count);
+        const std::size_t left = choose_split(f, t.count, t.bounds, parts);
         if (left == 0) {
-            make_leaf(t.n, f, t.count);
+            if constexpr (volume_is_box) {
+                write_leaf(t.n, f, t.count);
+                nodes_[t.n].volume = box_from(t.bounds);
+                if constexpr (wide_rays) wide_.reset();
+            } else {
+                make_leaf(t.n, f, t.count);
+            }
             continue;
         }
         const node_index c = write_inner(t.n);
-        fit_inner_from_items(t.n, f, t.count);
-        tasks.push_back({c + 1, t.begin + left, t.count - left});
-        tasks.push_back({c, t.begin, left});
+        if constexpr (volume_is_box) nodes_[t.n].volume = box_from(t.bounds);
+        else fit_inner_from_items(t.n, f, t.count);
+        tasks.push_back({c + 1, t.begin + left, t.count - left, parts[1]});
+        tasks.push_back({c, t.begin, left, parts[0]});
     }
 }
 template <stored_object O, class BV, class Config>
-inline std::size_t bvh<O, BV, Config>::choose_split(item* f, std::size_t m) const {
+inline auto bvh<O, BV, Config>::box_from(const item_bounds& b) -> box_type {
+    box_type box;
+    box.lo.coords = b.box.lo;
+    box.hi.coords = b.box.hi;
+    return box;
+}
+template <stored_object O, class BV, class Config>
+inline std::size_t bvh<O, BV, Config>::choose_split(item* f, std::size_t m, const item_bounds& bounds,
+                                                    std::array<item_bounds, 2>& parts) const {
     if constexpr (Config::builder == bvh_build_method::median_split) {
-        return m <= leaf_size ? 0 : bvh_detail::median_split(f, m);
+        if (m <= leaf_size) return 0;
+        const std::size_t left = bvh_detail::median_split(f, m, bounds.centres);
+        bvh_detail::bounds_of_parts(f, m, left, parts);
+        return left;
     } else {
         return bvh_detail::binned_sah_split<Config::sah_bins>(
-            f, m, leaf_size, bvh_detail::sah_costs{Config::traversal_cost, Config::intersection_cost, sah_block});
+            f, m, leaf_size, bvh_detail::sah_costs{Config::traversal_cost, Config::intersection_cost, sah_block}, bounds,
+            parts);
     }
 }
 template <stored_object O, class BV, class Config>
@@ -186,7 +210,7 @@ inline void bvh<O, BV, Config>::rebuild_in_place(parallel_policy) {
     nodes_.push_back(node{});
 
     split_plan plan;
-    plan_splits(its.data(), 0, its.size(), plan);
+    plan_splits(its.data(), 0, its.size(), item_bounds::of(its.data(), its.size()), plan);
     plan.sort_to_preorder();
     std::size_t records = 0, leaves = 0;
     for (const auto& chunk : plan.chunks) {
@@ -243,9 +267,11 @@ struct bvh<O, BV, Config>::split_record {
 };
 template <stored_object O, class BV, class Config>
 inline auto bvh<O, BV, Config>::make_record(const item* base, std::size_t b, std::size_t m, std::size_t left,
-                                            std::vector<bv_point>& scratch) const -> split_record {
+                                            const item_bounds& bounds, std::vector<bv_point>& scratch) const
+    -> split_record {
     split_record r{b, m, left, box_type{}, BV{}};
-    fit_items(base + b, m, scratch, r.box, r.volume);
+    if constexpr (volume_is_box) r.volume = box_from(bounds);  // the box the sequential builder gives it
+    else fit_items(base + b, m, scratch, r.box, r.volume);
     return r;
 }
 // Chunks of records, each the preorder of a whole subtree or a single node, appended by
@@ -268,45 +294,54 @@ struct bvh<O, BV, Config>::split_plan {
     }
 };
 template <stored_object O, class BV, class Config>
-inline void bvh<O, BV, Config>::plan_splits(item* base, std::size_t b, std::size_t m, split_plan& plan) const {
+inline void bvh<O, BV, Config>::plan_splits(item* base, std::size_t b, std::size_t m, item_bounds bounds,
+                                            split_plan& plan) const {
     // The builder's decisions for a range, sequentially (an explicit stack).
     std::vector<bv_point> scratch;
-    auto plan_sequentially = [&](std::size_t b0, std::size_t m0) {
+    auto plan_sequentially = [&](std::size_t b0, std::size_t m0, const item_bounds& bounds0) {
+        std::array<item_bounds, 2> parts;
+        struct range {
+            std::size_t begin, count;
+            item_bounds bounds;
+        };
         std::vector<split_record> local;
-        std::vector<std::pair<std::size_t, std::size_t>> todo{{b0, m0}};
+        std::vector<range> todo{{b0, m0, bounds0}};
         while (!todo.empty()) {
-            const auto [tb, tm] = todo.back();
+            const range t = todo.back();
             todo.pop_back();
-            const std::size_t left = choose_split(base + tb, tm);
-            local.push_back(make_record(base, tb, tm, left, scratch));
+            const std::size_t left = choose_split(base + t.begin, t.count, t.bounds, parts);
+            local.push_back(make_record(base, t.begin, t.count, left, t.bounds, scratch));
             if (left == 0) continue;
-            todo.push_back({tb + left, tm - left});
-            todo.push_back({tb, left});
+            todo.push_back({t.begin + left, t.count - left, parts[1]});
+            todo.push_back({t.begin, left, parts[0]});
         }
         plan.append(std::move(local));
     };
     for (;;) {
         if (m <= parallel_grain) {
-            plan_sequentially(b, m);
+            plan_sequentially(b, m, bounds);
             return;
         }
-        const std::size_t left = choose_split(base + b, m);
+        std::array<item_bounds, 2> parts;
+        const std::size_t left = choose_split(base + b, m, bounds, parts);
         std::vector<split_record> single;
-        single.push_back(make_record(base, b, m, left, scratch));
+        single.push_back(make_record(base, b, m, left, bounds, scratch));
         plan.append(std::move(single));
         if (left == 0) return;
         if (left >= parallel_grain && m - left >= parallel_grain) {
-            detail::parallel_invoke([&] { plan_splits(base, b, left, plan); },
-                                    [&] { plan_splits(base, b + left, m - left, plan); });
+            detail::parallel_invoke([&] { plan_splits(base, b, left, parts[0], plan); },
+                                    [&] { plan_splits(base, b + left, m - left, parts[1], plan); });
             return;
         }
         if (left < m - left) {
-            plan_sequentially(b, left);
+            plan_sequentially(b, left, parts[0]);
             b += left;
             m -= left;
+            bounds = parts[1];
         } else {
-            plan_sequentially(b + left, m - left);
+            plan_sequentially(b + left, m - left, parts[1]);
             m = left;
+            bounds = parts[0];
         }
     }
 }
