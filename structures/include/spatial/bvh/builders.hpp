@@ -157,7 +157,8 @@ struct sah_costs {
     // leaves of 4 instead of 1-2 triangles that waste SIMD lanes and the bytes padding
     // them (docs/structures/bvh.md; figures: docs/experiments/bvh-rays.md). 1: the classic per-object cost.
     std::size_t block = 1;
-    double blocks(std::size_t n) const { return static_cast<double>((n + block - 1) / block); }
+    // (No division for block 1: the sweeps call this twice per boundary of every node.)
+    double blocks(std::size_t n) const { return static_cast<double>(block == 1 ? n : (n + block - 1) / block); }
 };
 
 // Binned SAH decision for [first, first + m), whose bounds are `bounds`. Returns 0 for "make a
@@ -193,22 +194,34 @@ std::size_t binned_sah_split(build_item<T, D>* first, std::size_t m, std::size_t
         scale[axis] = binned[axis] ? static_cast<double>(Bins) / extent : 0;
     }
     // A bin's box is set by its first item and read only once it has one (the sweeps below
-    // skip empty bins), so the D * Bins boxes are not initialised: for the many small nodes of
-    // a build (and every leaf split of an insertion) that initialisation cost more than the
-    // binning itself.
+    // skip empty bins), so in a small node the D * Bins boxes are not initialised: for the many
+    // small nodes of a build (and every leaf split of an insertion) that initialisation cost
+    // more than the binning itself. A large node starts them empty instead, and its items
+    // extend them without the unpredictable branch on the bin's first item (extending the
+    // empty box by a box gives that box exactly: the same bins either way).
     struct bin_box {
         std::array<T, D> lo, hi;
     };
     std::array<std::array<bin_box, Bins>, D> bins;
     std::array<std::array<std::uint32_t, Bins>, D> counts{};  // a node holds < 2^32 items (slot_index)
-    for (std::size_t i = 0; i < m; ++i)
-        for (std::size_t axis = 0; axis < D; ++axis) {
-            if (!binned[axis]) continue;
-            const std::size_t b = bin_of(first[i], axis, scale[axis]);
-            bin_box& box = bins[axis][b];
-            if (counts[axis][b]++ == 0) box.lo = first[i].lo, box.hi = first[i].hi;
-            else extend_box(box.lo, box.hi, first[i].lo, first[i].hi);
-        }
+    auto bin_items = [&](auto&& into_bin) {
+        for (std::size_t i = 0; i < m; ++i)
+            for (std::size_t axis = 0; axis < D; ++axis) {
+                if (!binned[axis]) continue;
+                const std::size_t b = bin_of(first[i], axis, scale[axis]);
+                into_bin(bins[axis][b], counts[axis][b]++, first[i]);
+            }
+    };
+    if (m >= 8 * Bins) {
+        for (auto& axis_bins : bins)
+            for (bin_box& box : axis_bins) box.lo.fill(std::numeric_limits<T>::infinity()), box.hi.fill(-std::numeric_limits<T>::infinity());
+        bin_items([](bin_box& box, std::uint32_t, const build_item<T, D>& it) { extend_box(box.lo, box.hi, it.lo, it.hi); });
+    } else {
+        bin_items([](bin_box& box, std::uint32_t before, const build_item<T, D>& it) {
+            if (before == 0) box.lo = it.lo, box.hi = it.hi;
+            else extend_box(box.lo, box.hi, it.lo, it.hi);
+        });
+    }
     // The sweeps visit the non-empty bins only: a boundary between two empty bins splits the
     // items as the boundary right after the last non-empty bin on its left does, at the same
     // cost, and that earlier boundary is the one kept on ties. So the split is the one every
