@@ -451,6 +451,7 @@ private:
     slot_index insert_from(node_index start, const O& x);
     void place(slot_index s, node_index n);
     void grow_upward(node_index n, const item& it) noexcept;
+    node_index lowest_holder(node_index n, const item& it) const;
     void remove_from_leaf(slot_index s);
     void replace_in_leaf(node_index leaf, slot_index from, slot_index to);
 

@@ -34,10 +34,7 @@ inline auto bvh<O, BV, Config>::insert(const_iterator hint, const O& x) -> itera
     ensure_fresh();
     ensure_root();
     if (hint == end() || !slots_.occupied(hint.slot())) return make(insert_from(root, x));
-    node_index n = slots_.meta(hint.slot());
-    const item it = item_of(x, 0);
-    while (n != root && !box_contains(box_of(nodes_[n]), it)) n = nodes_[n].parent;
-    return make(insert_from(n, x));
+    return make(insert_from(lowest_holder(slots_.meta(hint.slot()), item_of(x, 0)), x));
 }
 
 template <stored_object O, class BV, class Config>
@@ -91,9 +88,7 @@ inline void bvh<O, BV, Config>::bulk_insert(InputIt first, InputIt last, bool pa
             node_index from = root;
             for (std::uint32_t i : order) {
                 const slot_index s = allocate(first[static_cast<std::ptrdiff_t>(i)]);
-                const item it = item_of(slots_.value(s), s);
-                while (from != root && !box_contains(box_of(nodes_[from]), it)) from = nodes_[from].parent;
-                place(s, from);
+                place(s, lowest_holder(from, item_of(slots_.value(s), s)));
                 from = slots_.meta(s);
             }
         } catch (const std::bad_alloc&) {
@@ -409,6 +404,13 @@ inline void bvh<O, BV, Config>::place(slot_index s, node_index n) {
         restore(backup);
         throw;
     }
+}
+// The first node on n's path to the root whose box holds `it` (the root if none does): where
+// a placement near n starts (hinted and batched insertion).
+template <stored_object O, class BV, class Config>
+inline auto bvh<O, BV, Config>::lowest_holder(node_index n, const item& it) const -> node_index {
+    while (n != root && !box_contains(box_of(nodes_[n]), it)) n = nodes_[n].parent;
+    return n;
 }
 // The path's boxes after object `it` joined leaf n: each box is the exact union of its
 // children's (or its objects'), so it becomes itself extended by the object, up to the first box
