@@ -35,8 +35,12 @@ struct free_list_tail {
     std::vector<Index> tail;
 
     free_list_tail() = default;
-    free_list_tail(const std::vector<Index>& list, std::size_t k)
-        : size(list.size()), tail(list.end() - static_cast<std::ptrdiff_t>(std::min(k, list.size())), list.end()) {}
+    free_list_tail(const std::vector<Index>& list, std::size_t k) { assign(list, k); }
+    // Keeps the tail's storage, so a backup reused for many small operations allocates once.
+    void assign(const std::vector<Index>& list, std::size_t k) {
+        size = list.size();
+        tail.assign(list.end() - static_cast<std::ptrdiff_t>(std::min(k, list.size())), list.end());
+    }
     // Cannot fail: the list held `size` entries before, so its capacity suffices.
     void restore(std::vector<Index>& list) const noexcept {
         list.resize(size);

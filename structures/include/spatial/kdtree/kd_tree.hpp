@@ -449,6 +449,7 @@ private:
     node_index new_pair();
 
     // ---- insertion and erasure in place (kd_tree_update.hpp) ----
+    struct subtree_backup;  // kd_tree_backup.hpp
     node_index descend(node_index n, const coords& c) const;
     slot_index insert_at(node_index leaf, const O& x, const coords& c);
     void widen_child_ranges(node_index n, const coords& c) noexcept;
@@ -457,7 +458,8 @@ private:
         if (v < lo) lo = detail_rounding::round_down<float>(static_cast<double>(v));
         if (v > hi) hi = detail_rounding::round_up<float>(static_cast<double>(v));
     }
-    void distribute(node_index n, entry* e, std::size_t count, std::uint16_t& max_depth);
+    // `leaf_backup`: reused for every leaf the batch splits (kd_tree_backup.hpp).
+    void distribute(node_index n, entry* e, std::size_t count, std::uint16_t& max_depth, subtree_backup& leaf_backup);
     void remove_slot(slot_index s, bool allow_merge);
     void take_out_of_leaf(slot_index s) noexcept;
     void try_merge_empty_leaf(node_index leaf) noexcept;
@@ -486,8 +488,8 @@ private:
     void rebalance_from(node_index n);
 
     // ---- undoing a change that ran out of memory (kd_tree_backup.hpp) ----
-    struct subtree_backup;
     subtree_backup backup_subtree(node_index n, std::size_t entries) const;
+    void backup_subtree(node_index n, std::size_t entries, subtree_backup& into) const;
     void restore(subtree_backup& b) noexcept;
     struct tree_backup;
     tree_backup backup_all();

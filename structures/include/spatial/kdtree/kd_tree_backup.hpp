@@ -32,28 +32,40 @@ struct kd_tree<O, Config>::subtree_backup {
 template <stored_object O, class Config>
 inline auto kd_tree<O, Config>::backup_subtree(node_index n, std::size_t entries) const -> subtree_backup {
     subtree_backup b;
+    backup_subtree(n, entries, b);
+    return b;
+}
+
+// The same into `b`, whose vectors keep their storage: a bulk insertion backs up every leaf it
+// splits through one backup, so a split costs no allocation (a leaf's backup is one record of
+// each kind).
+template <stored_object O, class Config>
+inline void kd_tree<O, Config>::backup_subtree(node_index n, std::size_t entries, subtree_backup& b) const {
     b.node_count = nodes_.size();
     b.bucket_count = buckets_.size();
     b.leaves = leaves_;
     b.bounds_lo = bounds_lo_, b.bounds_hi = bounds_hi_;
     b.maintenance = maintenance_;
-    b.free_pairs = detail::free_list_tail<node_index>(free_pairs_, entries + 1);
-    b.free_buckets = detail::free_list_tail<node_index>(free_buckets_, entries + 1);
-    std::vector<node_index> stack{n};
-    while (!stack.empty()) {
-        const node_index x = stack.back();
-        stack.pop_back();
-        b.nodes.emplace_back(x, nodes_[x]);
+    b.free_pairs.assign(free_pairs_, entries + 1);
+    b.free_buckets.assign(free_buckets_, entries + 1);
+    b.nodes.clear();
+    b.links.clear();
+    b.extents.clear();
+    b.buckets.clear();
+    // b.nodes is the worklist too: the subtree's nodes in breadth-first order.
+    b.nodes.emplace_back(n, nodes_[n]);
+    for (std::size_t i = 0; i < b.nodes.size(); ++i) {
+        const node_index x = b.nodes[i].first;
+        const node_index first = b.nodes[i].second.first;  // copied: emplace_back may move b.nodes
         b.links.emplace_back(x, links_[x]);
         if constexpr (has_extent) b.extents.emplace_back(x, extents_[x]);
-        if (nodes_[x].is_leaf) {
-            b.buckets.emplace_back(nodes_[x].first, buckets_[nodes_[x].first]);
+        if (b.nodes[i].second.is_leaf) {
+            b.buckets.emplace_back(first, buckets_[first]);
         } else {
-            stack.push_back(nodes_[x].first);
-            stack.push_back(nodes_[x].first + 1);
+            b.nodes.emplace_back(first, nodes_[first]);
+            b.nodes.emplace_back(first + 1, nodes_[first + 1]);
         }
     }
-    return b;
 }
 
 // Cannot fail: the arrays only shrink (to sizes they had) and records are copied into place.

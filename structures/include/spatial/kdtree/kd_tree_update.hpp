@@ -50,7 +50,8 @@ inline void kd_tree<O, Config>::insert(InputIt first, InputIt last) {
                 return;
             }
             std::uint16_t max_depth = 0;
-            distribute(root, fresh.data(), fresh.size(), max_depth);
+            subtree_backup leaf_backup;
+            distribute(root, fresh.data(), fresh.size(), max_depth, leaf_backup);
             if (max_depth > depth_limit() || needs_full_rebuild()) rebuild_all();
         } catch (const std::bad_alloc&) {
             for (auto it = stored.rbegin(); it != stored.rend(); ++it) {
@@ -170,7 +171,8 @@ inline void kd_tree<O, Config>::widen_child_ranges(node_index n, const coords& c
 
 // Batch distribution for bulk insert: partition [e, e+n) by each split on the way down.
 template <stored_object O, class Config>
-inline void kd_tree<O, Config>::distribute(node_index n, entry* e, std::size_t count, std::uint16_t& max_depth) {
+inline void kd_tree<O, Config>::distribute(node_index n, entry* e, std::size_t count, std::uint16_t& max_depth,
+                                           subtree_backup& leaf_backup) {
     if (count == 0) return;
     if constexpr (has_extent) {
         // Every node on the batch's paths grows by the objects passing through it; a leaf
@@ -189,11 +191,14 @@ inline void kd_tree<O, Config>::distribute(node_index n, entry* e, std::size_t c
             return;
         }
         const coords lo = buckets_[L.first].cell_lo, hi = buckets_[L.first].cell_hi;
-        std::vector<entry> es;
+        // The split's entries go to the buffer the single insertion's splits use too (no
+        // allocation per leaf once it has grown).
+        std::vector<entry>& es = entry_buffer_;
+        es.clear();
         es.reserve(L.count + count);
         // All or nothing (the caller takes the batch out again): the leaf is put back, and
         // the batch's entries here are marked as not placed.
-        subtree_backup backup = backup_subtree(n, L.count + count);
+        backup_subtree(n, L.count + count, leaf_backup);
         try {
             gather(n, es);
             es.insert(es.end(), e, e + count);
@@ -201,7 +206,7 @@ inline void kd_tree<O, Config>::distribute(node_index n, entry* e, std::size_t c
             const built_subtree built = build_node(n, es.data(), es.size(), lo, hi, nodes_[n].depth, false, 0);
             max_depth = std::max(max_depth, built.deepest);
         } catch (const std::bad_alloc&) {
-            restore(backup);
+            restore(leaf_backup);
             for (std::size_t i = 0; i < count; ++i) slots_.set_meta(e[i].slot, unplaced);
             throw;
         }
@@ -216,8 +221,8 @@ inline void kd_tree<O, Config>::distribute(node_index n, entry* e, std::size_t c
     child_ranges& r = nodes_[n].ranges;
     for (const entry* a = e; a != mid; ++a) widen_range(r.left_lo, r.left_hi, a->c[d]);
     for (const entry* a = mid; a != e + count; ++a) widen_range(r.right_lo, r.right_hi, a->c[d]);
-    distribute(first, e, left, max_depth);
-    distribute(first + 1, mid, count - left, max_depth);
+    distribute(first, e, left, max_depth, leaf_backup);
+    distribute(first + 1, mid, count - left, max_depth, leaf_backup);
 }
 
 // ================= erasure =============================================================
