@@ -1213,6 +1213,25 @@ TEST(hull_predicates, fit_contains_every_point_whatever_the_magnitudes) {
     }
 }
 
+// Found by the soak (bvh<point, convex_hull>, docs/fuzzing.md run 14): a hull a few denormals
+// thick has facet normals whose raw components are near 1e-160 and below; their squares lost
+// their precision in the denormals, the normalised normal came out longer than 1, and
+// distance_lower_bound exceeded the true distance, so the bvh pruned a ball that reaches the
+// points (exactly, in the oracle's rounded squared distance).
+TEST(hull_predicates, distance_lower_bound_holds_for_a_hull_a_few_denormals_thick) {
+    using H = convex_hull<double, 3>;
+    using P = point<double, 3>;
+    const std::vector<P> sliver{P{{0x1p+1, 0x1p-1022, 0x1.4484bfeebc2ap-100}},
+                                P{{0x1p+1, 0x0.0000000000001p-1022, -0x1.4484bfeebc2ap-100}},
+                                P{{0x1p+1, -0x0.0000000000001p-1022, -0x0.0000000000001p-1022}}};
+    const H h = H::fit(std::span<const P>(sliver));
+    const P far{{0x1p+1, 0x1.93e5939a08ceap+99, 0x1p+0}};
+    for (const P& p : sliver) {
+        EXPECT_EQ(h.distance_lower_bound(p), 0.0) << p;
+        EXPECT_LE(h.distance_lower_bound(far), std::sqrt(squared_distance(far, p))) << p;
+    }
+}
+
 TEST(hull_gjk, generic_support_functions_on_spheres) {
     spatial_test::seeded_rng rng(21);
     int yes = 0, no = 0;

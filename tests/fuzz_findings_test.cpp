@@ -73,6 +73,10 @@ protected:
         EXPECT_EQ(hit, oracle.intersect(origin, direction, thickness, b));
         EXPECT_EQ(a.hit_time, b.hit_time);
     }
+    void expect_same_ball(const P3& center, double radius) const {
+        EXPECT_EQ(spatial_test::distances_from(center, c.find_in_ball(center, radius)),
+                  spatial_test::distances_from(center, oracle.find_in_ball(center, radius)));
+    }
     C c;
     brute_force<O> oracle;
 };
@@ -220,6 +224,23 @@ TYPED_TEST(fuzz_findings, a_small_batch_a_denormal_wide_is_inserted_whole) {
     EXPECT_EQ(this->c.size(), this->oracle.size());
     this->expect_same_nearest(P3{{0, 0, 0}});
     this->expect_same_nearest(P3{{denormal, 0, 0}});
+}
+
+// Found by the soak (bvh<point, convex_hull>, docs/fuzzing.md run 14): three points a few
+// denormals apart in y and z, and a ball of radius R about 2^99.6 centred R away along y. Their
+// squared distances round to exactly R^2, so the ball holds them; the bvh's hull of the three
+// had "unit" normals longer than 1 (their squares underflowed) and pruned the ball.
+TYPED_TEST(fuzz_findings, a_ball_reaching_a_sliver_a_few_denormals_thick_finds_it) {
+    const std::vector<P3> sliver{P3{{0x1p+1, 0x1p-1022, 0x1.4484bfeebc2ap-100}},
+                                 P3{{0x1p+1, 0x0.0000000000001p-1022, -0x1.4484bfeebc2ap-100}},
+                                 P3{{0x1p+1, -0x0.0000000000001p-1022, -0x0.0000000000001p-1022}}};
+    const P3 center{{0x1p+1, 0x1.93e5939a08ceap+99, 0x1p+0}};
+    const double radius = 0x1.93e5939a08ceap+99;
+    this->store(sliver);
+    this->expect_same_ball(center, radius);
+    this->c.clear(), this->oracle.clear();
+    this->store(sliver, true);
+    this->expect_same_ball(center, radius);
 }
 
 // collision_grid lays its cells out over the objects' bounds; for two points a denormal apart the

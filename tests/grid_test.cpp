@@ -257,13 +257,60 @@ TEST(hashed_grid, bulk_listing_separates_cells_whose_hashes_collide) {
     cells c;
     c.add_batch(batch);
     ASSERT_EQ(c.occupied_cells(), 3.0);
-    std::vector<slot_index> in_a = *c.find(a), in_b = *c.find(b);
-    std::sort(in_a.begin(), in_a.end());
-    std::sort(in_b.begin(), in_b.end());
-    EXPECT_EQ(in_a, (std::vector<slot_index>{1, 3, 5, 7, 9}));
-    EXPECT_EQ(in_b, (std::vector<slot_index>{0, 2, 4, 6, 8}));
-    EXPECT_EQ(*c.find(key{7, 7, 7}), (std::vector<slot_index>{10}));
+    auto sorted_slots = [&](const key& k) {
+        const detail::slot_list* list = c.find(k);
+        std::vector<slot_index> v(list->begin(), list->end());
+        std::sort(v.begin(), v.end());
+        return v;
+    };
+    EXPECT_EQ(sorted_slots(a), (std::vector<slot_index>{1, 3, 5, 7, 9}));
+    EXPECT_EQ(sorted_slots(b), (std::vector<slot_index>{0, 2, 4, 6, 8}));
+    EXPECT_EQ(sorted_slots(key{7, 7, 7}), (std::vector<slot_index>{10}));
     EXPECT_EQ(c.bounds().lo, (key{std::min({a[0], b[0], std::int64_t{7}}), std::min({a[1], b[1], std::int64_t{7}}), 0}));
+}
+
+// A cell's slot list keeps up to four slots in itself and moves to one heap block past that:
+// contents, copies (deep), moves (the source left empty), removal and the reservation that
+// grows as push_backs would must all behave as the std::vector the grids used before.
+TEST(grid_cells, slot_list_keeps_small_cells_inline_and_grows_like_a_vector) {
+    using detail::slot_list;
+    auto contents_of = [](const slot_list& l) { return std::vector<slot_index>(l.begin(), l.end()); };
+    slot_list a;
+    EXPECT_TRUE(a.empty());
+    for (slot_index s = 0; s < slot_list::inline_slots; ++s) a.push_back(s);
+    EXPECT_EQ(a.heap_bytes(), 0u) << "four slots fit in the list itself";
+    a.push_back(4);
+    EXPECT_EQ(a.capacity(), 8u) << "a full list doubles";
+    EXPECT_EQ(a.heap_bytes(), 8 * sizeof(slot_index));
+    EXPECT_EQ(contents_of(a), (std::vector<slot_index>{0, 1, 2, 3, 4}));
+
+    slot_list copy = a;  // deep: changing the copy leaves a alone
+    copy.remove(0);
+    EXPECT_EQ(contents_of(copy), (std::vector<slot_index>{4, 1, 2, 3})) << "the last slot takes the removed one's place";
+    EXPECT_EQ(contents_of(a), (std::vector<slot_index>{0, 1, 2, 3, 4}));
+    copy.remove(99);  // absent: nothing changes
+    EXPECT_EQ(copy.size(), 4u);
+
+    slot_list small;
+    small.push_back(7);
+    slot_list moved_small = std::move(small), moved_big = std::move(a);
+    EXPECT_EQ(contents_of(moved_small), (std::vector<slot_index>{7}));
+    EXPECT_EQ(contents_of(moved_big), (std::vector<slot_index>{0, 1, 2, 3, 4}));
+    EXPECT_TRUE(small.empty());
+    EXPECT_TRUE(a.empty());
+    EXPECT_EQ(a.heap_bytes(), 0u) << "a moved-from list owns no block";
+
+    moved_small.swap(moved_big);
+    EXPECT_EQ(contents_of(moved_small), (std::vector<slot_index>{0, 1, 2, 3, 4}));
+    EXPECT_EQ(contents_of(moved_big), (std::vector<slot_index>{7}));
+    moved_big = moved_small;  // copy assignment from a heap list
+    EXPECT_EQ(contents_of(moved_big), contents_of(moved_small));
+
+    slot_list reserved;  // reserve_for_push grows to the capacity the push_backs would reach
+    detail::reserve_for_push(reserved, 9);
+    EXPECT_EQ(reserved.capacity(), 16u);
+    detail::reserve_for_push(reserved, 3);
+    EXPECT_EQ(reserved.capacity(), 16u);
 }
 
 // A bulk batch into a grid holding objects: same contents and answers as the loop, and the

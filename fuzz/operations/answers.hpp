@@ -90,24 +90,44 @@ void check_knn(const mirror<C>& m, const operation_log& log, const typename C::p
 }
 
 // A range query (`query(container)`: ball or box): exactly the oracle's objects, by identity.
+// On a difference a traced replay (SPATIAL_FUZZ_TRACE=1) prints the objects only one side
+// returned, with their squared distance to `anchor` (the ball's centre; the box's lo corner).
 template <class C, class Query>
-void check_same_objects(const mirror<C>& m, const operation_log& log, Query&& query, const char* what) {
+void check_same_objects(const mirror<C>& m, const operation_log& log, Query&& query, const char* what,
+                        const typename C::point_type& anchor) {
     if (both_reject(log, [&] { (void)query(m.mine()); }, [&] { (void)query(m.oracle()); })) return;
-    log.require(oracle_slots_of(m, log, query(m.mine())) == sorted_slots(query(m.oracle())), what);
+    const auto got = query(m.mine());
+    const auto want = query(m.oracle());
+    const auto got_slots = oracle_slots_of(m, log, got), want_slots = sorted_slots(want);
+    if (got_slots == want_slots) return;
+    log.trace([&] {
+        std::string text = "answers differ:";
+        const auto map = m.oracle_slots();
+        auto describe = [&](const char* side, const auto& it) {
+            text += std::string("\n  ") + side + " " + value_text(*it) + ", squared distance " +
+                    number_text(spatial::object_squared_distance(*it, anchor));
+        };
+        for (const auto& it : got)
+            if (!std::binary_search(want_slots.begin(), want_slots.end(), m.oracle_slot(map, it))) describe("extra", it);
+        for (const auto& it : want)
+            if (!std::binary_search(got_slots.begin(), got_slots.end(), it.slot())) describe("missed", it);
+        return text;
+    });
+    log.fail(what);
 }
 template <class C>
 void check_ball(const mirror<C>& m, const operation_log& log, const typename C::point_type& c,
                 typename C::scalar_type r) {
     log.trace([&] { return value_text(c) + " radius " + number_text(r); });
     check_same_objects(m, log, [&](const auto& container) { return container.find_in_ball(c, r); },
-                       "ball query: other objects than the oracle's");
+                       "ball query: other objects than the oracle's", c);
 }
 template <class C>
 void check_box(const mirror<C>& m, const operation_log& log, const typename C::point_type& lo,
                const typename C::point_type& hi) {
     log.trace([&] { return value_text(lo) + " - " + value_text(hi); });
     check_same_objects(m, log, [&](const auto& container) { return container.find_in_box(lo, hi); },
-                       "box query: other objects than the oracle's");
+                       "box query: other objects than the oracle's", lo);
 }
 
 // A ray cast: the same hit or miss, the same hit time and hit location bit for bit (every

@@ -594,11 +594,21 @@ private:
     // Adds the plane with (unnormalised, double) normal n; the offset is the maximum of the
     // rounded normal over the vertices, found by hill climbing from vertex `start`. Returns
     // false (and adds nothing) if n cannot be normalised.
+    //
+    // n is first divided by its largest component: the cross products of a hull a few
+    // denormals thick have components near 1e-160 and below, whose squares underflow into
+    // the denormals and lose their precision, so the length came out wrong and the "unit"
+    // normal was longer than 1 (a soak finding: distance_lower_bound then exceeded the true
+    // distance and a ball query pruned points on its boundary). Scaled, the largest square is
+    // 1 and the length is exact to a few ulps, as distance_lower_bound assumes.
     bool add_plane(std::array<double, D> n, index_type start) {
+        double largest = 0;
+        for (double x : n) largest = std::max(largest, std::abs(x));
+        if (!(largest > 0) || !std::isfinite(largest)) return false;
+        for (double& x : n) x /= largest;
         double len = 0;
         for (double x : n) len += x * x;
         len = std::sqrt(len);
-        if (!(len > 0) || !std::isfinite(len)) return false;
         plane pl;
         std::array<double, D> nt;
         for (std::size_t i = 0; i < D; ++i) pl.normal[i] = T(n[i] / len), nt[i] = double(pl.normal[i]);

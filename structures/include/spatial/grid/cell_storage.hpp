@@ -22,6 +22,7 @@
 #include "spatial/core/radix_sort.hpp"
 #include "spatial/core/reserve_for_push.hpp"
 #include "spatial/core/slot_storage.hpp"
+#include "spatial/grid/slot_list.hpp"
 
 namespace spatial::detail {
 
@@ -103,15 +104,6 @@ void for_each_run(std::vector<Entry>& v, F&& f) {
     }
 }
 
-inline void remove_slot_from(std::vector<slot_index>& list, slot_index s) {
-    for (std::size_t i = 0; i < list.size(); ++i)
-        if (list[i] == s) {
-            list[i] = list.back();
-            list.pop_back();
-            return;
-        }
-}
-
 template <std::size_t D>
 class dense_cells {
 public:
@@ -138,13 +130,13 @@ public:
         for (std::size_t i = 0; i < D; ++i) b.hi[i] = dims_[i] - 1;
         return b;
     }
-    const std::vector<slot_index>* find(const key& k) const {
+    const slot_list* find(const key& k) const {
         for (std::size_t i = 0; i < D; ++i)
             if (k[i] < 0 || k[i] >= dims_[i]) return nullptr;
         return &cells_[index(k)];
     }
     void add(const key& k, slot_index s) { cells_[index(k)].push_back(s); }
-    void remove(const key& k, slot_index s) { remove_slot_from(cells_[index(k)], s); }
+    void remove(const key& k, slot_index s) { cells_[index(k)].remove(s); }
     // Counting sort by cell index (radix_sort.hpp), then one reservation per cell and the
     // lists filled in cell order (sequential in the cell array). If a reservation fails, the
     // cells before it list their entries and the rest do not (grid_core undoes the batch).
@@ -176,8 +168,8 @@ public:
         }
     }
     std::size_t memory_bytes() const {
-        std::size_t b = cells_.capacity() * sizeof(std::vector<slot_index>);
-        for (const auto& c : cells_) b += c.capacity() * sizeof(slot_index);
+        std::size_t b = cells_.capacity() * sizeof(slot_list);
+        for (const auto& c : cells_) b += c.heap_bytes();
         return b;
     }
     const key& dims() const { return dims_; }
@@ -190,7 +182,7 @@ private:
     }
     key dims_{};
     std::array<std::size_t, D> stride_{};
-    std::vector<std::vector<slot_index>> cells_;
+    std::vector<slot_list> cells_;
 };
 
 // Teschner et al.'s hash over D integer coordinates, followed by a multiplicative finaliser
@@ -226,7 +218,7 @@ public:
     std::int64_t clamp_hi(std::size_t) const { return limit; }
     // Box of every cell that was non-empty since the last clear (grow-only: conservative).
     cell_box<D> bounds() const { return bounds_; }
-    const std::vector<slot_index>* find(const key& k) const {
+    const slot_list* find(const key& k) const {
         const auto it = map_.find(k);
         return it == map_.end() ? nullptr : &it->second;
     }
@@ -284,7 +276,7 @@ public:
     void remove(const key& k, slot_index s) {
         const auto it = map_.find(k);
         if (it == map_.end()) return;
-        remove_slot_from(it->second, s);
+        it->second.remove(s);
         if (it->second.empty()) map_.erase(it);  // the map holds only non-empty cells
     }
     double occupied_cells() const { return static_cast<double>(map_.size()); }
@@ -294,11 +286,11 @@ public:
     }
     void reserve(std::size_t n) { map_.reserve(n); }
     std::size_t memory_bytes() const {
-        // Node-based map: one node (key, vector, next pointer, cached hash) per cell plus the
+        // Node-based map: one node (key, slot list, next pointer, cached hash) per cell plus the
         // bucket array.
         std::size_t b = map_.bucket_count() * sizeof(void*) +
-                        map_.size() * (sizeof(key) + sizeof(std::vector<slot_index>) + 2 * sizeof(void*));
-        for (const auto& [k, list] : map_) b += list.capacity() * sizeof(slot_index);
+                        map_.size() * (sizeof(key) + sizeof(slot_list) + 2 * sizeof(void*));
+        for (const auto& [k, list] : map_) b += list.heap_bytes();
         return b;
     }
 
@@ -321,7 +313,7 @@ private:
             }
         }
     }
-    std::unordered_map<key, std::vector<slot_index>, teschner_hash<D>> map_;
+    std::unordered_map<key, slot_list, teschner_hash<D>> map_;
     static cell_box<D> empty_box() {
         cell_box<D> b;
         b.lo.fill(1);

@@ -42,6 +42,7 @@
 #include <iterator>
 #include <limits>
 #include <new>
+#include <span>
 #include <stdexcept>
 #include <string>
 #include <vector>
@@ -302,7 +303,7 @@ public:
             if (!B.empty()) {
                 for_each_cell(B, [&](const key& cell) {
                     if (have_prev && prev.contains(cell)) return;
-                    const std::vector<slot_index>* list = cells_.find(cell);
+                    const slot_list* list = cells_.find(cell);
                     if (!list) return;
                     for (slot_index s : *list) {
                         if constexpr (bounded_object<O>) {
@@ -373,14 +374,14 @@ public:
                     }
                     break;
                 }
-                cells_.for_each_nonempty([&](const key& cell, const std::vector<slot_index>& list) {
+                cells_.for_each_nonempty([&](const key& cell, const slot_list& list) {
                     if (chebyshev(cell, cq) < r) return;
                     for (slot_index s : list) process(cell, s);
                 });
                 break;
             }
             for_each_ring_cell(cq, r, R, [&](const key& cell) {
-                if (const std::vector<slot_index>* list = cells_.find(cell))
+                if (const slot_list* list = cells_.find(cell))
                     for (slot_index s : *list) process(cell, s);
             });
             if (best.size() == wanted) {
@@ -437,7 +438,7 @@ public:
     // cell size (the grid's heuristic) with k pairs.
     std::vector<std::pair<iterator, iterator>> self_pairs(pair_filter filter = pair_filter::exact) const {
         std::vector<std::pair<iterator, iterator>> out;
-        cells_.for_each_nonempty([&](const key& cell, const std::vector<slot_index>& list) {
+        cells_.for_each_nonempty([&](const key& cell, const slot_list& list) {
             for (std::size_t i = 0; i < list.size(); ++i)
                 for (std::size_t j = i + 1; j < list.size(); ++j) {
                     const O& a = slots_.value(list[i]);
@@ -498,12 +499,12 @@ public:
             }
             expected += static_cast<std::size_t>(Ro.count());
             for_each_cell(Ro, [&](const key& c) {
-                const std::vector<slot_index>* list = cells_.find(c);
+                const slot_list* list = cells_.find(c);
                 if (!list || std::count(list->begin(), list->end(), s) != 1)
                     err = "object " + std::to_string(s) + " missing from one of its cells";
             });
         }
-        cells_.for_each_nonempty([&](const key&, const std::vector<slot_index>& list) {
+        cells_.for_each_nonempty([&](const key&, const slot_list& list) {
             listed += list.size();
             for (slot_index s : list)
                 if (!slots_.occupied(s)) err = "a cell lists an erased object";
@@ -711,9 +712,10 @@ private:
     void collect_equal(const O& x, std::vector<slot_index>& out, bool first_only) const {
         if (slots_.size() == 0 || !(h_ > 0)) return;
         const box Rx = range_of(extent_of(x));
-        const std::vector<slot_index>* list = is_large(Rx) ? &large_ : cells_.find(Rx.lo);
-        if (!list) return;
-        for (slot_index s : *list)
+        std::span<const slot_index> list;
+        if (is_large(Rx)) list = large_;
+        else if (const slot_list* cell = cells_.find(Rx.lo)) list = {cell->begin(), cell->size()};
+        for (slot_index s : list)
             if (slots_.value(s) == x) {
                 out.push_back(s);
                 if (first_only) return;
@@ -745,7 +747,7 @@ private:
         for (slot_index s : large_) f(s);
         Q = Q.clipped(cells_.bounds());
         if (Q.empty()) return;
-        auto visit = [&](const key& cell, const std::vector<slot_index>& list) {
+        auto visit = [&](const key& cell, const slot_list& list) {
             for (slot_index s : list) {
                 if constexpr (bounded_object<O>) {
                     if (!is_first_cell(range_of(extent_of(slots_.value(s))), Q, cell)) continue;
@@ -760,13 +762,13 @@ private:
                     if (!is_large_slot(s)) f(s);
                 return;
             }
-            cells_.for_each_nonempty([&](const key& cell, const std::vector<slot_index>& list) {
+            cells_.for_each_nonempty([&](const key& cell, const slot_list& list) {
                 if (Q.contains(cell)) visit(cell, list);
             });
             return;
         }
         for_each_cell(Q, [&](const key& cell) {
-            if (const std::vector<slot_index>* list = cells_.find(cell)) visit(cell, *list);
+            if (const slot_list* list = cells_.find(cell)) visit(cell, *list);
         });
     }
 
