@@ -1213,11 +1213,12 @@ TEST(hull_predicates, fit_contains_every_point_whatever_the_magnitudes) {
     }
 }
 
-// Found by the soak (bvh<point, convex_hull>, docs/fuzzing.md run 14): a hull a few denormals
-// thick has facet normals whose raw components are near 1e-160 and below; their squares lost
-// their precision in the denormals, the normalised normal came out longer than 1, and
-// distance_lower_bound exceeded the true distance, so the bvh pruned a ball that reaches the
-// points (exactly, in the oracle's rounded squared distance).
+// Found by the soak (bvh<point, convex_hull>, docs/fuzzing.md run 14): a hull a few
+// denormals thick in one axis and about 1e-30 in another has facet normals whose raw
+// components are near 1e-160 and below; their squares lost their precision in the denormals,
+// the normalised normal came out longer than 1, and distance_lower_bound exceeded the true
+// distance, so the bvh pruned a ball that reaches the points (exactly, in the oracle's
+// rounded squared distance).
 TEST(hull_predicates, distance_lower_bound_holds_for_a_hull_a_few_denormals_thick) {
     using H = convex_hull<double, 3>;
     using P = point<double, 3>;

@@ -226,10 +226,11 @@ TYPED_TEST(fuzz_findings, a_small_batch_a_denormal_wide_is_inserted_whole) {
     this->expect_same_nearest(P3{{denormal, 0, 0}});
 }
 
-// Found by the soak (bvh<point, convex_hull>, docs/fuzzing.md run 14): three points a few
-// denormals apart in y and z, and a ball of radius R about 2^99.6 centred R away along y. Their
-// squared distances round to exactly R^2, so the ball holds them; the bvh's hull of the three
-// had "unit" normals longer than 1 (their squares underflowed) and pruned the ball.
+// Found by the soak (bvh<point, convex_hull>, docs/fuzzing.md run 14): three points equal in
+// x, a few denormals apart in y and about 1e-30 apart in z, and a ball of radius R about
+// 2^99.6 centred R away along y. Their squared distances round to exactly R^2, so the ball
+// holds them; the bvh's hull of the three had "unit" normals longer than 1 (their squares
+// underflowed) and pruned the ball.
 TYPED_TEST(fuzz_findings, a_ball_reaching_a_sliver_a_few_denormals_thick_finds_it) {
     const std::vector<P3> sliver{P3{{0x1p+1, 0x1p-1022, 0x1.4484bfeebc2ap-100}},
                                  P3{{0x1p+1, 0x0.0000000000001p-1022, -0x1.4484bfeebc2ap-100}},
