@@ -10,8 +10,9 @@
 
 namespace spatial::detail {
 
-template <class T, class A>
-void reserve_for_push(std::vector<T, A>& v, std::size_t more) {
+// `List`: a std::vector, or any list with size(), capacity() and reserve(n) (grid/slot_list.hpp).
+template <class List>
+void reserve_for_push(List& v, std::size_t more) {
     const std::size_t need = v.size() + more;
     if (need <= v.capacity()) return;
     std::size_t c = v.capacity() == 0 ? 1 : v.capacity();

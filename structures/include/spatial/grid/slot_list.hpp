@@ -17,6 +17,7 @@
 #include <new>
 #include <utility>
 
+#include "spatial/core/reserve_for_push.hpp"  // reserve_for_push works on a slot_list too
 #include "spatial/core/slot_storage.hpp"
 
 namespace spatial::detail {
@@ -96,8 +97,8 @@ private:
     void delete_block() noexcept {
         if (on_heap()) delete[] heap_;
     }
-    // *this holds no block (a new list, or its block was just deleted): takes o's slots (its block, or a copy of its inline
-    // slots) and leaves o empty.
+    // *this holds no block (a new list, or its block was just deleted): takes o's slots (its
+    // block, or a copy of its inline slots) and leaves o empty.
     void take(slot_list& o) noexcept {
         if (o.on_heap()) heap_ = o.heap_;
         else std::copy(o.inline_, o.inline_ + o.size_, inline_);
@@ -115,15 +116,5 @@ private:
     };
 };
 static_assert(sizeof(slot_list) == 24, "slot_list: as small as the std::vector it replaced");
-
-// Room for `more` push_backs, growing as they would (doubling), so memory_bytes() figures do
-// not depend on whether a batch reserved first (reserve_for_push.hpp, for std::vector).
-inline void reserve_for_push(slot_list& list, std::size_t more) {
-    const std::size_t need = list.size() + more;
-    if (need <= list.capacity()) return;
-    std::size_t c = list.capacity();
-    while (c < need) c *= 2;
-    list.reserve(c);
-}
 
 }  // namespace spatial::detail
