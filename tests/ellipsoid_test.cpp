@@ -12,7 +12,7 @@
 
 #include <gtest/gtest.h>
 
-#include <Eigen/Dense>
+#include "spatial/bv/eigen_dense.hpp"
 #include <algorithm>
 #include <array>
 #include <chrono>

@@ -28,7 +28,7 @@
 #include <type_traits>
 #include <vector>
 
-#include <Eigen/Dense>
+#include "spatial/bv/eigen_dense.hpp"
 
 #include "datasets/point_set_io.hpp"
 #include "datasets/random.hpp"

@@ -52,7 +52,7 @@
 //     Coordinates offset by 1e8 and spreads of 1e-12 are handled by working in double
 //     relative to the mean. NaN/inf input throws std::invalid_argument.
 
-#include <Eigen/Dense>
+#include "spatial/bv/eigen_dense.hpp"
 
 #include "spatial/bv/ellipsoid.hpp"
 

@@ -8,7 +8,7 @@
 // or with a spread of 1e-12 keep their shape. Degenerate sets (one point, all equal,
 // collinear, coplanar) give zero eigenvalues and still an orthonormal right-handed frame.
 
-#include <Eigen/Dense>
+#include "spatial/bv/eigen_dense.hpp"
 
 #include <array>
 #include <cstddef>
