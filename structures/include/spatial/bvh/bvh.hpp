@@ -106,9 +106,15 @@ private:
         if constexpr (requires { Config::wide_ray_width; }) return std::size_t{Config::wide_ray_width};
         else return bvh_detail::default_wide_ray_width;
     }()>;
-    // The SAH counts leaf cost in the blocks the ray layout tests together (triangles: 4 per
-    // SIMD step), else per object; see bvh_detail::sah_costs.
-    static constexpr std::size_t sah_block = wide_rays && wide_layout::has_ray_forms ? wide_layout::form_lanes : 1;
+    // The SAH counts a leaf's cost in blocks of objects tested as one (bvh_detail::sah_costs):
+    // the blocks the ray layout tests together (triangles: 4 per SIMD step); for points, the
+    // whole leaf; else one object. A point's box has no area, so with a cost per point every
+    // split of two or more points costs C_trav + 0 < C_isect N and the SAH split point trees
+    // down to single points: 2n nodes, each leaf a block of leaf_size slots holding one.
+    // Counted as one block, up to leaf_size points make a leaf (docs/structures/bvh.md).
+    static constexpr std::size_t sah_block = wide_rays && wide_layout::has_ray_forms ? wide_layout::form_lanes
+                                             : point_object<O>                       ? leaf_size
+                                                                                     : 1;
     struct no_box {};
 
     struct node {
