@@ -306,6 +306,27 @@ TEST_F(mesh_loading, off_face_with_a_negative_vertex_index_is_rejected_before_cg
     EXPECT_NE(m.find("line 6"), std::string::npos) << m;
 }
 
+// Found by fuzzing (fuzz/mesh, CI run of 2026-11-28): a face index of 65 digits passed the
+// face check (not negative) and reached the scanner, which reads it as the double 3.6e65 and
+// converts it to std::size_t (File_scanner_OFF.h:751; UBSan). Every index is now a whole
+// number below the vertex count, or the file is rejected naming the face and its line.
+TEST_F(mesh_loading, off_face_index_beyond_size_t_is_rejected_before_cgal_reads_it) {
+    const std::string huge(65, '5');
+    const std::string m = message_of(write("huge_index.off", "OFF\n3 1 0\n0 0 0\n1 0 0\n0 1 0\n3 0 1 " + huge + "\n"));
+    EXPECT_NE(m.find("face 0 has vertex index \"555"), std::string::npos) << m;
+    EXPECT_NE(m.find("but the file has 3 vertices"), std::string::npos) << m;
+    EXPECT_NE(m.find("line 6"), std::string::npos) << m;
+    const auto checks = {
+        std::pair{"OFF\n3 1 0\n0 0 0\n1 0 0\n0 1 0\n3 0 1 3\n", "face 0 has vertex index \"3\" but the file has 3 vertices (0 to 2)"},
+        std::pair{"OFF\n3 1 0\n0 0 0\n1 0 0\n0 1 0\n3 0 1.5 2\n", "face 0 has a vertex index that is not a whole number: \"1.5\""},
+        std::pair{"OFF\n3 1 0\n0 0 0\n1 0 0\n0 1 0\n3 0 1 2e0\n", "not a whole number: \"2e0\""},
+    };
+    for (const auto& [text, fragment] : checks) {
+        const std::string message = message_of(write("index.off", text));
+        EXPECT_NE(message.find(fragment), std::string::npos) << message;
+    }
+}
+
 TEST_F(mesh_loading, fetched_real_meshes_load_when_present) {
     const fs::path real = fs::path(SPATIAL_DATASETS_REAL_DIR) / "meshes";
     if (!fs::is_directory(real)) GTEST_SKIP() << "run scripts/fetch_meshes.sh to test the real meshes";

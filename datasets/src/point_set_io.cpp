@@ -297,6 +297,16 @@ std::vector<point3> parse_off_text(std::string_view text, const fs::path& file, 
             // CGAL's scanner converts a negative index to std::size_t too (undefined behaviour).
             if (!index.empty() && index.front() == '-')
                 fail_at(file, lines.number(), face + " has a negative vertex index " + quote_token(index));
+            // It reads every index as a double and converts it: an index beyond std::size_t
+            // ("3 3555...5", 65 digits: found by fuzzing) is undefined behaviour as well. An
+            // index is a whole number naming one of the vertices.
+            const std::optional<std::uint64_t> vertex = parse_count(index);
+            if (!vertex)
+                fail_at(file, lines.number(), face + " has a vertex index that is not a whole number: " + quote_token(index));
+            if (*vertex >= *vertex_count)
+                fail_at(file, lines.number(), face + " has vertex index " + quote_token(index) + " but the file has " +
+                                                  std::to_string(*vertex_count) + " vertices (0 to " +
+                                                  std::to_string(*vertex_count - 1) + ")");
             ++indices;
         }
         if (indices < *size)

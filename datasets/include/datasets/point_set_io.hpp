@@ -35,9 +35,10 @@ std::span<const std::string_view> supported_point_set_extensions() noexcept;
 
 // An OFF mesh checked before CGAL's OFF reader is given it (harness::load_triangle_mesh): the
 // vertices as load_point_set reads them, then each face's line: a non-negative vertex count and
-// that many indices on the line. CGAL's scanner converts a negative count to std::size_t
-// (undefined behaviour; found by fuzzing, docs/fuzzing.md). Throws load_error naming the file
-// and line. O(file size).
+// that many indices on the line, each a whole number below the vertex count. CGAL's scanner
+// reads them as doubles and converts them to std::size_t, which is undefined behaviour for a
+// negative or huge value (found by fuzzing, docs/fuzzing.md). Throws load_error naming the
+// file and line. O(file size).
 void check_off_faces(const std::filesystem::path& file);
 
 // True when this build reads .ply files (it was configured with SPATIAL_WITH_CGAL=ON).
