@@ -13,6 +13,11 @@
 
 #include "harness/bv_oracles.hpp"
 
+// Eigen first, through the header that silences GCC 12's false warnings from its AVX-512
+// intrinsics (spatial/bv/eigen_dense.hpp): CGAL's oriented_bounding_box would include it
+// here otherwise, outside that header's pragmas (hundreds of warnings on an AVX-512 machine).
+#include "spatial/bv/eigen_dense.hpp"
+
 #include <CGAL/Approximate_min_ellipsoid_d.h>
 #include <CGAL/Approximate_min_ellipsoid_d_traits_2.h>
 #include <CGAL/Approximate_min_ellipsoid_d_traits_3.h>
