@@ -216,27 +216,33 @@ TEST(bvh_structure, rebuilds_happen_at_geometrically_growing_sizes) {
     EXPECT_EQ(tree.check_invariants(), "");
 }
 
-TEST(bvh_structure, sah_point_trees_fill_their_leaves_instead_of_splitting_to_single_points) {
+TEST(bvh_structure, sah_point_trees_fill_half_their_leaves_instead_of_splitting_to_single_points) {
     // A point's box has no area: counted per point, the SAH finds every split of two points
-    // cheaper than their leaf and makes 2n - 1 nodes. A leaf of up to leaf_size points
-    // counts as one test (bvh::sah_block), so a uniform set of points makes leaves of about
-    // leaf_size points: fewer than 0.75 n nodes (an average leaf above 2.6 points).
+    // cheaper than their leaf and makes 2n - 1 nodes. Half a leaf of points counts as one
+    // test (bvh::sah_block), so a uniform set of points makes leaves of about leaf_size / 2
+    // points: between n / 3 and 0.75 n nodes for the default leaves of 8 (an average leaf of
+    // 2.6 to 6 points), and under 1.5 n for leaves of 4 (above 1.3 points).
     bvh_test::scene_source<P3> g(spatial_test::test_seed(7));
     std::vector<P3> pts;
     for (int i = 0; i < 20000; ++i) pts.push_back(g.object());
     const double n = static_cast<double>(pts.size());
-    auto check = [&](const auto& tree, const char* what) {
+    auto check = [&](const auto& tree, double fewest, double most, const char* what) {
         EXPECT_EQ(tree.check_invariants(), "") << what;
-        EXPECT_LT(static_cast<double>(tree.node_count()), 0.75 * n) << what;
+        EXPECT_GT(static_cast<double>(tree.node_count()), fewest * n) << what << ": leaves left no room for insertions";
+        EXPECT_LT(static_cast<double>(tree.node_count()), most * n) << what;
     };
-    check(bvh<P3>(pts.begin(), pts.end()), "aabb");
-    check(bvh<P3, sphere<double, 3>>(pts.begin(), pts.end()), "sphere");
-    // The same holds for the leaves a batch of insertions splits.
+    static_assert(bvh<P3>::leaf_size == 8 && bvh<B3>::leaf_size == 4);
+    check(bvh<P3>(pts.begin(), pts.end()), 1.0 / 3, 0.75, "aabb");
+    check(bvh<P3, sphere<double, 3>>(pts.begin(), pts.end()), 1.0 / 3, 0.75, "sphere");
+    check(bvh<P3, aabb<double, 3>, bvh_sah_config<4>>(pts.begin(), pts.end()), 0.0, 1.5, "aabb, leaves of 4");
+    // Insertions into the built tree fill the free half of its leaves: a batch of a fifth of
+    // the tree splits few of them.
     bvh<P3> grown(pts.begin(), pts.begin() + 10000);
-    const std::size_t builds = grown.full_rebuilds();
+    const std::size_t builds = grown.full_rebuilds(), nodes = grown.node_count();
     grown.insert(pts.begin() + 10000, pts.begin() + 12000);
     EXPECT_EQ(grown.full_rebuilds(), builds) << "a batch of a fifth is placed, not rebuilt";
-    EXPECT_LT(static_cast<double>(grown.node_count()), 0.75 * 12000) << "after a batch of insertions";
+    EXPECT_EQ(grown.check_invariants(), "");
+    EXPECT_LT(grown.node_count() - nodes, 2000u / 4) << "most of the 2000 insertions found room in their leaf";
 }
 
 TEST(bvh_structure, ray_queries_prune_and_report_nodes_visited) {

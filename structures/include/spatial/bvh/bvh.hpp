@@ -72,7 +72,7 @@
 
 namespace spatial {
 
-template <stored_object O, class BV = aabb<typename O::scalar_type, O::dimension>, class Config = bvh_config<>>
+template <stored_object O, class BV = aabb<typename O::scalar_type, O::dimension>, class Config = bvh_default_config<O>>
 class bvh : public container_base<bvh<O, BV, Config>, O> {
     using contract_base = container_base<bvh<O, BV, Config>, O>;
     friend contract_base;
@@ -107,14 +107,16 @@ private:
         else return bvh_detail::default_wide_ray_width;
     }()>;
     // The SAH counts a leaf's cost in blocks of objects tested as one (bvh_detail::sah_costs):
-    // the blocks the ray layout tests together (triangles: 4 per SIMD step); for points, the
-    // whole leaf; else one object. A point's box has no area, so with a cost per point every
-    // split of two or more points costs C_trav + 0 < C_isect N and the SAH split point trees
-    // down to single points: 2n nodes, each leaf a block of leaf_size slots holding one.
-    // Counted as one block, up to leaf_size points make a leaf (docs/structures/bvh.md).
+    // the blocks the ray layout tests together (triangles: 4 per SIMD step); for points, half
+    // a leaf; else one object. A point's box has no area, so with a cost per point every split
+    // of two or more points costs C_trav + 0 < C_isect N and the SAH split point trees down to
+    // single points: 2n nodes, each leaf a block of leaf_size slots holding one. Counted in
+    // blocks of leaf_size / 2, up to half a leaf of points is one test and stays a leaf: the
+    // build leaves each leaf about half free for later insertions, as B-tree bulk loading
+    // leaves a fill factor (docs/structures/bvh.md).
     static constexpr std::size_t sah_block = wide_rays && wide_layout::has_ray_forms ? wide_layout::form_lanes
-                                             : point_object<O>                       ? leaf_size
-                                                                                     : 1;
+                                             : point_object<O> ? std::max<std::size_t>(1, leaf_size / 2)
+                                                               : 1;
     struct no_box {};
 
     struct node {

@@ -8,6 +8,7 @@
 #include <cstddef>
 
 #include "spatial/bvh/builders.hpp"
+#include "spatial/core/object_concepts.hpp"
 #include "spatial/bvh/wide_ray_layout.hpp"
 #include "spatial/core/query_stats.hpp"
 
@@ -49,6 +50,14 @@ template <std::size_t LeafSize = 4>
 using bvh_median_config = bvh_config<LeafSize, bvh_build_method::median_split>;
 template <std::size_t LeafSize = 4, std::size_t Bins = 16>
 using bvh_sah_config = bvh_config<LeafSize, bvh_build_method::binned_sah, Bins>;
+
+// The default configuration of bvh<O>: leaves of 4 objects with extent (the SAH choice for
+// rays, Wald 2007), and of 8 points. A bulk-built point tree fills its leaves half (see
+// bvh::sah_block), so a leaf of 8 holds about 4 points after a build and takes 4 more
+// insertions before it splits; leaves of 4 built full made every later insertion split a
+// leaf and read its points (docs/experiments/bvh-rays.md, point leaves).
+template <class O>
+using bvh_default_config = bvh_config<point_object<O> ? 8 : 4>;
 
 // nodes_visited: nodes whose volume was entered; objects_tested: exact object tests.
 struct bvh_stats : query_stats {
