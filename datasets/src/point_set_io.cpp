@@ -300,11 +300,10 @@ std::vector<point3> parse_off_text(std::string_view text, const fs::path& file, 
             // It reads every index as a double and converts it: an index beyond std::size_t
             // ("3 3555...5", 65 digits: found by fuzzing) is undefined behaviour as well. An
             // index is a whole number naming one of the vertices.
-            const std::optional<std::uint64_t> vertex = parse_count(index);
-            const bool digits_only = std::all_of(index.begin(), index.end(), [](char c) { return c >= '0' && c <= '9'; });
-            if (!vertex && !digits_only)
+            if (!std::all_of(index.begin(), index.end(), [](char c) { return c >= '0' && c <= '9'; }))
                 fail_at(file, lines.number(), face + " has a vertex index that is not a whole number: " + quote_token(index));
-            if (!vertex || *vertex >= *vertex_count)  // digits only, beyond 2^64 - 1 if not parsed
+            const std::optional<std::uint64_t> vertex = parse_count(index);  // none: beyond 2^64 - 1
+            if (!vertex || *vertex >= *vertex_count)
                 fail_at(file, lines.number(), face + " has vertex index " + quote_token(index) + " but the file has " +
                                                   std::to_string(*vertex_count) + " vertices (0 to " +
                                                   std::to_string(*vertex_count - 1) + ")");

@@ -8,8 +8,8 @@
 #include <cstddef>
 
 #include "spatial/bvh/builders.hpp"
-#include "spatial/core/object_concepts.hpp"
 #include "spatial/bvh/wide_ray_layout.hpp"
+#include "spatial/core/object_concepts.hpp"
 #include "spatial/core/query_stats.hpp"
 
 namespace spatial {
