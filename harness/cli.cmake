@@ -18,7 +18,7 @@ target_compile_options(spatial_command_line PRIVATE ${SPATIAL_WARNINGS})
 
 add_library(spatial_harness STATIC src/run_info.cpp src/timing.cpp src/knn_suite.cpp src/bv_suite.cpp
                             src/raycast_suite.cpp src/collide_suite.cpp
-                            src/scene_runner.cpp src/suite_table.cpp src/suite_cases.cpp src/run_journal.cpp src/memory_budget.cpp
+                            src/scene_runner.cpp src/suite_table.cpp src/suite_cases.cpp src/run_journal.cpp src/memory_budget.cpp src/allocator_policy.cpp
                             src/scene_runner_2d_float.cpp src/scene_runner_2d_double.cpp
                             src/scene_runner_3d_float.cpp src/scene_runner_3d_double.cpp)
 target_include_directories(spatial_harness PUBLIC ${CMAKE_CURRENT_SOURCE_DIR}/include)

@@ -6,6 +6,13 @@ target_link_libraries(harness_test PRIVATE spatial_harness)
 # fuzz/command_line/vocabulary.hpp, checked against the suite table.
 target_include_directories(harness_test PRIVATE ${PROJECT_SOURCE_DIR})
 
+# The allocator policy of run and scene (harness/allocator_policy.hpp): freed memory kept for
+# the next timed round, returned between cases; the sidecar names it.
+find_package(nlohmann_json REQUIRED)
+spatial_add_test(allocator_policy_test allocator_policy_test.cpp)
+target_link_libraries(allocator_policy_test PRIVATE spatial_harness nlohmann_json::nlohmann_json)
+target_compile_definitions(allocator_policy_test PRIVATE SPATIAL_SOURCE_DIR="${PROJECT_SOURCE_DIR}")
+
 # Result tables read back, compared and merged (the compare and merge commands). Links only the
 # table library: no suites, no peers.
 spatial_add_test(result_table_test result_table_test.cpp)

@@ -1,7 +1,7 @@
 // spatialbench — the benchmark harness CLI.
 //   spatialbench run --suite SUITE [--preset smoke|quick|full] [--results DIR] [--real-data DIR] [--resume]
-//                    [--workload W ...] [--structure S ...] [--n N ...] [--seed S] [--quiet]
-//   spatialbench scene FILE... [--structure NAME|all] [--steps N] [--results DIR] [--output scenes.csv] [--quiet]
+//                    [--workload W ...] [--structure S ...] [--n N ...] [--seed S] [--fresh-memory] [--quiet]
+//   spatialbench scene FILE... [--structure NAME|all] [--steps N] [--results DIR] [--output scenes.csv] [--fresh-memory] [--quiet]
 //   spatialbench list [--json] [--cases --suite SUITE [--shard i/N] ...]
 //   spatialbench compare A B [--output FILE]      (two tables or two result folders)
 //   spatialbench merge DIR... --results OUT        (the shards of a run, joined; --repeated-runs:
@@ -21,6 +21,7 @@
 #include "datasets/mesh_generators.hpp"
 #include "datasets/shapes.hpp"
 #include "datasets/scene.hpp"
+#include "harness/allocator_policy.hpp"
 #include "harness/command_line.hpp"
 #include "harness/peer_registry.hpp"
 #include "harness/result_compare.hpp"
@@ -78,6 +79,7 @@ void print_list() {
 
 // `spatialbench run`: one suite of harness/suite_table.hpp.
 int execute(harness::run_arguments& a) {
+    harness::set_freed_memory_policy(a.fresh_memory ? harness::freed_memory::returned : harness::freed_memory::kept);
     const harness::suite_entry& entry = *harness::find_suite(a.suite);
     a.opt.output_name = a.output_name.empty() ? entry.table : a.output_name;
     return guarded([&] {
@@ -101,6 +103,7 @@ int execute(const harness::list_arguments& a) {
 
 // `spatialbench scene`: scene files, one table.
 int execute(harness::scene_arguments& a) {
+    harness::set_freed_memory_policy(a.fresh_memory ? harness::freed_memory::returned : harness::freed_memory::kept);
     return guarded([&] {
         const harness::suite_options& sharding = a.sharding;
         std::vector<std::string> mine;
@@ -116,6 +119,7 @@ int execute(harness::scene_arguments& a) {
             auto r = harness::run_scene(datasets::load_scene(f), a.opt, counters);
             rows.insert(rows.end(), r.begin(), r.end());
             scene_seconds.push_back({f, harness::seconds_since(scene_started)});
+            harness::return_freed_memory();
         }
         harness::write_csv_atomically(a.results / a.output, rows);
         harness::write_registry_json(a.results);

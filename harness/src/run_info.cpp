@@ -12,6 +12,7 @@
 
 #include <unistd.h>
 
+#include "harness/allocator_policy.hpp"
 #include "harness/csv_writer.hpp"
 
 #ifndef SPATIAL_CXX_FLAGS
@@ -95,6 +96,7 @@ void write_run_sidecar(const std::filesystem::path& results_dir, const run_info&
     j["cpu"] = cpu_model();
     j["hardware_threads"] = std::thread::hardware_concurrency();
     j["threads_used"] = 1;
+    j["allocator"] = freed_memory_policy_description();
     j["seeds"] = info.seeds;
     j["extra"] = info.extra;
     j["wall_seconds"] = wall_seconds;

@@ -8,6 +8,7 @@
 #include <stdexcept>
 #include <string_view>
 
+#include "harness/allocator_policy.hpp"
 #include "harness/fault_injection.hpp"
 #include "harness/memory_budget.hpp"
 #include "harness/run_info.hpp"
@@ -60,6 +61,7 @@ std::vector<case_time> run_cases(const std::vector<suite_case>& all, const suite
             throw;
         }
         times.push_back({c->id, seconds_since(case_started)});
+        return_freed_memory();  // allocator_policy.hpp: kept within a case, not across cases
         journal.record(position, std::vector<result_row>(rows.begin() + static_cast<std::ptrdiff_t>(before), rows.end()));
         char took[32];
         std::snprintf(took, sizeof took, "%.1f s", times.back().seconds);

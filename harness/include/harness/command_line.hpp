@@ -42,6 +42,7 @@ struct run_arguments {
     std::string output_name;  // empty: the suite's table
     std::string shard;
     bool no_dynamic = false;
+    bool fresh_memory = false;  // glibc's defaults instead of keeping freed memory (allocator_policy.hpp)
 };
 
 // `spatialbench list`: the registries, as text or JSON, or one suite's case ids.
@@ -61,6 +62,7 @@ struct scene_arguments {
     std::string output = "scenes.csv";
     std::string shard;
     suite_options sharding;  // shard_index and shard_count from --shard
+    bool fresh_memory = false;
 };
 
 // `spatialbench compare A B`.
