@@ -32,6 +32,7 @@ scene_steps=()
 ./build/release/harness/spatialbench scene datasets/scenes/*.toml --structure all --results results "${scene_steps[@]}"
 
 /usr/bin/python3 scripts/provenance.py --results results   # results/provenance.md: which run made which table
+/usr/bin/python3 scripts/scaling.py --results results      # results/scaling.md: fitted cost exponents, memory at the largest n
 /usr/bin/python3 plots/plot_results.py --results results --out plots
 scripts/paper.sh results paper/spatialbench.pdf
 echo "main: results in results/, plots in plots/, the paper in paper/spatialbench.pdf"

@@ -5,9 +5,9 @@ For every figure measured at three or more sizes n (the same suite, structure, v
 workload, dimension, scalar, operation, parameters and metric, from any table in the results
 folder), the exponent b of value ~ a * n^b, fitted by least squares on log value against
 log n over all sizes, and the local exponent between the two largest sizes (the slope of the
-last decade, where caches and memory set the cost). Times: `build_time` (a whole build,
-ideally b ~ 1 for O(n log n)) and `time_per_op` (one query or update, ideally b ~ 0 for
-O(log n)). Memory: `bytes_per_point` / `bytes_per_triangle` at the largest n.
+last decade, where caches and memory set the cost). Times: `build_time` and `fit_time` (a
+whole build or fit, ideally b ~ 1 for O(n log n)), `time_per_op` (one query or update,
+ideally b ~ 0 for O(log n)) and the collide suite's `time` (one whole pair query). Memory: `bytes_per_point` / `bytes_per_triangle` at the largest n.
 
 Only validated rows (`validated` true, `check` not `none`) count. Only figures whose largest
 size is the largest size of their suite in the folder are listed (the scale the tables
@@ -15,56 +15,37 @@ reach), so a table run at 1e7 decides what is shown; each section says that size
 
     scripts/scaling.py [--results DIR] [--output FILE]   # default results/, DIR/scaling.md
 
-Exit 1 with a message naming the table when a table lacks a column this needs.
+Exit 1 with a message when the folder has no usable registry.json (written by every run).
 """
 
 import argparse
-import csv
 import math
+import os
 import pathlib
 import sys
 from collections import defaultdict
 
-TIME_METRICS = ("build_time", "time_per_op")
+# The tables are read, and exponents fitted, by the plots' package: one reader, one validation
+# rule (a row counts when `validated` is true and its `check` is not `none`), one fit.
+sys.path.insert(0, str(pathlib.Path(__file__).resolve().parent.parent / "plots"))
+from spatialplots.core import fit_exponent, format_n  # noqa: E402
+from spatialplots.io import REGISTRY_FILE, RegistryError, read_registry, read_results  # noqa: E402
+
+TIME_METRICS = ("build_time", "fit_time", "time_per_op", "time")
 MEMORY_METRICS = ("bytes_per_point", "bytes_per_triangle")
-KEY_COLUMNS = ("suite", "structure", "bv", "workload", "dim", "scalar", "operation", "params", "metric")
+KEY_FIELDS = ("suite", "structure", "bv", "workload", "dim", "scalar", "operation", "params", "metric")
 MIN_SIZES = 3
 
 
-def validated_rows(table):
-    with open(table, newline="") as f:
-        reader = csv.DictReader(f)
-        missing = [c for c in KEY_COLUMNS + ("n", "value", "validated") if c not in (reader.fieldnames or [])]
-        if missing:
-            raise ValueError(f"{table}: no column {', '.join(missing)}")
-        for row in reader:
-            if row["validated"] != "true" or row.get("check", "") == "none":
-                continue
-            if row["metric"] not in TIME_METRICS + MEMORY_METRICS:
-                continue
-            try:
-                n, value = int(row["n"]), float(row["value"])
-            except ValueError:
-                continue
-            if n > 0 and value > 0:
-                yield row, n, value
-
-
-def slope(points):
-    """Least-squares slope of log(value) against log(n)."""
-    xs = [math.log(n) for n, _ in points]
-    ys = [math.log(v) for _, v in points]
-    mx, my = sum(xs) / len(xs), sum(ys) / len(ys)
-    sxx = sum((x - mx) ** 2 for x in xs)
-    return sum((x - mx) * (y - my) for x, y in zip(xs, ys)) / sxx
-
-
 def collect(results):
-    figures = defaultdict(dict)  # key -> {n: value}
-    for table in sorted(results.glob("*.csv")):
-        for row, n, value in validated_rows(table):
-            key = tuple(row[c] for c in KEY_COLUMNS)
-            figures[key].setdefault(n, value)  # one row per key and n across the tables
+    """key -> {n: value} over the validated rows of every table (the tuning sweeps' rows are
+    left out, as in the plots: the default configurations' curves)."""
+    registry = read_registry(os.path.join(results, REGISTRY_FILE))
+    figures = defaultdict(dict)
+    for row in read_results(str(results), registry):
+        if not row.validated or row.value <= 0 or row.metric not in TIME_METRICS + MEMORY_METRICS:
+            continue
+        figures[tuple(str(getattr(row, f)) for f in KEY_FIELDS)].setdefault(row.n, row.value)
     return figures
 
 
@@ -80,7 +61,7 @@ def exponent_lines(figures, largest):
         last = math.log(v2 / v1) / math.log(n2 / n1)
         name = structure + (f" ({bv})" if bv else "")
         lines.append(f"| {suite} | {name} | {workload} {dim}d {scalar} | {operation} | {params or '—'} | {metric} "
-                     f"| {points[0][0]:.0e} – {n2:.0e} ({len(points)}) | {slope(points):.2f} | {last:.2f} |")
+                     f"| {format_n(points[0][0])} – {format_n(n2)} ({len(points)}) | {fit_exponent([p[0] for p in points], [p[1] for p in points]):.2f} | {last:.2f} |")
     return lines
 
 
@@ -93,7 +74,7 @@ def memory_lines(figures, largest):
             continue
         n = max(sizes)
         name = structure + (f" ({bv})" if bv else "")
-        lines.append(f"| {suite} | {name} | {workload} {dim}d {scalar} | {params or '—'} | {metric} | {n:.0e} | {sizes[n]:.1f} |")
+        lines.append(f"| {suite} | {name} | {workload} {dim}d {scalar} | {params or '—'} | {metric} | {format_n(n)} | {sizes[n]:.1f} |")
     return lines
 
 
@@ -105,7 +86,7 @@ def main():
     output = args.output or args.results / "scaling.md"
     try:
         figures = collect(args.results)
-    except ValueError as e:
+    except RegistryError as e:
         print(f"scaling: {e}", file=sys.stderr)
         return 1
     largest = defaultdict(int)
@@ -114,11 +95,13 @@ def main():
     out = ["# Cost exponents and memory at the largest size", "",
            "Generated by `scripts/scaling.py` from the validated rows of the tables in this folder; the main",
            "job rewrites it. Do not edit. b: the exponent of value ~ a·n^b, least squares on logs over every",
-           "size; last decade: the slope between the two largest sizes. `build_time` is a whole build",
-           "(O(n log n) gives b a little above 1), `time_per_op` one query or update (O(log n) gives b near 0).",
+           "size; last decade: the slope between the two largest sizes. `build_time` and `fit_time` are a whole",
+           "build or fit (O(n log n) gives b a little above 1), `time_per_op` one query or update (O(log n)",
+           "gives b near 0), `time` (collide) one whole pair query. n is the suite's size: points, triangles,",
+           "boxes; in the bv suite's overlap and ray rows, points per instance.",
            "Only figures that reach their suite's largest size in these tables are listed.", ""]
     for suite in sorted(largest):
-        out += [f"## {suite}: largest size {largest[suite]:.0e}", "",
+        out += [f"## {suite}: largest size {format_n(largest[suite])}", "",
                 "| suite | structure | workload | operation | params | metric | sizes (count) | b | last decade |",
                 "|---|---|---|---|---|---|---|---|---|"]
         out += [l for l in exponent_lines(figures, largest) if l.startswith(f"| {suite} |")] or ["| (none at three or more sizes) ||||||||"]

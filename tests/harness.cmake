@@ -101,7 +101,7 @@ add_test(NAME spatialbench_rejects_a_scene_larger_than_memory
 set_tests_properties(spatialbench_rejects_a_scene_larger_than_memory PROPERTIES PASS_REGULAR_EXPRESSION
   "spatialbench: error: scene larger_than_memory needs about 1\\.0 TB \\(4000000000 objects x about 256 B.*, but .* is available \\(")
 spatialbench_rejects(spatialbench_rejects_n_larger_than_memory
-                     "case knn/uniform/n=4000000000/3d/double needs about 1\\.0 TB .* is available"
+                     "case knn/uniform/n=4000000000/3d/double needs about 6\\.1 TB .* is available"
                      run --suite knn --preset smoke --workload uniform --n 4000000000)
 add_test(NAME spatialbench_rejects_a_run_larger_than_the_memory_limit
          COMMAND ${CMAKE_COMMAND} -E env SPATIALBENCH_AVAILABLE_MEMORY=100000

@@ -1155,11 +1155,12 @@ std::vector<std::string> real_point_files(const suite_options& options) {
     return files;
 }
 
-// What a case holds per point, every participant's copy at once (memory_budget.hpp): at 1e6
-// uniform points kd_tree, nanoflann and CGAL take 40-52 B each; with the other participants
-// (the structures suite runs every structure of the library) and the harness's own copies,
-// a few hundred bytes.
-constexpr std::size_t bytes_per_point_all_participants = 256;
+// What a case holds per point, every participant's copy at once (memory_budget.hpp): the
+// tuning sweeps keep every configuration built (21 participants in the knn suite's uniform
+// case), whose bytes_per_point rows sum to about 1,140 B at 1e6 and at 1e7; the harness's own
+// copies (points, queries, answers) brought the 1e7 case's peak to about 1,300 B a point
+// (13 GB, 2026-11-28). 256 B, the figure before, let a case through that needed 5x more.
+constexpr std::size_t bytes_per_point_all_participants = 1536;
 
 // The suite's independent cases: each generated workload at each size (uniform also in 2D
 // double and 3D float), then each real point set.
