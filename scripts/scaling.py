@@ -99,7 +99,10 @@ def main():
            "build or fit (O(n log n) gives b a little above 1), `time_per_op` one query or update (O(log n)",
            "gives b near 0), `time` (collide) one whole pair query. n is the suite's size: points, triangles,",
            "boxes; in the bv suite's overlap and ray rows, points per instance.",
-           "Only figures that reach their suite's largest size in these tables are listed.", ""]
+           "Only figures that reach their suite's largest size in these tables are listed. The sizes of one",
+           "figure may come from different runs (provenance.md): an exponent then compares absolute times",
+           "across runs on a shared machine, whose single figures swing by 10-20 %, so its second decimal",
+           "is noise.", ""]
     for suite in sorted(largest):
         out += [f"## {suite}: largest size {format_n(largest[suite])}", "",
                 "| suite | structure | workload | operation | params | metric | sizes (count) | b | last decade |",
