@@ -12,8 +12,9 @@
 //
 // Policy `kept` (the default of `run` and `scene`): every block comes from the heap
 // (M_MMAP_MAX = 0) and free never shrinks it (M_TRIM_THRESHOLD = INT_MAX), so a round reuses
-// what the previous round freed, as jemalloc and tcmalloc keep freed memory by default. The
-// first timed round still touches fresh pages: the median is of rounds on reused memory.
+// what the previous round freed (jemalloc and tcmalloc also keep freed pages for reuse rather
+// than unmapping each block, releasing them later). The first round still touches fresh
+// pages; the bulk-against-loop comparisons make it an untimed warm-up.
 // Between cases the harness returns what is free (return_freed_memory, malloc_trim), so one
 // case's freed memory is neither held through the next nor taken for memory in use.
 // Policy `returned` (`--fresh-memory`): glibc's defaults, cold allocation costs included.
