@@ -49,31 +49,34 @@ def collect(results):
     return figures
 
 
-def exponent_lines(figures, largest):
-    lines = []
+def at_largest(figures, largest, suite, metrics):
+    """(key, display name, {n: value}) of the suite's figures in `metrics` whose largest size is
+    the suite's largest, in key order."""
     for key in sorted(figures):
         sizes = figures[key]
-        suite, structure, bv, workload, dim, scalar, operation, params, metric = key
-        if metric not in TIME_METRICS or len(sizes) < MIN_SIZES or max(sizes) != largest[suite]:
+        if key[0] == suite and key[-1] in metrics and max(sizes) == largest[suite]:
+            structure, bv = key[1], key[2]
+            yield key, structure + (f" ({bv})" if bv else ""), sizes
+
+
+def exponent_lines(figures, largest, suite):
+    lines = []
+    for key, name, sizes in at_largest(figures, largest, suite, TIME_METRICS):
+        _, _, _, workload, dim, scalar, operation, params, metric = key
+        if len(sizes) < MIN_SIZES:
             continue
-        points = sorted(sizes.items())
-        (n1, v1), (n2, v2) = points[-2], points[-1]
-        last = math.log(v2 / v1) / math.log(n2 / n1)
-        name = structure + (f" ({bv})" if bv else "")
+        ns, values = zip(*sorted(sizes.items()))
+        last = math.log(values[-1] / values[-2]) / math.log(ns[-1] / ns[-2])
         lines.append(f"| {suite} | {name} | {workload} {dim}d {scalar} | {operation} | {params or '—'} | {metric} "
-                     f"| {format_n(points[0][0])} – {format_n(n2)} ({len(points)}) | {fit_exponent([p[0] for p in points], [p[1] for p in points]):.2f} | {last:.2f} |")
+                     f"| {format_n(ns[0])} – {format_n(ns[-1])} ({len(ns)}) | {fit_exponent(ns, values):.2f} | {last:.2f} |")
     return lines
 
 
-def memory_lines(figures, largest):
+def memory_lines(figures, largest, suite):
     lines = []
-    for key in sorted(figures):
-        sizes = figures[key]
-        suite, structure, bv, workload, dim, scalar, operation, params, metric = key
-        if metric not in MEMORY_METRICS or max(sizes) != largest[suite]:
-            continue
+    for key, name, sizes in at_largest(figures, largest, suite, MEMORY_METRICS):
+        _, _, _, workload, dim, scalar, _, params, metric = key
         n = max(sizes)
-        name = structure + (f" ({bv})" if bv else "")
         lines.append(f"| {suite} | {name} | {workload} {dim}d {scalar} | {params or '—'} | {metric} | {format_n(n)} | {sizes[n]:.1f} |")
     return lines
 
@@ -107,9 +110,9 @@ def main():
         out += [f"## {suite}: largest size {format_n(largest[suite])}", "",
                 "| suite | structure | workload | operation | params | metric | sizes (count) | b | last decade |",
                 "|---|---|---|---|---|---|---|---|---|"]
-        out += [l for l in exponent_lines(figures, largest) if l.startswith(f"| {suite} |")] or ["| (none at three or more sizes) ||||||||"]
+        out += exponent_lines(figures, largest, suite) or ["| (none at three or more sizes) ||||||||"]
         out += ["", "| suite | structure | workload | params | metric | n | bytes per object |", "|---|---|---|---|---|---|---|"]
-        out += [l for l in memory_lines(figures, largest) if l.startswith(f"| {suite} |")] or ["| (none) ||||||"]
+        out += memory_lines(figures, largest, suite) or ["| (none) ||||||"]
         out.append("")
     output.write_text("\n".join(out))
     print(f"scaling: wrote {output}")

@@ -10,6 +10,10 @@ namespace harness {
 
 namespace {
 
+// run and scene take it alike (harness/allocator_policy.hpp).
+constexpr const char* fresh_memory_help =
+    "time with the allocator's defaults: large blocks freed to the system and mapped afresh (page faults in every round) instead of kept for reuse within a case";
+
 std::vector<std::string> suite_names(const command_line_vocabulary& vocabulary) {
     std::vector<std::string> names;
     for (const auto& s : vocabulary.runnable_suites) names.push_back(s.name);
@@ -34,7 +38,7 @@ void add_run(CLI::App& parent, run_arguments& a, const command_line_vocabulary& 
     app->add_option("--seed", a.opt.seed, "seed of every generated workload (logged in the run sidecar)");
     app->add_flag("--quiet", a.opt.quiet, "no progress output");
     app->add_flag("--no-dynamic", a.no_dynamic, "skip the insert/erase workloads");
-    app->add_flag("--fresh-memory", a.fresh_memory, "time with the allocator's defaults: large blocks freed to the system and mapped afresh (page faults in every round) instead of kept for reuse within a case");
+    app->add_flag("--fresh-memory", a.fresh_memory, fresh_memory_help);
     app->add_flag("--resume", a.opt.resume, "finish an interrupted run: skip the cases its journal (<results>/<table>.journal/) holds");
 }
 
@@ -58,7 +62,7 @@ void add_scene(CLI::App& parent, scene_arguments& a, const command_line_vocabula
     app->add_option("--results", a.results, "directory for the CSV table and the run sidecar");
     app->add_option("--output", a.output, "CSV file name inside --results");
     app->add_option("--shard", a.shard, "run the files at positions i mod N of the list (i/N, 0 <= i < N)");
-    app->add_flag("--fresh-memory", a.fresh_memory, "time with the allocator's defaults: large blocks freed to the system and mapped afresh (page faults in every round) instead of kept for reuse within a case");
+    app->add_flag("--fresh-memory", a.fresh_memory, fresh_memory_help);
     app->add_flag("--quiet", a.opt.quiet, "no progress output");
 }
 
