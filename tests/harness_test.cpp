@@ -48,6 +48,25 @@ TEST(validation, approximate_answers_must_respect_one_plus_eps) {
     EXPECT_THROW(require_approximation<double>({1}, {1, 4}, 1.0, "missing"), validation_error);
 }
 
+// Radius answers are compared by size once every point is inside the ball: a point swapped for
+// one outside the ball fails the ball check, a missing or extra point the count.
+TEST(validation, radius_answers_are_the_ball_points_when_inside_and_as_many) {
+    const double r2 = 4;
+    EXPECT_NO_THROW(require_inside_ball<double>({0.5, 1, 4}, r2, "on the sphere counts as inside"));
+    EXPECT_NO_THROW(require_inside_ball<double>({}, r2, "empty ball"));
+    EXPECT_THROW(require_inside_ball<double>({0.5, 1, 4.001}, r2, "swapped for a point outside"), validation_error);
+    EXPECT_NO_THROW(require_same_count(3, 3, "as many as the ball holds"));
+    EXPECT_THROW(require_same_count(2, 3, "one missing"), validation_error);
+    try {
+        require_inside_ball<double>({1, 9}, r2, "kd_tree radius query 4");
+        FAIL() << "expected validation_error";
+    } catch (const validation_error& e) {
+        EXPECT_NE(std::string(e.what()).find("kd_tree radius query 4: a reported point lies at squared distance 9"),
+                  std::string::npos)
+            << e.what();
+    }
+}
+
 TEST(validation, recall_counts_ties_at_the_kth_distance_as_correct) {
     EXPECT_DOUBLE_EQ(recall<double>({1, 2, 2}, {1, 2, 2}), 1.0);
     EXPECT_DOUBLE_EQ(recall<double>({1, 2, 9}, {1, 2, 2}), 2.0 / 3.0);
