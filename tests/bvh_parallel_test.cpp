@@ -3,6 +3,7 @@
 //    node for node: same node count and height, and every query visits the same number of
 //    nodes and tests the same objects (median and SAH builders; aabb, sphere, obb and k-DOP
 //    volumes; points and triangles; skewed and identical inputs);
+//  * prepare_rays(par) lays out the same wide ray layout as prepare_rays();
 //  * intersect_batch gives, with seq and with par, exactly the answers of one
 //    intersect_object per ray, and rejects bad input before casting anything.
 // With TBB (the default build) these run on several threads; without it `par` is sequential
@@ -120,6 +121,40 @@ TEST(bvh_parallel, build_of_points_skewed_and_identical_inputs_is_the_sequential
     check_parallel_build<P3, aabb<double, 3>, bvh_sah_config<>>(skewed, seed);
     check_parallel_build<P3, aabb<double, 3>, bvh_sah_config<>>(identical, seed);
     check_parallel_build<P3, aabb<double, 3>, bvh_median_config<16>>(identical, seed);
+}
+
+// prepare_rays(par) gathers the wide layout's leaves on every core: the same layout as
+// prepare_rays(), as far as rays can tell (same hits, hit times, nodes visited and objects
+// tested on every ray) and byte for byte in size.
+TEST(bvh_parallel, ray_layout_gathered_on_every_core_is_the_sequential_layout) {
+    const std::uint64_t seed = spatial_test::test_seed(79);
+    SCOPED_TRACE(spatial_test::replay_hint(seed));
+    const auto data = random_triangles(30000, seed);
+    bvh<tri> one(data.begin(), data.end()), many(data.begin(), data.end());
+    one.prepare_rays();
+    many.prepare_rays(par);
+    EXPECT_EQ(one.memory_bytes(), many.memory_bytes());
+    std::mt19937_64 rng(seed);
+    std::uniform_real_distribution<double> u(-0.2, 1.2);
+    std::size_t hits = 0;
+    for (int q = 0; q < 3000; ++q) {
+        const P3 o{{u(rng), u(rng), u(rng)}}, d{{u(rng) - 0.5 + 0.01, u(rng) - 0.5, u(rng) - 0.5}};
+        intersect_info<P3> x, y;
+        const auto ha = one.intersect_object(o, d, 0.0, x);
+        const auto sa = one.last_query_stats();
+        const auto hb = many.intersect_object(o, d, 0.0, y);
+        const auto sb = many.last_query_stats();
+        ASSERT_EQ(ha == one.end(), hb == many.end()) << "ray " << q;
+        if (ha != one.end()) {
+            EXPECT_TRUE(*ha == *hb) << "ray " << q;
+            ++hits;
+        }
+        EXPECT_EQ(x.hit_time, y.hit_time) << "ray " << q;
+        EXPECT_TRUE(sa.wide_ray_layout && sb.wide_ray_layout) << "ray " << q;
+        EXPECT_EQ(sa.nodes_visited, sb.nodes_visited) << "ray " << q;
+        EXPECT_EQ(sa.objects_tested, sb.objects_tested) << "ray " << q;
+    }
+    EXPECT_GT(hits, 300u);
 }
 
 TEST(bvh_parallel, batched_casts_equal_single_casts_with_both_policies) {

@@ -14,6 +14,7 @@
 
 #include "harness/allocator_policy.hpp"
 #include "harness/csv_writer.hpp"
+#include "spatial/core/parallel.hpp"
 
 #ifndef SPATIAL_CXX_FLAGS
 #define SPATIAL_CXX_FLAGS "unknown"
@@ -95,7 +96,10 @@ void write_run_sidecar(const std::filesystem::path& results_dir, const run_info&
     j["host"] = host_name();
     j["cpu"] = cpu_model();
     j["hardware_threads"] = std::thread::hardware_concurrency();
+    // Every timed figure runs on one thread except the multi-threaded ones, whose params say
+    // threads=N: N is the parallel back end's thread count, recorded here.
     j["threads_used"] = 1;
+    j["parallel_threads"] = spatial::detail::parallel_threads();
     j["allocator"] = freed_memory_policy_description();
     j["seeds"] = info.seeds;
     j["extra"] = info.extra;

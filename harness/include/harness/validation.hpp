@@ -94,14 +94,15 @@ void require_same_answer(const std::vector<T>& got, const std::vector<T>& want, 
         }
 }
 
-// Radius answers, compared by size alone: `d`, one answer's squared distances as
-// checked_distances returned them (ids live and distinct, distances recomputed, sorted), must
-// all lie in the closed ball of squared radius r2 (the last is the largest), and the answer
-// must hold as many points as the ball does (`want`: the oracle's or a validated answer's
-// size). Distinct points inside the ball, as many as it holds, are exactly the ball's points,
-// so this checks the whole answer in O(1) memory, where keeping every distance would not fit
-// (far queries' balls hold a tenth of the points). Points within distance_tolerance of the
-// sphere count as inside: the suites nudge the radius off exact ties.
+// Radius answers, compared by size alone: `d`, one answer's squared distances as checked_distances
+// returned them (ids live and distinct, distances recomputed, sorted), must all lie in the closed
+// ball of squared radius r2 (the last is the largest), and the answer must hold as many points as
+// the ball does (`want`: the oracle's or a validated answer's size). Distinct points inside the
+// ball, as many as it holds, are exactly the ball's points, so this checks the whole answer keeping
+// one number per query, where keeping every distance would not fit (on clusters_far the radius, the
+// median 10th-neighbour distance, reaches deep into a dense cluster from the queries near one).
+// Points within distance_tolerance of the sphere count as inside: the suites nudge the radius off
+// exact ties.
 template <class T>
 void require_inside_ball(const std::vector<T>& d, T r2, const std::string& what) {
     if (d.empty() || d.back() <= r2 || same_distance(d.back(), r2)) return;

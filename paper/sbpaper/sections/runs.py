@@ -51,7 +51,8 @@ def machine(ctx, sidecars):
     present = [s for s in sidecars.values() if s]
     for field, key in (("cpu", "cpu"), ("compiler", "compiler"), ("cxx_flags", "flags"),
                        ("build_type", "build-type"), ("hardware_threads", "threads"),
-                       ("threads_used", "threads-used"), ("host", "host")):
+                       ("threads_used", "threads-used"), ("parallel_threads", "parallel-threads"),
+                       ("host", "host")):
         values = sorted({str(s.get(field, "")).strip() for s in present if s.get(field) is not None})
         text = "; ".join(escape(v) for v in values) if values else "not recorded"
         ctx.book.word(f"machine.{key}", r"\texttt{" + text + "}" if key == "flags" else text)

@@ -285,6 +285,9 @@ public:
     // which the first ray cast after a change would otherwise do: call it after building to
     // keep that O(n) cost out of the first query (the benchmarks count it as build time).
     void prepare_rays() const;
+    // The same with the objects gathered on every core of the parallel back end (the copy
+    // is most of the layout's O(n); the collapse of the tree stays on one thread).
+    void prepare_rays(parallel_policy) const;
 
     // ---- nearest neighbours and ranges ---------------------------------------------------
     // Best-first search (Hjaltason & Samet 1999) over the volumes' distance lower bounds.
@@ -379,7 +382,7 @@ private:
 
     // ---- the wide ray layout (bvh_rays.hpp) -------------------------------------------------
     struct binary_view;
-    wide_layout make_wide_layout() const;
+    wide_layout make_wide_layout(bool parallel = false) const;
     slot_index intersect_wide(const wide_layout& w, const typename wide_layout::float_ray& r, const point_type& origin,
                               const point_type& direction, T thickness, info_type& info, bvh_stats& st) const;
 

@@ -28,7 +28,9 @@ inline void bvh<O, BV, Config>::intersect_batch(std::span<const ray<point_type>>
         throw std::invalid_argument(detail::site_text(site("intersect_batch")) + ": rays, hits and infos differ in size");
     for (const auto& r : rays) validate_ray(r.origin, r.direction, r.thickness);
     require_fresh(site("intersect_batch"));
-    prepare_rays();  // once, before the threads start
+    // Once, before the threads start.
+    if constexpr (std::is_same_v<Policy, parallel_policy>) prepare_rays(par);
+    else prepare_rays();
     auto cast_range = [&](std::size_t b, std::size_t e) {
         for (std::size_t i = b; i < e; ++i) {
             bvh_stats st;
@@ -43,6 +45,11 @@ template <stored_object O, class BV, class Config>
 inline void bvh<O, BV, Config>::prepare_rays() const {
     if constexpr (wide_rays)
         if (!stale_ && slots_.size() > 0) (void)wide_.get([this] { return make_wide_layout(); });
+}
+template <stored_object O, class BV, class Config>
+inline void bvh<O, BV, Config>::prepare_rays(parallel_policy) const {
+    if constexpr (wide_rays)
+        if (!stale_ && slots_.size() > 0) (void)wide_.get([this] { return make_wide_layout(true); });
 }
 
 template <stored_object O, class BV, class Config>
@@ -264,9 +271,9 @@ struct bvh<O, BV, Config>::binary_view {
     const O& value(slot_index s) const { return t.slots_.value(s); }
 };
 template <stored_object O, class BV, class Config>
-inline auto bvh<O, BV, Config>::make_wide_layout() const -> wide_layout {
+inline auto bvh<O, BV, Config>::make_wide_layout(bool parallel) const -> wide_layout {
     wide_layout w;
-    w.build(binary_view{*this});
+    w.build(binary_view{*this}, parallel);
     return w;
 }
 template <stored_object O, class BV, class Config>

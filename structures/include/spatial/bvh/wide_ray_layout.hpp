@@ -28,8 +28,9 @@
 // outside float's comfortable range (coordinates above 1e30, nonzero direction components
 // outside [1e-30, 1e30]) are refused by accepts() and take the binary double path instead.
 //
-// Built in O(n) from a binary tree (collapse + copy) and immutable afterwards; the bvh
-// rebuilds it lazily after any change (see bvh::prepare_rays). Memory: one wide node per
+// Built in O(n) from a binary tree (collapse, then the copy: on every core with
+// bvh::prepare_rays(par)) and immutable afterwards; the bvh rebuilds it lazily after any
+// change (see bvh::prepare_rays). Memory: one wide node per
 // about W - 1 binary inner nodes, plus per object its copy (or compact form) and a 32-bit id.
 
 #include <algorithm>
@@ -51,6 +52,7 @@
 #include "spatial/bvh/compact_ray_form.hpp"
 #include "spatial/bvh/traversal_stack.hpp"
 #include "spatial/core/huge_page_allocator.hpp"
+#include "spatial/core/parallel.hpp"
 
 namespace spatial::bvh_detail {
 
@@ -103,8 +105,10 @@ public:
     // Collapses a binary tree. Tree provides: root(), is_leaf(n), left(n) (right = left + 1),
     // lower(n, axis) / upper(n, axis) of node n's box, leaf_size(n), leaf_slot(n, i),
     // value(slot) and object_count(). Leaves hold at most 255 objects. O(nodes + objects).
+    // parallel: gather the leaves' objects on every core of the parallel back end
+    // (core/parallel.hpp; bvh::prepare_rays(par)).
     template <class Tree>
-    void build(const Tree& tree) {
+    void build(const Tree& tree, bool parallel = false) {
         using node_index = typename Tree::node_index;
         nodes_.clear();
         objects_.clear();
@@ -172,27 +176,40 @@ public:
         } catch (const std::bad_alloc&) {
         }
         // Pass 2: the leaves' objects, in the order the nodes were filled (depth first: a
-        // subtree's leaves end up near each other).
+        // subtree's leaves end up near each other). Each leaf lane's first object is known
+        // from the counts (leaves padded to whole blocks), so the lanes are gathered
+        // independently: on every core when `parallel` and the objects have compact forms
+        // (each lane writes its own blocks; the layout is the same as on one thread).
+        struct leaf_lane {
+            std::uint32_t node;
+            std::uint32_t lane;
+            node_index binary;
+            std::size_t first;
+        };
+        std::vector<leaf_lane> leaves;
         std::size_t stored = 0;  // slots, leaves padded to whole blocks
-        for (const wide_node& nd : nodes_)
-            for (std::size_t i = 0; i < width; ++i)
-                if (nd.count[i] != 0) stored += (nd.count[i] + form_lanes - 1) / form_lanes * form_lanes;
+        for (const std::uint32_t n : fill_order) {
+            const wide_node& nd = nodes_[n];
+            for (std::uint32_t i = 0; i < width; ++i)
+                if (nd.count[i] != 0) {
+                    leaves.push_back({n, i, static_cast<node_index>(nd.child[i]), stored});
+                    stored += (nd.count[i] + form_lanes - 1) / form_lanes * form_lanes;
+                }
+        }
+        for (const leaf_lane& l : leaves) nodes_[l.node].child[l.lane] = static_cast<std::uint32_t>(l.first);
         if constexpr (has_ray_forms) {
-            forms_.reserve(stored / form_lanes);
+            forms_.resize(stored / form_lanes);
+            auto gather_range = [&](std::size_t b, std::size_t e) {
+                gather_scratch<node_index> scratch;
+                for (std::size_t l = b; l < e; ++l) gather_forms(tree, leaves[l].binary, leaves[l].first, scratch);
+            };
+            if (parallel) detail::parallel_chunks(leaves.size(), 1024, gather_range);
+            else gather_range(0, leaves.size());
         } else {
             objects_.reserve(stored);
             slots_.reserve(stored);
-        }
-        for (const std::uint32_t n : fill_order) {
-            wide_node& nd = nodes_[n];
-            for (std::size_t i = 0; i < width; ++i)
-                if (nd.count[i] != 0) {
-                    std::size_t first;
-                    if constexpr (has_ray_forms) first = forms_.size() * form_lanes;
-                    else first = objects_.size();
-                    gather_objects(tree, static_cast<node_index>(nd.child[i]));
-                    nd.child[i] = static_cast<std::uint32_t>(first);
-                }
+            gather_scratch<node_index> scratch;
+            for (const leaf_lane& l : leaves) gather_objects(tree, l.binary, scratch);
         }
     }
 
@@ -511,36 +528,52 @@ private:
     // Stores the objects below binary node n (at most 255: a leaf or a merged subtree): their
     // copies, or their blocks (padded with copies of the block's first object, which are
     // never tested), and their slot ids.
-    template <class Tree>
-    void gather_objects(const Tree& tree, typename Tree::node_index n) {
-        std::vector<typename Tree::node_index> stack{n};
+    // Reused between the leaves one thread gathers (a leaf's binary subtree and its slots).
+    template <class NodeIndex>
+    struct gather_scratch {
+        std::vector<NodeIndex> stack;
         std::vector<std::uint32_t> leaf_slots;
-        while (!stack.empty()) {
-            const auto m = stack.back();
-            stack.pop_back();
+    };
+    // The slots of binary subtree n's objects, in order, into scratch.leaf_slots.
+    template <class Tree>
+    static void subtree_slots(const Tree& tree, typename Tree::node_index n,
+                              gather_scratch<typename Tree::node_index>& scratch) {
+        scratch.stack.assign(1, n);
+        scratch.leaf_slots.clear();
+        while (!scratch.stack.empty()) {
+            const auto m = scratch.stack.back();
+            scratch.stack.pop_back();
             if (!tree.is_leaf(m)) {
-                stack.push_back(tree.left(m) + 1);
-                stack.push_back(tree.left(m));
+                scratch.stack.push_back(tree.left(m) + 1);
+                scratch.stack.push_back(tree.left(m));
                 continue;
             }
             for (std::size_t j = 0; j < tree.leaf_size(m); ++j)
-                leaf_slots.push_back(static_cast<std::uint32_t>(tree.leaf_slot(m, j)));
+                scratch.leaf_slots.push_back(static_cast<std::uint32_t>(tree.leaf_slot(m, j)));
         }
-        if constexpr (has_ray_forms) {
-            // Only thick rays need the objects themselves: they read them from the container.
-            for (std::size_t j = 0; j < leaf_slots.size(); j += form_lanes) {
-                typename ray_form::block b;
-                for (std::size_t lane = 0; lane < form_lanes; ++lane) {
-                    const std::uint32_t s = leaf_slots[j + lane < leaf_slots.size() ? j + lane : j];
-                    ray_form::set(b, lane, tree.value(s), s);
-                }
-                forms_.push_back(b);
+    }
+    // A leaf lane's blocks from forms_[first / form_lanes] on (the last padded with its first
+    // object of the block). Only thick rays need the objects themselves: they read them from
+    // the container.
+    template <class Tree>
+    void gather_forms(const Tree& tree, typename Tree::node_index n, std::size_t first,
+                      gather_scratch<typename Tree::node_index>& scratch) requires has_ray_forms {
+        subtree_slots(tree, n, scratch);
+        const auto& slots = scratch.leaf_slots;
+        typename ray_form::block* out = &forms_[first / form_lanes];
+        for (std::size_t j = 0; j < slots.size(); j += form_lanes, ++out)
+            for (std::size_t lane = 0; lane < form_lanes; ++lane) {
+                const std::uint32_t s = slots[j + lane < slots.size() ? j + lane : j];
+                ray_form::set(*out, lane, tree.value(s), s);
             }
-        } else {
-            for (const std::uint32_t s : leaf_slots) {
-                objects_.push_back(tree.value(s));
-                slots_.push_back(s);
-            }
+    }
+    // A leaf lane's copies of its objects and their slots, appended (objects without forms).
+    template <class Tree>
+    void gather_objects(const Tree& tree, typename Tree::node_index n, gather_scratch<typename Tree::node_index>& scratch) {
+        subtree_slots(tree, n, scratch);
+        for (const std::uint32_t s : scratch.leaf_slots) {
+            objects_.push_back(tree.value(s));
+            slots_.push_back(s);
         }
     }
     template <class Tree>
