@@ -50,21 +50,42 @@ TEST(validation, approximate_answers_must_respect_one_plus_eps) {
 
 // Radius answers are compared by size once every point is inside the ball: a point swapped for
 // one outside the ball fails the ball check, a missing or extra point the count.
+// A radius answer is checked point by point (live id, distance as reported, inside the closed
+// ball, no id twice) and then compared by its size alone; the duplicate bitmap is left empty
+// after every answer, also after one that failed, so the next answer is judged on its own.
 TEST(validation, radius_answers_are_the_ball_points_when_inside_and_as_many) {
+    using P = spatial::point<double, 3>;
+    const std::vector<P> pts = {P{{0, 0, 0}}, P{{1, 0, 0}}, P{{0, 2, 0}}, P{{0, 0, 3}}};
+    brute_force_index<double, 3> s;
+    s.build(pts);
+    const P q{{0, 0, 0}};
     const double r2 = 4;
-    EXPECT_NO_THROW(require_inside_ball<double>({0.5, 1, 4}, r2, "on the sphere counts as inside"));
-    EXPECT_NO_THROW(require_inside_ball<double>({}, r2, "empty ball"));
-    EXPECT_THROW(require_inside_ball<double>({0.5, 1, 4.001}, r2, "swapped for a point outside"), validation_error);
+    reported_ids seen;
+    std::vector<neighbor<double>> ball;
+    s.radius(q, 2, ball);
+    ASSERT_EQ(ball.size(), 3u);  // the point at distance 2 lies on the sphere: inside
+    EXPECT_EQ((checked_ball_answer<double, 3>(s, q, ball, r2, seen, "on the sphere counts as inside")), 3u);
+    EXPECT_EQ((checked_ball_answer<double, 3>(s, q, {}, r2, seen, "empty ball")), 0u);
     EXPECT_NO_THROW(require_same_count(3, 3, "as many as the ball holds"));
     EXPECT_THROW(require_same_count(2, 3, "one missing"), validation_error);
+
+    std::vector<neighbor<double>> twice = ball;
+    twice[2] = twice[1];  // as many as the ball holds, but one point stands in for another
+    EXPECT_THROW((checked_ball_answer<double, 3>(s, q, twice, r2, seen, "twice")), validation_error);
+    EXPECT_EQ((checked_ball_answer<double, 3>(s, q, ball, r2, seen, "after a failed answer")), 3u);
+
+    std::vector<neighbor<double>> outside = ball;
+    outside[2] = {9, 3};  // swapped for the point at distance 3
     try {
-        require_inside_ball<double>({1, 9}, r2, "kd_tree radius query 4");
+        checked_ball_answer<double, 3>(s, q, outside, r2, seen, "kd_tree radius query 4");
         FAIL() << "expected validation_error";
     } catch (const validation_error& e) {
-        EXPECT_NE(std::string(e.what()).find("kd_tree radius query 4: a reported point lies at squared distance 9"),
-                  std::string::npos)
+        EXPECT_NE(std::string(e.what()).find("kd_tree radius query 4: id 3 lies at squared distance 9"), std::string::npos)
             << e.what();
     }
+    std::vector<neighbor<double>> unknown = ball;
+    unknown[0].id = 17;
+    EXPECT_THROW((checked_ball_answer<double, 3>(s, q, unknown, r2, seen, "unknown id")), validation_error);
 }
 
 TEST(validation, recall_counts_ties_at_the_kth_distance_as_correct) {

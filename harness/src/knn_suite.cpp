@@ -165,7 +165,7 @@ std::size_t oracle_radius_count(const std::vector<spatial::point<T, D>>& pts, co
 
 // One validated answer, as answers are compared: a kNN answer by its sorted squared
 // distances; a radius answer, once every reported point was found inside the ball, by its size
-// alone (require_inside_ball says why that is a complete check). Radius answers kept their
+// alone (checked_ball_answer says why that is a complete check). Radius answers kept their
 // distances until 2026-11-28: 5,000 far queries' balls at 1e7 points filled the machine.
 struct kept_answer {
     std::size_t size = 0;
@@ -356,10 +356,10 @@ private:
     // returns what it is then compared by.
     kept_answer keep(point_index<T, D>& s, const operation_spec& op, std::size_t i, const std::vector<neighbor<T>>& out,
                      const std::string& what) {
+        if (op.operation == "radius")
+            return {checked_ball_answer(s, wc_.queries[i], out, radius_ * radius_, reported_, what), {}};
         const std::vector<T> d = checked_distances(s, wc_.queries[i], out, what);
-        if (op.operation != "radius") return {d.size(), std::vector<double>(d.begin(), d.end())};
-        require_inside_ball(d, radius_ * radius_, what);
-        return {d.size(), {}};
+        return {d.size(), std::vector<double>(d.begin(), d.end())};
     }
     static double raw_checksum(const std::vector<neighbor<T>>& out) {
         double sum = static_cast<double>(out.size());
@@ -708,6 +708,7 @@ private:
     std::vector<operation_spec> ops_;
     std::vector<std::vector<T>> oracle_k10_;
     std::vector<std::size_t> oracle_radius_count_;  // the sample's ball sizes
+    reported_ids reported_;  // the radius answers' duplicate check, reused (checked_ball_answer)
     std::map<std::string, std::vector<kept_answer>> reference_;
     std::string reference_owner_;
     struct checked_figure {
