@@ -21,7 +21,7 @@ import pathlib
 import sys
 from collections import Counter
 
-COLUMNS = ("table", "rows", "run", "commit", "date (UTC)", "preset", "compiler", "host", "wall")
+COLUMNS = ("table", "rows", "run", "commit", "date (UTC)", "preset", "compiler", "host", "wall", "peak memory")
 SLOWEST_CASES = 5
 
 
@@ -43,8 +43,10 @@ def describe(results, table, run_id, rows):
     dirty = commit.endswith("-dirty")
     commit = commit[:10] + (" (dirty)" if dirty else "")
     wall = s.get("wall_seconds")
+    peak = s.get("peak_rss_bytes")  # recorded since 2026-11-29; 0 where the OS did not say
     return [table.name, str(rows), run_id, commit, s.get("date_utc", "?"), s.get("preset", "?"),
-            s.get("compiler", "?"), s.get("host", "not recorded"), f"{wall:.0f} s" if wall is not None else "?"]
+            s.get("compiler", "?"), s.get("host", "not recorded"), f"{wall:.0f} s" if wall is not None else "?",
+            f"{peak / 2**30:.1f} GiB" if peak else "not recorded"]
 
 
 def slowest_cases(results, run_ids):

@@ -3,6 +3,9 @@
 // written atomically, and our containers behind point_index must keep ids straight.
 
 #include <gtest/gtest.h>
+#include <unistd.h>
+
+#include <nlohmann/json.hpp>
 
 #include <algorithm>
 #include <chrono>
@@ -18,6 +21,7 @@
 #include "harness/check.hpp"
 #include "harness/csv_writer.hpp"
 #include "harness/our_indexes.hpp"
+#include "harness/run_info.hpp"
 #include "harness/structure_registry.hpp"
 #include "harness/suite_table.hpp"
 #include "harness/timing.hpp"
@@ -296,4 +300,19 @@ TEST(tuning_sweep, every_kd_tree_leaf_capacity_answers_like_brute_force) {
         }
     }
     EXPECT_THROW((harness::make_kd_tree_index_with_leaf_capacity<double, 3>(12)), std::invalid_argument);
+}
+
+// The run sidecar records the process's peak resident memory (what a 1e7 run needed of the
+// machine), at least what the process has touched.
+TEST(run_sidecar, records_the_peak_resident_memory) {
+    constexpr std::size_t touched = std::size_t{64} << 20;
+    std::vector<unsigned char> block(touched, 1);  // every page written
+    ASSERT_EQ(block.back(), 1);
+    EXPECT_GE(harness::peak_resident_bytes(), touched);
+    const auto dir = std::filesystem::temp_directory_path() / ("run_sidecar_test_" + std::to_string(getpid()));
+    harness::write_run_sidecar(dir, harness::run_info{"peak-run", "knn", "smoke", {}, {}, {}}, 1.0);
+    std::ifstream in(dir / "runs" / "peak-run.json");
+    const auto sidecar = nlohmann::json::parse(in);
+    EXPECT_GE(sidecar.at("peak_rss_bytes").get<std::uint64_t>(), touched);
+    std::filesystem::remove_all(dir);
 }

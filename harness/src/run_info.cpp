@@ -10,6 +10,7 @@
 #include <nlohmann/json.hpp>
 #include <thread>
 
+#include <sys/resource.h>
 #include <unistd.h>
 
 #include "harness/allocator_policy.hpp"
@@ -83,6 +84,13 @@ std::string host_name() {
     return name.data();
 }
 
+// Linux reports ru_maxrss in KiB.
+std::uint64_t peak_resident_bytes() {
+    rusage usage{};
+    if (getrusage(RUSAGE_SELF, &usage) != 0 || usage.ru_maxrss < 0) return 0;
+    return static_cast<std::uint64_t>(usage.ru_maxrss) * 1024;
+}
+
 void write_run_sidecar(const std::filesystem::path& results_dir, const run_info& info, double wall_seconds) {
     nlohmann::json j;
     j["run_id"] = info.run_id;
@@ -104,6 +112,7 @@ void write_run_sidecar(const std::filesystem::path& results_dir, const run_info&
     j["seeds"] = info.seeds;
     j["extra"] = info.extra;
     j["wall_seconds"] = wall_seconds;
+    j["peak_rss_bytes"] = peak_resident_bytes();
     if (!info.case_seconds.empty()) {
         nlohmann::json cases = nlohmann::json::array();
         for (const case_time& c : info.case_seconds) cases.push_back({{"case", c.id}, {"seconds", c.seconds}});

@@ -35,6 +35,10 @@ std::string make_run_id(const std::string& suite, const std::string& preset, con
 std::string host_name();
 std::string git_commit();
 std::string cpu_model();
+// The process's peak resident memory so far in bytes (getrusage), 0 where unknown: the
+// sidecar's `peak_rss_bytes`, what a run at scale needed of the machine, recorded rather than
+// read off a monitor by hand.
+std::uint64_t peak_resident_bytes();
 // Writes results/runs/<run_id>.json atomically.
 void write_run_sidecar(const std::filesystem::path& results_dir, const run_info& info, double wall_seconds);
 
