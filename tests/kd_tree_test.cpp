@@ -4,6 +4,7 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <limits>
 #include <random>
@@ -379,4 +380,33 @@ TEST(kd_tree_empty_state, a_vector_of_trees_moves_them_when_it_grows) {
     trees.reserve(trees.capacity() + 8);
     EXPECT_EQ(&*trees[0].begin(), stored);
     EXPECT_EQ(trees[0].check_invariants(), "");
+}
+
+// find_in_ball into a caller's buffer: the same points as the returning form, the buffer's
+// earlier contents replaced and its capacity kept between queries (what the harness's radius
+// queries rely on), and a rejected argument leaves the buffer as it was.
+TEST(kd_tree_queries, ball_into_a_reused_buffer_is_the_returned_ball) {
+    std::mt19937_64 rng(20261129);
+    std::uniform_real_distribution<double> u(0, 1);
+    std::vector<P3> pts(2000);
+    for (auto& p : pts) p = P3{{u(rng), u(rng), u(rng)}};
+    kd_tree<P3> t;
+    t.insert(pts.begin(), pts.end());
+    std::vector<kd_tree<P3>::iterator> buffer;
+    const auto as_points = [](const std::vector<kd_tree<P3>::iterator>& v) {
+        std::vector<P3> out;
+        for (auto it : v) out.push_back(*it);
+        std::sort(out.begin(), out.end(), [](const P3& a, const P3& b) { return a.coords < b.coords; });
+        return out;
+    };
+    t.find_in_ball(P3{{0.5, 0.5, 0.5}}, 0.4, buffer);  // the large ball first
+    const auto capacity = buffer.capacity();
+    ASSERT_GT(buffer.size(), 100u);
+    EXPECT_EQ(as_points(buffer), as_points(t.find_in_ball(P3{{0.5, 0.5, 0.5}}, 0.4)));
+    t.find_in_ball(P3{{0.1, 0.2, 0.3}}, 0.1, buffer);
+    EXPECT_EQ(as_points(buffer), as_points(t.find_in_ball(P3{{0.1, 0.2, 0.3}}, 0.1)));
+    EXPECT_EQ(buffer.capacity(), capacity);
+    const auto kept = buffer;
+    EXPECT_THROW(t.find_in_ball(P3{{std::nan(""), 0, 0}}, 0.1, buffer), std::invalid_argument);
+    EXPECT_EQ(buffer, kept);
 }

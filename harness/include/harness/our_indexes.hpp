@@ -73,7 +73,12 @@ public:
     }
     void radius(const point_type& q, T r, std::vector<neighbor<T>>& out) override {
         out.clear();
-        for (auto it : c_.find_in_ball(q, r)) out.push_back({spatial::squared_distance(*it, q), it.slot()});
+        if constexpr (requires { c_.find_in_ball(q, r, ball_); }) {
+            c_.find_in_ball(q, r, ball_);  // into a buffer kept between queries, as the peers' are
+            for (auto it : ball_) out.push_back({spatial::squared_distance(*it, q), it.slot()});
+        } else {
+            for (auto it : c_.find_in_ball(q, r)) out.push_back({spatial::squared_distance(*it, q), it.slot()});
+        }
     }
     void insert(std::uint32_t id, const point_type& p) override {
         if (ids_pending_) resolve_ids();
@@ -177,6 +182,7 @@ private:
     bool ids_pending_ = false;
     std::vector<spatial::neighbor_candidate<T>> cand_;
     std::vector<std::optional<point_type>> slot_points_;  // point_of's table; empty: stale
+    std::vector<iterator> ball_;  // radius()'s answer buffer, reused (kd_tree::find_in_ball into a vector)
 };
 
 template <class T, std::size_t D>

@@ -357,11 +357,20 @@ public:
 
     // All points p with |p - center| <= radius (closed ball), in no particular order.
     std::vector<iterator> find_in_ball(const P& center, scalar_type radius) const {
+        std::vector<iterator> out;
+        find_in_ball(center, radius, out);
+        return out;
+    }
+    // The same into `out`, which is cleared (after the arguments are checked) and keeps its
+    // capacity: a caller asking many large balls reuses one buffer, where a fresh vector per
+    // query grows by copying and faults its pages in again every time (on 1e7 clustered points
+    // seen from far away, most of a radius query's time: docs/known-gaps.md).
+    void find_in_ball(const P& center, scalar_type radius, std::vector<iterator>& out) const {
         begin_query();
         detail::require_finite(center, site("find_in_ball"), "center");
         detail::require_nonnegative(radius, site("find_in_ball"), "radius");
-        std::vector<iterator> out;
-        if (slots_.size() == 0) return out;
+        out.clear();
+        if (slots_.size() == 0) return;
         if constexpr (has_extent) {
             // Distance to a node's extent, less the rounding slack (see knn_slack), must not
             // exceed the radius; the slack also covers the rounding of radius * radius.
@@ -371,7 +380,6 @@ public:
             coords offset = root_offsets(point_coords(center));
             ball(root, offset, point_coords(center), radius * radius, out);
         }
-        return out;
     }
     // All points p with lo <= p <= hi componentwise (closed box). O(n^(1-1/D) + hits) for
     // trees whose splits cycle through the dimensions (Lee & Wong 1977); with widest-spread
