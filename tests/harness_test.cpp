@@ -3,9 +3,8 @@
 // written atomically, and our containers behind point_index must keep ids straight.
 
 #include <gtest/gtest.h>
-#include <unistd.h>
-
 #include <nlohmann/json.hpp>
+#include <unistd.h>
 
 #include <algorithm>
 #include <chrono>
@@ -52,8 +51,6 @@ TEST(validation, approximate_answers_must_respect_one_plus_eps) {
     EXPECT_THROW(require_approximation<double>({1}, {1, 4}, 1.0, "missing"), validation_error);
 }
 
-// Radius answers are compared by size once every point is inside the ball: a point swapped for
-// one outside the ball fails the ball check, a missing or extra point the count.
 // A radius answer is checked point by point (live id, distance as reported, inside the closed
 // ball, no id twice) and then compared by its size alone; the duplicate bitmap is left empty
 // after every answer, also after one that failed, so the next answer is judged on its own.
