@@ -171,6 +171,37 @@ TEST(timing, a_long_run_is_timed_once_its_warm_up_included_and_the_others_every_
     EXPECT_EQ(long_runs, 3);
 }
 
+TEST(timing, a_long_repeated_run_ends_the_measurement_after_its_check) {
+    int runs = 0, checks = 0;
+    const auto sleep_on_run = [&](int long_from) {
+        return [&runs, long_from] {
+            if (++runs >= long_from) std::this_thread::sleep_for(std::chrono::milliseconds(20));
+            return 7;
+        };
+    };
+    const auto check = [&](int v) {
+        EXPECT_EQ(v, 7);
+        ++checks;
+    };
+    // A long warm-up is the one timed run, and it was checked.
+    auto t = time_repeated(1, 5, [] {}, sleep_on_run(1), check, 0.01);
+    EXPECT_EQ(runs, 1);
+    EXPECT_EQ(checks, 1);
+    EXPECT_EQ(t.repetitions, 1u);
+    EXPECT_GE(t.median_seconds, 0.02);
+    // Quick runs are timed every repetition until one is long; that one is the last.
+    runs = checks = 0;
+    t = time_repeated(1, 5, [] {}, sleep_on_run(3), check, 0.01);
+    EXPECT_EQ(runs, 3);
+    EXPECT_EQ(checks, 3);
+    EXPECT_EQ(t.repetitions, 2u);  // runs 2 and 3 (run 1 was the warm-up)
+    EXPECT_GE(t.max_seconds, 0.02);
+    // At the default threshold nothing here is long.
+    runs = checks = 0;
+    EXPECT_EQ(time_repeated(0, 3, [] {}, sleep_on_run(1), check).repetitions, 3u);
+    EXPECT_EQ(checks, 3);
+}
+
 TEST(csv, rows_have_the_documented_columns_and_files_are_replaced_atomically) {
     result_row r;
     r.suite = "knn";

@@ -569,12 +569,19 @@ struct cgal_fit {
 // validated: by `check_run(answer)` when given (CGAL's oriented box comes from a randomised
 // search, so its runs differ and each is checked on its own), else by giving the first run's
 // volume or radius (the other fits give the same shape; CGAL's hull volume is summed in an
-// order that varies between runs, hence a relative 1e-9). Returns the first answer.
+// order that varies between runs, hence a relative 1e-9). A run of at least
+// long_run_seconds ends the measurement as in time_repeated, and a first (validated) run that
+// long is the only one: CGAL's hull and oriented box of 1e6 points and its ellipsoid of 1e5
+// take 2-3 s a run. Returns the first answer.
 template <class Fit, class CheckRun = std::nullptr_t>
 auto timed_cgal_fit(const context& ctx, std::size_t n, Fit&& fit, const std::string& where, timing_result& t,
                     CheckRun&& check_run = nullptr) {
     auto first = fit();
     if constexpr (!std::is_null_pointer_v<std::remove_cvref_t<CheckRun>>) check_run(first.answer);
+    if (first.seconds_of() >= long_run_seconds) {
+        t = summarize({first.seconds_of()});
+        return first;
+    }
     const std::size_t warmup = n >= 1000000 ? 0 : 1;
     std::vector<double> seconds;
     for (std::size_t r = 0; r < warmup + ctx.cfg.fit_repetitions; ++r) {
@@ -582,7 +589,9 @@ auto timed_cgal_fit(const context& ctx, std::size_t n, Fit&& fit, const std::str
         if constexpr (!std::is_null_pointer_v<std::remove_cvref_t<CheckRun>>) check_run(again.answer);
         else if (std::abs(again.volume_or_radius() - first.volume_or_radius()) > 1e-9 * std::abs(first.volume_or_radius()))
             throw validation_error(where + ": a repetition gave a different answer");
-        if (r >= warmup) seconds.push_back(again.seconds_of());
+        const bool long_run = again.seconds_of() >= long_run_seconds;
+        if (r >= warmup || long_run) seconds.push_back(again.seconds_of());
+        if (long_run) break;
     }
     if (seconds.empty()) seconds.push_back(first.seconds_of());
     t = summarize(std::move(seconds));

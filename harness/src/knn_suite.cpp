@@ -741,6 +741,8 @@ public:
     }
 
 private:
+    reported_ids reported_;  // validate_contents' duplicate check, reused (checked_ball_answer)
+
     // The registry's dynamic structures and the peers whose insertions and erasures can be
     // timed as they happen (capability::dynamic, not rebuilds_on_query).
     std::vector<std::unique_ptr<point_index<T, D>>> dynamic_structures() {
@@ -791,8 +793,9 @@ private:
         double reach = 0;
         for (const auto& p : sorted)
             reach = std::max(reach, std::sqrt(static_cast<double>(spatial::squared_distance(p, sorted.front()))));
-        s.radius(sorted.front(), static_cast<T>(2 * reach + 1), out);
-        checked_distances(s, sorted.front(), out, what + ", contents");
+        const T everywhere = static_cast<T>(2 * reach + 1);
+        s.radius(sorted.front(), everywhere, out);
+        checked_ball_answer(s, sorted.front(), out, everywhere * everywhere, reported_, what + ", contents");
         std::vector<point_type> stored;
         stored.reserve(out.size());
         for (const auto& x : out) stored.push_back(*s.point_of(x.id));  // live: checked above
@@ -810,7 +813,7 @@ private:
             const auto last = std::upper_bound(first, sorted.end(), *first, by_coords);
             if (group % stride == 0 || last == sorted.end()) {
                 s.radius(*first, T(0), out);
-                const auto found = checked_distances(s, *first, out, what + ", contents").size();
+                const std::size_t found = checked_ball_answer(s, *first, out, T(0), reported_, what + ", contents");
                 if (found != static_cast<std::size_t>(last - first))
                     throw validation_error(what + ": point " + std::to_string(first - sorted.begin()) + " of the expected " +
                                            "contents (sorted) is found " + std::to_string(found) +

@@ -42,12 +42,20 @@ inline timing_result summarize(std::vector<double> samples) {
     return r;
 }
 
+// A run at least this long is timed once: it averages the machine's noise over its own
+// length, and more rounds of it would dominate a suite's time (the convex-hull bvh's rays on
+// the 1e5 sphere took 20 s a round: 7 rounds were most of the raycast suite's quick preset;
+// CGAL's minimum ellipsoid of 1e5 points takes 2.5 s, five runs of it a bv case's half).
+inline constexpr double long_run_seconds = 2.0;
+
 // Runs body() warmup + repetitions times; `before()` runs untimed before each (e.g. to
-// reset state). body() returns a value that is checked by `check(value)` after every timed
-// run (the answer checksum must equal the validated one).
+// reset state). body() returns a value that is checked by `check(value)` after every run,
+// the warm-up included (the answer checksum must equal the validated one). A run that takes
+// at least `long_run` seconds ends the measurement, as in time_interleaved: it is its last
+// timed run (a warm-up included), so a first run that long is the only one.
 template <class Before, class Body, class Check>
 timing_result time_repeated(std::size_t warmup, std::size_t repetitions, Before&& before, Body&& body,
-                            Check&& check) {
+                            Check&& check, double long_run = long_run_seconds) {
     std::vector<double> samples;
     for (std::size_t i = 0; i < warmup + repetitions; ++i) {
         before();
@@ -55,7 +63,8 @@ timing_result time_repeated(std::size_t warmup, std::size_t repetitions, Before&
         auto value = body();
         const double s = seconds_since(t0);
         check(value);
-        if (i >= warmup) samples.push_back(s);
+        if (i >= warmup || s >= long_run) samples.push_back(s);
+        if (s >= long_run) break;
     }
     return summarize(std::move(samples));
 }
@@ -66,11 +75,6 @@ struct timed_work {
     std::function<double()> run;  // one repetition of the work; returns its answers' checksum
     double validated = 0;         // the checksum of the answers that passed validation
 };
-
-// A run at least this long is timed once: it averages the machine's noise over its own
-// length, and more rounds of it would dominate a suite's time (the convex-hull bvh's rays on
-// the 1e5 sphere took 20 s a round: 7 rounds were most of the raycast suite's quick preset).
-inline constexpr double long_run_seconds = 2.0;
 
 // `warmup` untimed rounds, then `repetitions` timed rounds; each round runs every work once,
 // in order, except that a work whose run took at least `long_run` seconds is timed by that
