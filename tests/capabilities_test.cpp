@@ -41,6 +41,7 @@ static_assert(streamed_self_pairs<collision_grid<B>> && !streamed_self_pairs<swe
 // Rays, kNN candidates, statistics, node areas.
 static_assert(ray_preparation<bvh<B>> && !ray_preparation<kd_tree<B>> && !ray_preparation<octree<B>>);
 static_assert(candidate_knn<kd_tree<P>> && !candidate_knn<bvh<P>> && !candidate_knn<brute_force<P>>);
+static_assert(candidate_ball<kd_tree<P>> && !candidate_ball<bvh<P>> && !candidate_ball<brute_force<P>>);
 static_assert(batched_knn<kd_tree<P>> && batched_knn<kd_tree<B>> && !batched_knn<bvh<P>> && !batched_knn<octree<P>> &&
               !batched_knn<brute_force<P>>);
 using kd_with_stats = kd_tree<P, kd_tree_config<16, median_of_widest_spread, true>>;

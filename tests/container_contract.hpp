@@ -111,6 +111,11 @@ protected:
             c.find_nearest_candidates(x, 3, Scalar(0), out);
             EXPECT_TRUE(out.empty());
         }
+        if constexpr (candidate_ball<C>) {
+            std::vector<neighbor_candidate<Scalar>> out(2);
+            c.find_in_ball_candidates(x, 100, out);
+            EXPECT_TRUE(out.empty());
+        }
         if constexpr (pairs_testable) {
             for (pair_filter f : {pair_filter::exact, pair_filter::candidates}) {
                 EXPECT_TRUE(c.self_pairs(f).empty());

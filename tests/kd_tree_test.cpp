@@ -10,6 +10,7 @@
 #include <random>
 #include <string>
 #include <type_traits>
+#include <utility>
 #include <vector>
 
 #include "spatial/brute/brute_force.hpp"
@@ -382,7 +383,8 @@ TEST(kd_tree_empty_state, a_vector_of_trees_moves_them_when_it_grows) {
     EXPECT_EQ(trees[0].check_invariants(), "");
 }
 
-// find_in_ball into a caller's buffer: the same points as the returning form, the buffer's
+// find_in_ball into a caller's buffer, and find_in_ball_candidates: the same points as the
+// returning form (the candidates with the distances the search computed), the buffer's
 // earlier contents replaced and its capacity kept between queries (what the harness's radius
 // queries rely on), and a rejected argument leaves the buffer as it was.
 TEST(kd_tree_queries, ball_into_a_reused_buffer_is_the_returned_ball) {
@@ -409,4 +411,25 @@ TEST(kd_tree_queries, ball_into_a_reused_buffer_is_the_returned_ball) {
     const auto kept = buffer;
     EXPECT_THROW(t.find_in_ball(P3{{std::nan(""), 0, 0}}, 0.1, buffer), std::invalid_argument);
     EXPECT_EQ(buffer, kept);
+
+    // The candidate form (what the harness's radius queries use): the same slots with the
+    // distances the search computed, in the same reused buffer behaviour.
+    std::vector<neighbor_candidate<double>> found;
+    t.find_in_ball_candidates(P3{{0.5, 0.5, 0.5}}, 0.4, found);
+    const auto found_capacity = found.capacity();
+    const auto by_slot = [](std::vector<std::pair<std::size_t, double>> v) {
+        std::sort(v.begin(), v.end());
+        return v;
+    };
+    for (const auto& [center, r] : {std::pair{P3{{0.5, 0.5, 0.5}}, 0.4}, std::pair{P3{{0.1, 0.2, 0.3}}, 0.1}}) {
+        t.find_in_ball_candidates(center, r, found);
+        std::vector<std::pair<std::size_t, double>> got, want;
+        for (const auto& c : found) got.push_back({c.slot, c.distance_squared});
+        for (auto it : t.find_in_ball(center, r)) want.push_back({it.slot(), squared_distance(*it, center)});
+        EXPECT_EQ(by_slot(got), by_slot(want));
+    }
+    EXPECT_EQ(found.capacity(), found_capacity);
+    const auto kept_found = found.size();
+    EXPECT_THROW(t.find_in_ball_candidates(P3{{0, 0, 0}}, -1, found), std::invalid_argument);
+    EXPECT_EQ(found.size(), kept_found);
 }

@@ -74,9 +74,11 @@ public:
     }
     void radius(const point_type& q, T r, std::vector<neighbor<T>>& out) override {
         out.clear();
-        if constexpr (requires { c_.find_in_ball(q, r, ball_); }) {
-            c_.find_in_ball(q, r, ball_);  // into a buffer kept between queries, as the peers' are
-            for (auto it : ball_) out.push_back({spatial::squared_distance(*it, q), it.slot()});
+        if constexpr (spatial::candidate_ball<Container>) {
+            // The distances the search computed, into a buffer kept between queries (as the
+            // peers' are): looking every point up again was a second pass over a large ball.
+            c_.find_in_ball_candidates(q, r, cand_);
+            for (const auto& c : cand_) out.push_back({c.distance_squared, c.slot});
         } else {
             for (auto it : c_.find_in_ball(q, r)) out.push_back({spatial::squared_distance(*it, q), it.slot()});
         }
@@ -186,9 +188,8 @@ private:
     std::vector<std::uint32_t> unresolved_;
     std::span<const point_type> built_from_;
     bool ids_pending_ = false;
-    std::vector<spatial::neighbor_candidate<T>> cand_;
+    std::vector<spatial::neighbor_candidate<T>> cand_;  // knn()'s and radius()'s answer buffer, reused
     std::vector<std::optional<point_type>> slot_points_;  // point_of's table; empty: stale
-    std::vector<iterator> ball_;  // radius()'s answer buffer, reused (kd_tree::find_in_ball into a vector)
 };
 
 template <class T, std::size_t D>

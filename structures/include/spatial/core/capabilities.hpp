@@ -76,6 +76,15 @@ concept candidate_knn = requires(const C c, const typename C::point_type& q, typ
     c.find_nearest_candidates(q, k, eps, out);
 };
 
+// Ball answers as (squared distance, slot) candidates written into a caller's buffer, in no
+// particular order: the distances the search computed, without the iterator vector (the
+// benchmark's radius queries, as candidate_knn is for its kNN). Models: kd_tree.
+template <class C>
+concept candidate_ball = requires(const C c, const typename C::point_type& q, typename C::scalar_type r,
+                                  std::vector<neighbor_candidate<typename C::scalar_type>>& out) {
+    c.find_in_ball_candidates(q, r, out);
+};
+
 // Batched kNN (core/knn_batch.hpp): c.find_nearest_batch(queries, k, eps, order, policy)
 // answers every query, optionally in Morton order and on several threads. Models: kd_tree.
 template <class C>

@@ -366,20 +366,18 @@ public:
     // query grows by copying and faults its pages in again every time (on 1e7 clustered points
     // seen from far away, most of a radius query's time: docs/known-gaps.md).
     void find_in_ball(const P& center, scalar_type radius, std::vector<iterator>& out) const {
-        begin_query();
-        detail::require_finite(center, site("find_in_ball"), "center");
-        detail::require_nonnegative(radius, site("find_in_ball"), "radius");
+        require_ball_arguments(center, radius);
         out.clear();
-        if (slots_.size() == 0) return;
-        if constexpr (has_extent) {
-            // Distance to a node's extent, less the rounding slack (see knn_slack), must not
-            // exceed the radius; the slack also covers the rounding of radius * radius.
-            const T sl = knn_slack(center) + radius * gamma;
-            ball_objects(root, center, radius + sl, radius * radius, out);
-        } else {
-            coords offset = root_offsets(point_coords(center));
-            ball(root, offset, point_coords(center), radius * radius, out);
-        }
+        run_ball(center, radius, [&](slot_index s, T) { out.push_back(make(s)); });
+    }
+    // Visitor form used by benchmarks, as find_nearest_candidates is for kNN: the same ball as
+    // (squared distance, slot) pairs in no particular order, the distances the search computed
+    // (a caller wanting them need not look each point up again), into `out` (cleared after the
+    // arguments are checked, its capacity kept).
+    void find_in_ball_candidates(const P& center, scalar_type radius, std::vector<neighbor_candidate<T>>& out) const {
+        require_ball_arguments(center, radius);
+        out.clear();
+        run_ball(center, radius, [&](slot_index s, T d2) { out.push_back({d2, s}); });
     }
     // All points p with lo <= p <= hi componentwise (closed box). O(n^(1-1/D) + hits) for
     // trees whose splits cycle through the dimensions (Lee & Wong 1977); with widest-spread
@@ -536,7 +534,27 @@ private:
     static std::pair<T, T> right_range(const node& nd) {
         return {std::max(T(nd.ranges.right_lo), nd.split), T(nd.ranges.right_hi)};
     }
-    void ball(node_index n, coords& offset, const coords& x, T r2, std::vector<iterator>& out) const;
+    void require_ball_arguments(const P& center, scalar_type radius) const {
+        begin_query();
+        detail::require_finite(center, site("find_in_ball"), "center");
+        detail::require_nonnegative(radius, site("find_in_ball"), "radius");
+    }
+    // The closed ball's search: emit(slot, squared distance) for every element in it.
+    template <class Emit>
+    void run_ball(const P& center, scalar_type radius, Emit&& emit) const {
+        if (slots_.size() == 0) return;
+        if constexpr (has_extent) {
+            // Distance to a node's extent, less the rounding slack (see knn_slack), must not
+            // exceed the radius; the slack also covers the rounding of radius * radius.
+            const T sl = knn_slack(center) + radius * gamma;
+            ball_objects(root, center, radius + sl, radius * radius, emit);
+        } else {
+            coords offset = root_offsets(point_coords(center));
+            ball(root, offset, point_coords(center), radius * radius, emit);
+        }
+    }
+    template <class Emit>
+    void ball(node_index n, coords& offset, const coords& x, T r2, Emit& emit) const;
     void box(node_index n, const P& lo, const P& hi, std::vector<iterator>& out) const;
     void collect_equal(node_index n, const coords& c, const O& x, std::vector<slot_index>& out,
                        bool first_only) const;
@@ -545,7 +563,8 @@ private:
     T knn_slack(const P& x) const;
     T extent_lower_bound(node_index n, const P& x, T slack) const;
     void knn_objects(node_index n, knn_object_query& q) const;
-    void ball_objects(node_index n, const P& center, T reach, T r2, std::vector<iterator>& out) const;
+    template <class Emit>
+    void ball_objects(node_index n, const P& center, T reach, T r2, Emit& emit) const;
 
     // ---- ray casting (kd_tree_rays.hpp) ----
     struct ray_query {

@@ -100,14 +100,16 @@ inline auto kd_tree<O, Config>::child_offsets(const node& nd, T x, T old) -> sid
 }
 
 template <stored_object O, class Config>
-inline void kd_tree<O, Config>::ball(node_index n, coords& offset, const coords& x, T r2,
-                                     std::vector<iterator>& out) const {
+template <class Emit>
+inline void kd_tree<O, Config>::ball(node_index n, coords& offset, const coords& x, T r2, Emit& emit) const {
     const node& nd = nodes_[n];
     if constexpr (Config::collect_stats) ++query_stats_.nodes_visited;
     if (nd.is_leaf) {
         const bucket& b = buckets_[nd.first];
-        for (std::uint32_t i = 0; i < nd.count; ++i)
-            if (squared_distance(slots_.value(b.items[i]), x) <= r2) out.push_back(make(b.items[i]));
+        for (std::uint32_t i = 0; i < nd.count; ++i) {
+            const T d2 = squared_distance(slots_.value(b.items[i]), x);
+            if (d2 <= r2) emit(b.items[i], d2);
+        }
         return;
     }
     const unsigned d = nd.dim;
@@ -116,7 +118,7 @@ inline void kd_tree<O, Config>::ball(node_index n, coords& offset, const coords&
     for (const auto& [child, child_offset] : {std::pair{so.near, so.near_offset}, std::pair{so.far, so.far_offset}}) {
         if (!(far_cell_distance(offset, d, child_offset) <= r2)) continue;
         offset[d] = child_offset;
-        ball(child, offset, x, r2, out);
+        ball(child, offset, x, r2, emit);
         offset[d] = old;
     }
 }
@@ -229,19 +231,21 @@ inline void kd_tree<O, Config>::knn_objects(node_index n, knn_object_query& q) c
 
 // reach: the radius plus the rounding slack, compared with extent distances.
 template <stored_object O, class Config>
-inline void kd_tree<O, Config>::ball_objects(node_index n, const P& center, T reach, T r2,
-                                             std::vector<iterator>& out) const {
+template <class Emit>
+inline void kd_tree<O, Config>::ball_objects(node_index n, const P& center, T reach, T r2, Emit& emit) const {
     const node& nd = nodes_[n];
     if constexpr (Config::collect_stats) ++query_stats_.nodes_visited;
     if (nd.is_leaf) {
         const bucket& b = buckets_[nd.first];
-        for (std::uint32_t i = 0; i < nd.count; ++i)
-            if (object_squared_distance(slots_.value(b.items[i]), center) <= r2) out.push_back(make(b.items[i]));
+        for (std::uint32_t i = 0; i < nd.count; ++i) {
+            const T d2 = object_squared_distance(slots_.value(b.items[i]), center);
+            if (d2 <= r2) emit(b.items[i], d2);
+        }
         return;
     }
     for (node_index c = nd.first; c <= nd.first + 1; ++c) {
         const T d2 = extent_squared_distance(extents_[c], center);
-        if (d2 == 0 || std::sqrt(d2) <= reach) ball_objects(c, center, reach, r2, out);
+        if (d2 == 0 || std::sqrt(d2) <= reach) ball_objects(c, center, reach, r2, emit);
     }
 }
 }  // namespace spatial
