@@ -11,12 +11,14 @@
 #include <cmath>
 #include <cstddef>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "answer_comparison.hpp"
 #include "mirror.hpp"
 #include "rejection.hpp"
 #include "value_text.hpp"
+#include "spatial/core/capabilities.hpp"
 #include "spatial/core/intersect_info.hpp"
 #include "spatial/core/object_geometry.hpp"
 
@@ -121,6 +123,22 @@ void check_ball(const mirror<C>& m, const operation_log& log, const typename C::
     log.trace([&] { return value_text(c) + " radius " + number_text(r); });
     check_same_objects(m, log, [&](const auto& container) { return container.find_in_ball(c, r); },
                        "ball query: other objects than the oracle's", c);
+    if constexpr (spatial::candidate_ball<C>) {
+        // The visitor form: rejects what find_in_ball rejects, else the same elements, each
+        // with the squared distance its object has.
+        std::vector<spatial::neighbor_candidate<typename C::scalar_type>> found;
+        const bool ball_rejects = rejects([&] { (void)m.mine().find_in_ball(c, r); });
+        const bool candidates_reject = rejects([&] { m.mine().find_in_ball_candidates(c, r, found); });
+        log.require(ball_rejects == candidates_reject, "ball query: find_in_ball_candidates and find_in_ball differ on rejecting it");
+        if (ball_rejects) return;
+        std::vector<std::pair<spatial::slot_index, double>> as_candidates, as_iterators;
+        for (const auto& x : found) as_candidates.push_back({x.slot, static_cast<double>(x.distance_squared)});
+        for (const auto& it : m.mine().find_in_ball(c, r))
+            as_iterators.push_back({it.slot(), static_cast<double>(spatial::object_squared_distance(*it, c))});
+        std::sort(as_candidates.begin(), as_candidates.end());
+        std::sort(as_iterators.begin(), as_iterators.end());
+        log.require(as_candidates == as_iterators, "ball query: find_in_ball_candidates differs from find_in_ball");
+    }
 }
 template <class C>
 void check_box(const mirror<C>& m, const operation_log& log, const typename C::point_type& lo,
