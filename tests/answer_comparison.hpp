@@ -10,6 +10,7 @@
 #include <utility>
 #include <vector>
 
+#include "spatial/core/knn_result_set.hpp"
 #include "spatial/core/object_geometry.hpp"
 #include "spatial/core/slot_storage.hpp"
 
@@ -22,6 +23,25 @@ std::vector<double> distances_from(const P& q, const Its& its) {
     for (const auto& it : its) d.push_back(static_cast<double>(spatial::object_squared_distance(*it, q)));
     std::sort(d.begin(), d.end());
     return d;
+}
+
+// A ball answered both ways by a container with find_in_ball_candidates (spatial::candidate_ball):
+// {the candidates, find_in_ball's iterators}, each as sorted (slot, squared distance) pairs, the
+// iterators' distances recomputed from their objects. Equal when the visitor form reports the
+// same elements with the distances their objects have.
+using slot_distances = std::vector<std::pair<std::size_t, double>>;
+template <class C>
+std::pair<slot_distances, slot_distances> ball_both_ways(const C& c, const typename C::point_type& center,
+                                                         typename C::scalar_type r) {
+    std::vector<spatial::neighbor_candidate<typename C::scalar_type>> found;
+    c.find_in_ball_candidates(center, r, found);
+    slot_distances as_candidates, as_iterators;
+    for (const auto& x : found) as_candidates.push_back({x.slot, static_cast<double>(x.distance_squared)});
+    for (const auto& it : c.find_in_ball(center, r))
+        as_iterators.push_back({it.slot(), static_cast<double>(spatial::object_squared_distance(*it, center))});
+    std::sort(as_candidates.begin(), as_candidates.end());
+    std::sort(as_iterators.begin(), as_iterators.end());
+    return {as_candidates, as_iterators};
 }
 
 // An object's signature: its lower bounds, then its upper bounds (a point's coordinates twice).

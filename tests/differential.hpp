@@ -13,7 +13,6 @@
 #include <cmath>
 #include <iomanip>
 #include <string>
-#include <utility>
 #include <vector>
 
 #include "spatial/brute/brute_force.hpp"
@@ -138,14 +137,7 @@ struct differential_case {
                           distances_from(q, oracle.find_in_ball(q, r)));
                 if constexpr (spatial::candidate_ball<C>) {
                     // The visitor form: the same elements, each with its distance as computed.
-                    std::vector<spatial::neighbor_candidate<T>> found;
-                    tree.find_in_ball_candidates(q, r, found);
-                    std::vector<std::pair<std::size_t, double>> as_candidates, as_iterators;
-                    for (const auto& c : found) as_candidates.push_back({c.slot, static_cast<double>(c.distance_squared)});
-                    for (const auto& it : tree.find_in_ball(q, r))
-                        as_iterators.push_back({it.slot(), static_cast<double>(spatial::object_squared_distance(*it, q))});
-                    std::sort(as_candidates.begin(), as_candidates.end());
-                    std::sort(as_iterators.begin(), as_iterators.end());
+                    const auto [as_candidates, as_iterators] = ball_both_ways(tree, q, r);
                     ASSERT_EQ(as_candidates, as_iterators) << "find_in_ball_candidates differs from find_in_ball";
                 }
                 Q lo = src.next(), hi = lo;

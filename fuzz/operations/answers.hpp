@@ -11,7 +11,6 @@
 #include <cmath>
 #include <cstddef>
 #include <string>
-#include <utility>
 #include <vector>
 
 #include "answer_comparison.hpp"
@@ -131,12 +130,7 @@ void check_ball(const mirror<C>& m, const operation_log& log, const typename C::
         const bool candidates_reject = rejects([&] { m.mine().find_in_ball_candidates(c, r, found); });
         log.require(ball_rejects == candidates_reject, "ball query: find_in_ball_candidates and find_in_ball differ on rejecting it");
         if (ball_rejects) return;
-        std::vector<std::pair<spatial::slot_index, double>> as_candidates, as_iterators;
-        for (const auto& x : found) as_candidates.push_back({x.slot, static_cast<double>(x.distance_squared)});
-        for (const auto& it : m.mine().find_in_ball(c, r))
-            as_iterators.push_back({it.slot(), static_cast<double>(spatial::object_squared_distance(*it, c))});
-        std::sort(as_candidates.begin(), as_candidates.end());
-        std::sort(as_iterators.begin(), as_iterators.end());
+        const auto [as_candidates, as_iterators] = spatial_test::ball_both_ways(m.mine(), c, r);
         log.require(as_candidates == as_iterators, "ball query: find_in_ball_candidates differs from find_in_ball");
     }
 }
