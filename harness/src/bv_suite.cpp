@@ -578,13 +578,10 @@ auto timed_cgal_fit(const context& ctx, std::size_t n, Fit&& fit, const std::str
                     CheckRun&& check_run = nullptr) {
     auto first = fit();
     if constexpr (!std::is_null_pointer_v<std::remove_cvref_t<CheckRun>>) check_run(first.answer);
-    if (first.seconds_of() >= long_run_seconds) {
-        t = summarize({first.seconds_of()});
-        return first;
-    }
     const std::size_t warmup = n >= 1000000 ? 0 : 1;
+    const std::size_t runs = first.seconds_of() >= long_run_seconds ? 0 : warmup + ctx.cfg.fit_repetitions;
     std::vector<double> seconds;
-    for (std::size_t r = 0; r < warmup + ctx.cfg.fit_repetitions; ++r) {
+    for (std::size_t r = 0; r < runs; ++r) {
         const auto again = fit();
         if constexpr (!std::is_null_pointer_v<std::remove_cvref_t<CheckRun>>) check_run(again.answer);
         else if (std::abs(again.volume_or_radius() - first.volume_or_radius()) > 1e-9 * std::abs(first.volume_or_radius()))
@@ -593,7 +590,7 @@ auto timed_cgal_fit(const context& ctx, std::size_t n, Fit&& fit, const std::str
         if (r >= warmup || long_run) seconds.push_back(again.seconds_of());
         if (long_run) break;
     }
-    if (seconds.empty()) seconds.push_back(first.seconds_of());
+    if (seconds.empty()) seconds.push_back(first.seconds_of());  // a long first run: the only one
     t = summarize(std::move(seconds));
     return first;
 }
