@@ -127,11 +127,21 @@ private:
         float left_lo, left_hi, right_lo, right_hi;
     };
     // What every search reads: 32 B for double (the cold links are in links_).
+    // A leaf's use of its bucket. `run` lets a search skip the bucket: when the bucket's
+    // slots are run, run + 1, ..., run + count - 1 (every leaf of a bulk build, which lays the
+    // points out in leaf order, and of a rebuild whose slots happen to be consecutive), a scan
+    // reads the values straight from the node (node -> values instead of node -> bucket ->
+    // values: one dependent cache miss fewer per leaf). no_slot otherwise. Every change to a
+    // leaf's items keeps it true or clears it (check_invariants verifies it).
+    struct leaf_slots {
+        std::uint32_t count = 0;  // number of points in the bucket
+        slot_index run = no_slot;
+    };
     struct node {
         T split = 0;  // inner: left points have c[dim] <= split, right points >= split
         union {
-            std::uint32_t count = 0;  // leaf: number of points in the bucket
-            child_ranges ranges;      // inner
+            leaf_slots leaf{};     // leaf
+            child_ranges ranges;   // inner
         };
         node_index first = 0;  // inner: first child (second is first + 1); leaf: bucket
         std::uint16_t depth = 0;
@@ -605,6 +615,14 @@ private:
     std::size_t on_planes(node_index n) const;
     template <class F>
     void for_each_slot(node_index n, F&& f) const;
+    // f(slot) for each slot of leaf nd, in bucket order, through `run` when the leaf has one.
+    template <class F>
+    void scan_leaf(const node& nd, F&& f) const;
+    // The run of a leaf whose bucket holds items[0, count): its first slot when they are
+    // consecutive, else no_slot. O(count).
+    static slot_index run_of(const slot_index* items, std::uint32_t count) noexcept;
+    // Appends slot s to leaf L's bucket b, keeping L's run when s extends it. O(1).
+    static void append_to_leaf(node& L, bucket& b, slot_index s) noexcept;
     std::size_t height_of(node_index n) const;
 
     // ================= data ================================================================

@@ -82,7 +82,7 @@ inline void kd_tree<O, Config>::restore(subtree_backup& b) noexcept {
     for (const auto& [i, bk] : b.buckets) {
         buckets_[i] = bk;
         const node& leaf = nodes_[bk.owner];
-        for (std::uint32_t k = 0; k < leaf.count; ++k) slots_.set_meta(bk.items[k], i);
+        for (std::uint32_t k = 0; k < leaf.leaf.count; ++k) slots_.set_meta(bk.items[k], i);
     }
     b.free_pairs.restore(free_pairs_);
     b.free_buckets.restore(free_buckets_);

@@ -24,7 +24,7 @@ inline void kd_tree<O, Config>::gather(node_index n, std::vector<entry>& es) {
     node& nd = nodes_[n];
     if (nd.is_leaf) {
         const bucket& b = buckets_[nd.first];
-        for (std::uint32_t i = 0; i < nd.count; ++i) es.push_back(make_entry(slots_.value(b.items[i]), b.items[i]));
+        for (std::uint32_t i = 0; i < nd.leaf.count; ++i) es.push_back(make_entry(slots_.value(b.items[i]), b.items[i]));
         free_buckets_.push_back(nd.first);
         --leaves_;
         return;
@@ -76,7 +76,7 @@ inline auto kd_tree<O, Config>::build_node(node_index at, entry* e, std::size_t 
         node& L = nodes_[at];
         L.is_leaf = 1;
         L.first = b;
-        L.count = static_cast<std::uint32_t>(n);
+        L.leaf.count = static_cast<std::uint32_t>(n);
         built_subtree out{depth, extent::empty()};
         for (std::size_t i = 0; i < n; ++i) {
             const slot_index s = fresh ? static_cast<slot_index>(base + i) : e[i].slot;
@@ -85,6 +85,7 @@ inline auto kd_tree<O, Config>::build_node(node_index at, entry* e, std::size_t 
             else slots_.set_meta(s, b);
             out.keys.grow(e[i].c);
         }
+        L.leaf.run = run_of(buckets_[b].items.data(), L.leaf.count);
         if constexpr (has_extent) {
             extent ex = extent::empty();
             for (std::size_t i = 0; i < n; ++i) ex.grow(e[i].bounds);
@@ -238,7 +239,7 @@ inline void kd_tree<O, Config>::rebalance_from(node_index n) {
 
 template <stored_object O, class Config>
 inline std::size_t kd_tree<O, Config>::subtree_size(node_index n) const {
-    if (nodes_[n].is_leaf) return nodes_[n].count;
+    if (nodes_[n].is_leaf) return nodes_[n].leaf.count;
     return subtree_size(nodes_[n].first) + subtree_size(nodes_[n].first + 1);
 }
 }  // namespace spatial

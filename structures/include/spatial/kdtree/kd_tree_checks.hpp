@@ -41,7 +41,9 @@ inline void kd_tree<O, Config>::check_node(node_index n, const coords& lo, const
         const bucket& b = buckets_[nd.first];
         if (b.owner != n) err = "bucket owner mismatch at node " + std::to_string(n);
         if (b.cell_lo != lo || b.cell_hi != hi) err = "stale cell at leaf " + std::to_string(n);
-        for (std::uint32_t i = 0; i < nd.count; ++i) {
+        if (nd.leaf.run != no_slot && nd.leaf.run != run_of(b.items.data(), nd.leaf.count))
+            err = "leaf " + std::to_string(n) + "'s run does not match its bucket";
+        for (std::uint32_t i = 0; i < nd.leaf.count; ++i) {
             const slot_index s = b.items[i];
             if (!slots_.occupied(s) || slots_.meta(s) != nd.first) {
                 err = "slot back-link broken";
@@ -55,7 +57,7 @@ inline void kd_tree<O, Config>::check_node(node_index n, const coords& lo, const
                     err = "object outside its leaf's extent at node " + std::to_string(n);
             }
         }
-        seen += nd.count;
+        seen += nd.leaf.count;
         return;
     }
     if (links_[nd.first].parent != n || links_[nd.first + 1].parent != n) err = "parent link broken";
@@ -95,7 +97,7 @@ template <class F>
 inline void kd_tree<O, Config>::for_each_slot(node_index n, F&& f) const {
     const node& nd = nodes_[n];
     if (nd.is_leaf) {
-        for (std::uint32_t i = 0; i < nd.count; ++i) f(buckets_[nd.first].items[i]);
+        scan_leaf(nd, f);
         return;
     }
     for_each_slot(nd.first, f);

@@ -44,7 +44,7 @@ inline auto kd_tree<O, Config>::self_pairs(pair_filter filter) const -> std::vec
                 }
                 const node& nd = nodes_[p.a];
                 if (nd.is_leaf) {
-                    const std::uint32_t first = lay.first[p.a], last = first + nd.count;
+                    const std::uint32_t first = lay.first[p.a], last = first + nd.leaf.count;
                     for (std::uint32_t i = first; i < last; ++i)
                         for (std::uint32_t j = i + 1; j < last; ++j) emit(i, j);
                     continue;
@@ -94,7 +94,7 @@ inline auto kd_tree<O, Config>::pair_layout_of() const -> pair_layout {
         [this](node_index n, auto&& f) {
             const node& nd = nodes_[n];
             if (!nd.is_leaf) return;
-            for (std::uint32_t i = 0; i < nd.count; ++i) f(buckets_[nd.first].items[i]);
+            for (std::uint32_t i = 0; i < nd.leaf.count; ++i) f(buckets_[nd.first].items[i]);
         },
         [this](node_index n) { return links_[n].parent; },
         [this](slot_index s) -> const O& { return slots_.value(s); });
@@ -123,9 +123,9 @@ inline void kd_tree<O, Config>::cross_step(const kd_tree& other, const pair_layo
         // sides first costs |A| + |B| tests and often spares most of the |A| x |B|.
         std::array<std::uint32_t, leaf_capacity> as, bs;
         std::size_t ma = 0, mb = 0;
-        for (std::uint32_t i = mine.first[p.a], stop = i + na.count; i < stop; ++i)
+        for (std::uint32_t i = mine.first[p.a], stop = i + na.leaf.count; i < stop; ++i)
             if (collide::closed_boxes_overlap(mine.box[i], theirs.subtree[p.b])) as[ma++] = i;
-        for (std::uint32_t j = theirs.first[p.b], stop = j + nb.count; j < stop; ++j)
+        for (std::uint32_t j = theirs.first[p.b], stop = j + nb.leaf.count; j < stop; ++j)
             if (collide::closed_boxes_overlap(theirs.box[j], mine.subtree[p.a])) bs[mb++] = j;
         for (std::size_t i = 0; i < ma; ++i)
             for (std::size_t j = 0; j < mb; ++j) emit(as[i], bs[j]);

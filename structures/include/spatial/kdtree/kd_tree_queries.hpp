@@ -53,13 +53,11 @@ inline void kd_tree<O, Config>::knn(node_index n, coords& offset, knn_query& q) 
     const node& nd = nodes_[n];
     if constexpr (Config::collect_stats) ++query_stats_.nodes_visited;
     if (nd.is_leaf) {
-        const bucket& b = buckets_[nd.first];
-        for (std::uint32_t i = 0; i < nd.count; ++i) {
-            const slot_index s = b.items[i];
+        scan_leaf(nd, [&](slot_index s) {
             if constexpr (Config::collect_stats) ++query_stats_.objects_tested;
             const T d2 = squared_distance(slots_.value(s), q.x);
             if (d2 < q.best.worst()) q.best.add(d2, s);
-        }
+        });
         return;
     }
     // The near child first: with its offset unchanged its cell distance is the parent's,
@@ -105,11 +103,10 @@ inline void kd_tree<O, Config>::ball(node_index n, coords& offset, const coords&
     const node& nd = nodes_[n];
     if constexpr (Config::collect_stats) ++query_stats_.nodes_visited;
     if (nd.is_leaf) {
-        const bucket& b = buckets_[nd.first];
-        for (std::uint32_t i = 0; i < nd.count; ++i) {
-            const T d2 = squared_distance(slots_.value(b.items[i]), x);
-            if (d2 <= r2) emit(b.items[i], d2);
-        }
+        scan_leaf(nd, [&](slot_index s) {
+            const T d2 = squared_distance(slots_.value(s), x);
+            if (d2 <= r2) emit(s, d2);
+        });
         return;
     }
     const unsigned d = nd.dim;
@@ -128,9 +125,9 @@ inline void kd_tree<O, Config>::box(node_index n, const P& lo, const P& hi, std:
     const node& nd = nodes_[n];
     if constexpr (Config::collect_stats) ++query_stats_.nodes_visited;
     if (nd.is_leaf) {
-        const bucket& b = buckets_[nd.first];
-        for (std::uint32_t i = 0; i < nd.count; ++i)
-            if (object_overlaps_box(slots_.value(b.items[i]), lo, hi)) out.push_back(make(b.items[i]));
+        scan_leaf(nd, [&](slot_index s) {
+            if (object_overlaps_box(slots_.value(s), lo, hi)) out.push_back(make(s));
+        });
         return;
     }
     if constexpr (has_extent) {
@@ -154,7 +151,7 @@ inline void kd_tree<O, Config>::collect_equal(node_index n, const coords& c, con
     const node& nd = nodes_[n];
     if (nd.is_leaf) {
         const bucket& b = buckets_[nd.first];
-        for (std::uint32_t i = 0; i < nd.count; ++i)
+        for (std::uint32_t i = 0; i < nd.leaf.count; ++i)
             if (slots_.value(b.items[i]) == x) {
                 out.push_back(b.items[i]);
                 if (first_only) return;
@@ -212,13 +209,11 @@ inline void kd_tree<O, Config>::knn_objects(node_index n, knn_object_query& q) c
     const node& nd = nodes_[n];
     if constexpr (Config::collect_stats) ++query_stats_.nodes_visited;
     if (nd.is_leaf) {
-        const bucket& b = buckets_[nd.first];
-        for (std::uint32_t i = 0; i < nd.count; ++i) {
-            const slot_index s = b.items[i];
+        scan_leaf(nd, [&](slot_index s) {
             if constexpr (Config::collect_stats) ++query_stats_.objects_tested;
             const T d2 = object_squared_distance(slots_.value(s), q.x);
             if (d2 < q.best.worst()) q.best.add(d2, s);
-        }
+        });
         return;
     }
     const T la = extent_lower_bound(nd.first, q.x, q.slack), lb = extent_lower_bound(nd.first + 1, q.x, q.slack);
@@ -236,11 +231,10 @@ inline void kd_tree<O, Config>::ball_objects(node_index n, const P& center, T re
     const node& nd = nodes_[n];
     if constexpr (Config::collect_stats) ++query_stats_.nodes_visited;
     if (nd.is_leaf) {
-        const bucket& b = buckets_[nd.first];
-        for (std::uint32_t i = 0; i < nd.count; ++i) {
-            const T d2 = object_squared_distance(slots_.value(b.items[i]), center);
-            if (d2 <= r2) emit(b.items[i], d2);
-        }
+        scan_leaf(nd, [&](slot_index s) {
+            const T d2 = object_squared_distance(slots_.value(s), center);
+            if (d2 <= r2) emit(s, d2);
+        });
         return;
     }
     for (node_index c = nd.first; c <= nd.first + 1; ++c) {

@@ -68,11 +68,10 @@ inline void kd_tree<O, Config>::cast(node_index n, T t0, T t1, ray_query& q) con
     const node& nd = nodes_[n];
     if constexpr (Config::collect_stats) ++query_stats_.nodes_visited;
     if (nd.is_leaf) {
-        const bucket& b = buckets_[nd.first];
-        for (std::uint32_t i = 0; i < nd.count; ++i) {
+        scan_leaf(nd, [&](slot_index s) {
             if constexpr (Config::collect_stats) ++query_stats_.objects_tested;
-            if (slots_.value(b.items[i]).intersect(q.origin, q.direction, q.r, q.info)) q.hit = b.items[i];
-        }
+            if (slots_.value(s).intersect(q.origin, q.direction, q.r, q.info)) q.hit = s;
+        });
         return;
     }
     const unsigned d = nd.dim;
@@ -112,11 +111,10 @@ inline void kd_tree<O, Config>::cast_objects(node_index n, T t0, T t1, ray_query
     const node& nd = nodes_[n];
     if constexpr (Config::collect_stats) ++query_stats_.nodes_visited;
     if (nd.is_leaf) {
-        const bucket& b = buckets_[nd.first];
-        for (std::uint32_t i = 0; i < nd.count; ++i) {
+        scan_leaf(nd, [&](slot_index s) {
             if constexpr (Config::collect_stats) ++query_stats_.objects_tested;
-            if (slots_.value(b.items[i]).intersect(q.origin, q.direction, q.r, q.info)) q.hit = b.items[i];
-        }
+            if (slots_.value(s).intersect(q.origin, q.direction, q.r, q.info)) q.hit = s;
+        });
         return;
     }
     T a0 = t0, a1 = t1, b0 = t0, b1 = t1;

@@ -62,8 +62,34 @@ inline void kd_tree<O, Config>::refit_leaf(node_index leaf) {
     const node& L = nodes_[leaf];
     const bucket& b = buckets_[L.first];
     extent ex = extent::empty();
-    for (std::uint32_t i = 0; i < L.count; ++i) ex.grow(extent_of(slots_.value(b.items[i])));
+    for (std::uint32_t i = 0; i < L.leaf.count; ++i) ex.grow(extent_of(slots_.value(b.items[i])));
     extents_[leaf] = ex;
+}
+
+// ---- leaves: scanning and changing a bucket's slots (see leaf_slots::run) ----
+template <stored_object O, class Config>
+template <class F>
+inline void kd_tree<O, Config>::scan_leaf(const node& nd, F&& f) const {
+    const std::uint32_t count = nd.leaf.count;
+    if (const slot_index run = nd.leaf.run; run != no_slot) {
+        for (std::uint32_t i = 0; i < count; ++i) f(static_cast<slot_index>(run + i));
+        return;
+    }
+    const bucket& b = buckets_[nd.first];
+    for (std::uint32_t i = 0; i < count; ++i) f(b.items[i]);
+}
+
+template <stored_object O, class Config>
+inline slot_index kd_tree<O, Config>::run_of(const slot_index* items, std::uint32_t count) noexcept {
+    for (std::uint32_t i = 1; i < count; ++i)
+        if (items[i] != items[0] + i) return no_slot;
+    return count == 0 ? no_slot : items[0];
+}
+
+template <stored_object O, class Config>
+inline void kd_tree<O, Config>::append_to_leaf(node& L, bucket& b, slot_index s) noexcept {
+    if (L.leaf.run != no_slot && s != L.leaf.run + L.leaf.count) L.leaf.run = no_slot;
+    b.items[L.leaf.count++] = s;
 }
 
 template <stored_object O, class Config>

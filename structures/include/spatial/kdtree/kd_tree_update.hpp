@@ -70,9 +70,10 @@ inline void kd_tree<O, Config>::take_out_of_leaf(slot_index s) noexcept {
     const node_index b = slots_.meta(s);
     node& L = nodes_[buckets_[b].owner];
     auto& items = buckets_[b].items;
-    for (std::uint32_t i = 0; i < L.count; ++i)
+    for (std::uint32_t i = 0; i < L.leaf.count; ++i)
         if (items[i] == s) {
-            items[i] = items[--L.count];
+            items[i] = items[--L.leaf.count];
+            L.leaf.run = run_of(items.data(), L.leaf.count);
             return;
         }
 }
@@ -94,15 +95,16 @@ inline void kd_tree<O, Config>::erase_slots(std::span<const slot_index> doomed) 
         node& L = nodes_[buckets_[b].owner];
         auto& items = buckets_[b].items;
         std::uint32_t kept = 0;
-        for (std::uint32_t i = 0; i < L.count; ++i)
+        for (std::uint32_t i = 0; i < L.leaf.count; ++i)
             if (slots_.occupied(items[i])) items[kept++] = items[i];
-        L.count = kept;
+        L.leaf.count = kept;
+        L.leaf.run = run_of(items.data(), kept);
         if constexpr (has_extent) refit_leaf(buckets_[b].owner);
     }
     for (node_index b : touched) {  // merging may free buckets later in the list
         const node_index leaf = buckets_[b].owner;
         if (leaf == no_node || !nodes_[leaf].is_leaf || nodes_[leaf].first != b) continue;
-        if (nodes_[leaf].count == 0 && leaf != root) try_merge_empty_leaf(leaf);
+        if (nodes_[leaf].leaf.count == 0 && leaf != root) try_merge_empty_leaf(leaf);
     }
     after_erase();
 }
@@ -123,7 +125,7 @@ inline auto kd_tree<O, Config>::insert_at(node_index leaf, const O& x, const coo
     // Strong guarantee. A leaf with room: the slot is the only allocation. A full leaf: its
     // records are copied aside first (O(leaf_capacity)), and if the split or the rebalancing
     // after it cannot allocate, the leaf is put back and the slot given back.
-    const bool full = nodes_[leaf].count >= leaf_capacity;
+    const bool full = nodes_[leaf].leaf.count >= leaf_capacity;
     subtree_backup backup;
     if (full) backup = backup_subtree(leaf, leaf_capacity + 1);
     const bool reused = slots_.reuses_a_slot();
@@ -133,7 +135,7 @@ inline auto kd_tree<O, Config>::insert_at(node_index leaf, const O& x, const coo
     widen_child_ranges(leaf, c);  // looser is still sound, so an undo below need not narrow
     node& L = nodes_[leaf];
     if (!full) {
-        buckets_[L.first].items[L.count++] = s;
+        append_to_leaf(L, buckets_[L.first], s);
         return s;
     }
     try {
@@ -181,10 +183,10 @@ inline void kd_tree<O, Config>::distribute(node_index n, entry* e, std::size_t c
     }
     if (nodes_[n].is_leaf) {
         node& L = nodes_[n];
-        if (L.count + count <= leaf_capacity) {
+        if (L.leaf.count + count <= leaf_capacity) {
             bucket& b = buckets_[L.first];
             for (std::size_t i = 0; i < count; ++i) {
-                b.items[L.count++] = e[i].slot;
+                append_to_leaf(L, b, e[i].slot);
                 slots_.set_meta(e[i].slot, L.first);
             }
             max_depth = std::max(max_depth, L.depth);
@@ -195,10 +197,10 @@ inline void kd_tree<O, Config>::distribute(node_index n, entry* e, std::size_t c
         // allocation per leaf once it has grown).
         std::vector<entry>& es = entry_buffer_;
         es.clear();
-        es.reserve(L.count + count);
+        es.reserve(L.leaf.count + count);
         // All or nothing (the caller takes the batch out again): the leaf is put back, and
         // the batch's entries here are marked as not placed.
-        backup_subtree(n, L.count + count, leaf_backup);
+        backup_subtree(n, L.leaf.count + count, leaf_backup);
         try {
             gather(n, es);
             es.insert(es.end(), e, e + count);
@@ -232,14 +234,15 @@ inline void kd_tree<O, Config>::remove_slot(slot_index s, bool allow_merge) {
     const node_index leaf = buckets_[b].owner;
     node& L = nodes_[leaf];
     auto& items = buckets_[b].items;
-    for (std::uint32_t i = 0; i < L.count; ++i)
+    for (std::uint32_t i = 0; i < L.leaf.count; ++i)
         if (items[i] == s) {
-            items[i] = items[--L.count];
+            items[i] = items[--L.leaf.count];
+            L.leaf.run = run_of(items.data(), L.leaf.count);
             break;
         }
     slots_.release(s);
     if constexpr (has_extent) refit_leaf(leaf);
-    if (allow_merge && L.count == 0 && leaf != root) try_merge_empty_leaf(leaf);
+    if (allow_merge && L.leaf.count == 0 && leaf != root) try_merge_empty_leaf(leaf);
 }
 
 // Merging is best-effort: without room on the free lists the empty leaf stays (a valid tree),
@@ -273,7 +276,7 @@ inline void kd_tree<O, Config>::merge_empty_leaf(node_index leaf) {
     node& P_ = nodes_[p];
     P_.is_leaf = 1;
     P_.first = sb;
-    P_.count = nodes_[sib].count;
+    P_.leaf = nodes_[sib].leaf;
     if constexpr (has_extent) extents_[p] = extents_[sib];  // the empty leaf held nothing
     buckets_[eb].owner = no_node;
     free_buckets_.push_back(eb);
