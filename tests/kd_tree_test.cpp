@@ -240,7 +240,9 @@ TEST(kd_tree, bulk_build_places_split_planes_between_points_unless_a_tie_spans_t
     lattice.insert(grid.begin(), grid.end());
     uniform.insert(random.begin(), random.end());
     EXPECT_EQ(uniform.points_on_split_planes(), 0u);
-    // On a lattice, cuts fall inside runs of equal coordinates: the tie split is kept.
+    // On a lattice, the large nodes' cuts move off their planes (runs longer than a leaf,
+    // see the splitter tests below); the small nodes' cuts fall inside shorter runs of equal
+    // coordinates, where the tie split is kept.
     EXPECT_GT(lattice.points_on_split_planes(), 0u);
     EXPECT_EQ(lattice.check_invariants(), "");
     // Duplicates beyond any cut keep the (valid) tie split.
@@ -249,6 +251,64 @@ TEST(kd_tree, bulk_build_places_split_planes_between_points_unless_a_tie_spans_t
     same.insert(dup.begin(), dup.end());
     EXPECT_GT(same.points_on_split_planes(), 0u);
     EXPECT_EQ(same.check_invariants(), "");
+}
+
+// The splitter on its own, over bare entries (a key per entry, as the build's entries have).
+struct split_entry {
+    std::array<double, 3> c;
+};
+
+// Checks the splitter's contract (splitters.hpp): [0, left) <= value <= [left, n), 0 < left < n.
+void expect_valid_split(const std::vector<split_entry>& e, const split_choice<double>& sc) {
+    ASSERT_GT(sc.left, 0u);
+    ASSERT_LT(sc.left, e.size());
+    for (std::size_t i = 0; i < sc.left; ++i) ASSERT_LE(e[i].c[sc.dim], sc.value) << i;
+    for (std::size_t i = sc.left; i < e.size(); ++i) ASSERT_GE(e[i].c[sc.dim], sc.value) << i;
+}
+
+std::size_t keys_on_plane(const std::vector<split_entry>& e, const split_choice<double>& sc) {
+    return static_cast<std::size_t>(
+        std::count_if(e.begin(), e.end(), [&](const split_entry& x) { return x.c[sc.dim] == sc.value; }));
+}
+
+TEST(kd_tree_splitter, a_run_of_equal_keys_longer_than_a_leaf_moves_whole_to_one_side) {
+    // A 19 x 20 x 20 lattice, widest along x (7600 entries: the exact-median path): the
+    // median rounded to the leaf capacity (3808) falls inside the tenth x-plane, a run of 400
+    // equal keys. The plane goes whole to one side, the cut into the gap beside it, within
+    // [2n/5, 3n/5].
+    std::vector<split_entry> e;
+    for (int x = 0; x < 19; ++x)
+        for (int y = 0; y < 20; ++y)
+            for (int z = 0; z < 20; ++z) e.push_back({{x * 0.06, y * 0.05, z * 0.05}});
+    const split_choice<double> sc = median_of_widest_spread{}(e.data(), e.size(), 32);
+    expect_valid_split(e, sc);
+    EXPECT_EQ(keys_on_plane(e, sc), 0u);
+    EXPECT_GE(sc.left, e.size() * 2 / 5);
+    EXPECT_LE(sc.left, e.size() * 3 / 5);
+    EXPECT_EQ(sc.left % 400, 0u);  // whole planes on each side
+}
+
+TEST(kd_tree_splitter, a_run_no_longer_than_a_leaf_keeps_the_tie_split_at_the_rounded_median) {
+    // 1000 entries, ten copies of each of 100 keys along x (exact duplicates, as the
+    // duplicates workload has): the cut stays at the median rounded up to a multiple of the
+    // leaf capacity (512), inside a run of ten.
+    std::vector<split_entry> e;
+    for (int i = 0; i < 1000; ++i) e.push_back({{(i % 100) * 0.01, 0.0, 0.0}});
+    const split_choice<double> sc = median_of_widest_spread{}(e.data(), e.size(), 32);
+    expect_valid_split(e, sc);
+    EXPECT_EQ(sc.left, 512u);
+    EXPECT_EQ(keys_on_plane(e, sc), 10u);
+}
+
+TEST(kd_tree_splitter, a_long_run_stays_split_when_moving_it_would_unbalance_the_node) {
+    // 200 entries, 120 of them on one plane x = 0.5 (the others spread on both sides): either
+    // end of the run is outside [2n/5, 3n/5], so the tie split is kept at the median.
+    std::vector<split_entry> e;
+    for (int i = 0; i < 200; ++i) e.push_back({{i < 120 ? 0.5 : (i % 2 ? 0.1 : 0.9) + i * 1e-4, 0.0, 0.0}});
+    const split_choice<double> sc = median_of_widest_spread{}(e.data(), e.size(), 32);
+    expect_valid_split(e, sc);
+    EXPECT_EQ(sc.value, 0.5);
+    EXPECT_GT(keys_on_plane(e, sc), 32u);
 }
 
 TEST(kd_tree_hard_cases, lattice_ties_are_compared_by_distance) {

@@ -57,15 +57,43 @@ auto median_partition(Entry* e, std::size_t n, unsigned dim, std::size_t m) {
 // every key in [m, n), and min_right the smallest key of [m, n)): when no tie spans the
 // cut, the split value becomes the middle of the gap between the largest left key and
 // min_right, so no point lies ON the splitting plane and queries near it prune better.
-// When a run of equal keys spans the cut (lattices, duplicates) the tie split is kept:
-// moving the cut to the run's end was measured (1e6 points) to help lattice kNN by ~15%
-// but to cost 14% memory and kNN speed on duplicate-heavy data, because cuts off multiples
-// of the leaf capacity leave partly filled leaves. One extra read pass over the left side.
+//
+// When a run of equal keys spans the cut, both children hold points of its plane and their
+// key ranges touch, so a query near the plane prunes neither. A run longer than a leaf (a
+// lattice's plane through a large node) moves whole to the side that keeps the cut nearer
+// the median, if that cut stays within [2n/5, 3n/5] (depth stays O(log n)), and the cut goes
+// in the gap beside it. A shorter run keeps the tie split: moving every tied cut (exact
+// duplicates tie at almost every cut, about ten copies each) off its multiple of the leaf
+// capacity left partly filled leaves, measured (1e6 points) at 14 % more memory and kNN time
+// on duplicate-heavy data, where the same move for every run had helped lattice kNN by
+// ~15 %. Two partition passes, only when a tie spans the cut.
 template <class T, class Entry>
-split_choice<T> cut_in_gap(Entry* e, std::size_t m, unsigned dim, T min_right) {
+split_choice<T> cut_in_gap(Entry* e, std::size_t n, std::size_t m, unsigned dim, T min_right,
+                           std::size_t leaf_capacity) {
     T max_left = e[0].c[dim];
     for (std::size_t i = 1; i < m; ++i) max_left = e[i].c[dim] > max_left ? e[i].c[dim] : max_left;
     if (max_left < min_right) return {dim, max_left + (min_right - max_left) / 2, m};
+    // The run of keys equal to min_right becomes [run_begin, run_end): the left side's
+    // smaller keys first, the right side's equal keys first.
+    const auto key = [dim](const Entry& a) { return a.c[dim]; };
+    const auto run_begin = static_cast<std::size_t>(
+        std::partition(e, e + m, [&](const Entry& a) { return key(a) < min_right; }) - e);
+    const auto run_end = static_cast<std::size_t>(
+        std::partition(e + m, e + n, [&](const Entry& a) { return !(min_right < key(a)); }) - e);
+    const auto balanced = [n](std::size_t cut) { return cut >= n * 2 / 5 && cut <= n * 3 / 5 && cut > 0 && cut < n; };
+    if (run_end - run_begin <= leaf_capacity) return {dim, min_right, m};
+    const bool below_ok = balanced(run_begin), above_ok = balanced(run_end);
+    const bool below = below_ok && (!above_ok || m - run_begin <= run_end - m);
+    if (below) {  // the run goes right: cut between the largest smaller key and the run
+        T below_max = e[0].c[dim];
+        for (std::size_t i = 1; i < run_begin; ++i) below_max = std::max(below_max, key(e[i]));
+        return {dim, below_max + (min_right - below_max) / 2, run_begin};
+    }
+    if (above_ok) {  // the run goes left: cut between the run and the smallest larger key
+        T above_min = e[run_end].c[dim];
+        for (std::size_t i = run_end + 1; i < n; ++i) above_min = std::min(above_min, key(e[i]));
+        return {dim, min_right + (above_min - min_right) / 2, run_end};
+    }
     return {dim, min_right, m};
 }
 
@@ -101,13 +129,14 @@ struct median_of_widest_spread {
             Entry* cut = std::partition(e, e + n, [dim, pivot](const Entry& a) { return a.c[dim] < pivot; });
             const auto left = static_cast<std::size_t>(cut - e);
             // pivot is a data key, so it is the smallest key of the right side.
-            if (left >= n * 2 / 5 && left <= n * 3 / 5) return detail::cut_in_gap<T>(e, left, dim, pivot);
+            if (left >= n * 2 / 5 && left <= n * 3 / 5)
+                return detail::cut_in_gap<T>(e, n, left, dim, pivot, leaf_capacity);
         }
         std::size_t m = n / 2;
         if (n > 2 * leaf_capacity) m = (m + leaf_capacity - 1) / leaf_capacity * leaf_capacity;
         m = std::clamp<std::size_t>(m, 1, n - 1);
         const T min_right = detail::median_partition(e, n, dim, m);
-        return detail::cut_in_gap<T>(e, m, dim, min_right);
+        return detail::cut_in_gap<T>(e, n, m, dim, min_right, leaf_capacity);
     }
 };
 
