@@ -72,6 +72,12 @@ template <class F>
 inline void kd_tree<O, Config>::scan_leaf(const node& nd, F&& f) const {
     const std::uint32_t count = nd.leaf.count;
     if (const slot_index run = nd.leaf.run; run != no_slot) {
+        // The run's values are contiguous: ask for all their cache lines at once (12 lines
+        // at b = 32 for 3D double), so the misses overlap instead of waiting for the hardware
+        // prefetcher to ramp up along the scan. results/checks/leaf_prefetch has the figures.
+        const char* first = reinterpret_cast<const char*>(&slots_.value(run));
+        const std::size_t bytes = count * sizeof(O);
+        for (std::size_t b = 0; b < bytes; b += 64) __builtin_prefetch(first + b);
         for (std::uint32_t i = 0; i < count; ++i) f(static_cast<slot_index>(run + i));
         return;
     }
