@@ -126,7 +126,6 @@ private:
     struct child_ranges {
         float left_lo, left_hi, right_lo, right_hi;
     };
-    // What every search reads: 32 B for double (the cold links are in links_).
     // A leaf's use of its bucket. `run` lets a search skip the bucket: when the bucket's
     // slots are run, run + 1, ..., run + count - 1 (every leaf of a bulk build, which lays the
     // points out in leaf order, and of a rebuild whose slots happen to be consecutive), a scan
@@ -137,6 +136,7 @@ private:
         std::uint32_t count = 0;  // number of points in the bucket
         slot_index run = no_slot;
     };
+    // What every search reads: 32 B for double (the cold links are in links_).
     struct node {
         T split = 0;  // inner: left points have c[dim] <= split, right points >= split
         union {
@@ -623,6 +623,9 @@ private:
     static slot_index run_of(const slot_index* items, std::uint32_t count) noexcept;
     // Appends slot s to leaf L's bucket b, keeping L's run when s extends it. O(1).
     static void append_to_leaf(node& L, bucket& b, slot_index s) noexcept;
+    // Removes slot s from leaf L's bucket b (the last item takes its place) and recomputes
+    // L's run. O(count).
+    static void remove_from_leaf(node& L, bucket& b, slot_index s) noexcept;
     std::size_t height_of(node_index n) const;
 
     // ================= data ================================================================

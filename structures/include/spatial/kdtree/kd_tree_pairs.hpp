@@ -92,9 +92,7 @@ inline auto kd_tree<O, Config>::pair_layout_of() const -> pair_layout {
     return pair_layout(
         order, nodes_.size(), slots_.size(),
         [this](node_index n, auto&& f) {
-            const node& nd = nodes_[n];
-            if (!nd.is_leaf) return;
-            for (std::uint32_t i = 0; i < nd.leaf.count; ++i) f(buckets_[nd.first].items[i]);
+            if (nodes_[n].is_leaf) scan_leaf(nodes_[n], f);
         },
         [this](node_index n) { return links_[n].parent; },
         [this](slot_index s) -> const O& { return slots_.value(s); });

@@ -99,6 +99,16 @@ inline void kd_tree<O, Config>::append_to_leaf(node& L, bucket& b, slot_index s)
 }
 
 template <stored_object O, class Config>
+inline void kd_tree<O, Config>::remove_from_leaf(node& L, bucket& b, slot_index s) noexcept {
+    for (std::uint32_t i = 0; i < L.leaf.count; ++i)
+        if (b.items[i] == s) {
+            b.items[i] = b.items[--L.leaf.count];
+            L.leaf.run = run_of(b.items.data(), L.leaf.count);
+            return;
+        }
+}
+
+template <stored_object O, class Config>
 inline bool kd_tree<O, Config>::in_cell(const coords& c, const coords& lo, const coords& hi) {
     for (std::size_t i = 0; i < D; ++i)
         if (c[i] < lo[i] || c[i] > hi[i]) return false;

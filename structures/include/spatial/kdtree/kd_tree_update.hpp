@@ -68,14 +68,7 @@ inline void kd_tree<O, Config>::insert(InputIt first, InputIt last) {
 template <stored_object O, class Config>
 inline void kd_tree<O, Config>::take_out_of_leaf(slot_index s) noexcept {
     const node_index b = slots_.meta(s);
-    node& L = nodes_[buckets_[b].owner];
-    auto& items = buckets_[b].items;
-    for (std::uint32_t i = 0; i < L.leaf.count; ++i)
-        if (items[i] == s) {
-            items[i] = items[--L.leaf.count];
-            L.leaf.run = run_of(items.data(), L.leaf.count);
-            return;
-        }
+    remove_from_leaf(nodes_[buckets_[b].owner], buckets_[b], s);
 }
 
 template <stored_object O, class Config>
@@ -233,13 +226,7 @@ inline void kd_tree<O, Config>::remove_slot(slot_index s, bool allow_merge) {
     const node_index b = slots_.meta(s);
     const node_index leaf = buckets_[b].owner;
     node& L = nodes_[leaf];
-    auto& items = buckets_[b].items;
-    for (std::uint32_t i = 0; i < L.leaf.count; ++i)
-        if (items[i] == s) {
-            items[i] = items[--L.leaf.count];
-            L.leaf.run = run_of(items.data(), L.leaf.count);
-            break;
-        }
+    remove_from_leaf(L, buckets_[b], s);
     slots_.release(s);
     if constexpr (has_extent) refit_leaf(leaf);
     if (allow_merge && L.leaf.count == 0 && leaf != root) try_merge_empty_leaf(leaf);

@@ -47,6 +47,11 @@ void bounding_box(const Entry* e, std::size_t n, std::array<T, D>& lo, std::arra
         }
 }
 
+// Whether a cut leaving `cut` of n entries on the left keeps depth O(log n): within
+// [2n/5, 3n/5]. A splitter's n exceeds the leaf capacity (at least 2), so n >= 3 and the
+// band never holds 0 or n.
+inline bool in_balance_band(std::size_t cut, std::size_t n) { return cut >= n * 2 / 5 && cut <= n * 3 / 5; }
+
 template <class Entry>
 auto median_partition(Entry* e, std::size_t n, unsigned dim, std::size_t m) {
     floyd_rivest_select(e, 0, static_cast<std::ptrdiff_t>(n) - 1, static_cast<std::ptrdiff_t>(m),
@@ -80,9 +85,8 @@ split_choice<T> cut_in_gap(Entry* e, std::size_t n, std::size_t m, unsigned dim,
         std::partition(e, e + m, [&](const Entry& a) { return key(a) < min_right; }) - e);
     const auto run_end = static_cast<std::size_t>(
         std::partition(e + m, e + n, [&](const Entry& a) { return !(min_right < key(a)); }) - e);
-    const auto balanced = [n](std::size_t cut) { return cut >= n * 2 / 5 && cut <= n * 3 / 5 && cut > 0 && cut < n; };
     if (run_end - run_begin <= leaf_capacity) return {dim, min_right, m};
-    const bool below_ok = balanced(run_begin), above_ok = balanced(run_end);
+    const bool below_ok = in_balance_band(run_begin, n), above_ok = in_balance_band(run_end, n);
     const bool below = below_ok && (!above_ok || m - run_begin <= run_end - m);
     if (below) {  // the run goes right: cut between the largest smaller key and the run
         T below_max = e[0].c[dim];
@@ -129,7 +133,7 @@ struct median_of_widest_spread {
             Entry* cut = std::partition(e, e + n, [dim, pivot](const Entry& a) { return a.c[dim] < pivot; });
             const auto left = static_cast<std::size_t>(cut - e);
             // pivot is a data key, so it is the smallest key of the right side.
-            if (left >= n * 2 / 5 && left <= n * 3 / 5)
+            if (detail::in_balance_band(left, n))
                 return detail::cut_in_gap<T>(e, n, left, dim, pivot, leaf_capacity);
         }
         std::size_t m = n / 2;
