@@ -647,6 +647,36 @@ context make_context(const suite_options& options) {
     return make_suite_context("collide", options, preset(options.preset));
 }
 
+// ---- memory estimate (harness/memory_budget.hpp) ------------------------------------------
+
+// Bytes per box one participant's structure may take, above what the tables measure at 1e6
+// boxes (results/collide_1e6.csv, `memory`): FCL's managers 568 B (an fcl::CollisionObjectd
+// and its fcl::Boxd per box), every other participant 26-206 B.
+std::size_t structure_bytes_per_box(const std::string& name) { return name.rfind("fcl_", 0) == 0 ? 640 : 256; }
+
+// What a case needs per box or triangle, for the check before the run allocates anything.
+//   boxes         every participant's structure is alive at once (all are built and
+//                 validated, then timed round by round), so their sum; with the tuning sweep
+//                 each configuration counts. A full-preset run at 1e7 boxes with all eight
+//                 1e6 participants and the sweep was killed by the OOM killer at 24 GB when
+//                 this was one flat 256 B per box (tests/harness.cmake has the case).
+//   moving_boxes  one participant at a time, plus every step's pairs of the reference and of
+//                 the participant (about two 8 B pairs per box each).
+//   triangles     one bvh at a time; the convex-hull one measures about 1.7 kB per triangle.
+// Plus the case's own per object: the input, the reference pairs and one answer in flight.
+std::size_t estimated_bytes_per_object(const context& ctx, const std::string& workload, std::size_t n) {
+    constexpr std::size_t own = 128, pair_bytes_per_box = 2 * sizeof(index_pair);
+    if (workload == "triangles") return own + 2048;
+    const bool moving = workload == "moving_boxes";
+    std::size_t sum = 0, largest = 0;
+    for (const participant& p : participants(ctx, n, moving, !moving && n >= ctx.cfg.sweep_min_n)) {
+        const std::size_t b = structure_bytes_per_box(p.index->name());
+        sum += b;
+        largest = std::max(largest, b);
+    }
+    return own + (moving ? largest + 2 * ctx.cfg.steps * pair_bytes_per_box : sum);
+}
+
 // The suite's independent cases: static boxes, moving boxes and triangles at each size.
 std::vector<suite_case> collide_cases(context& ctx) {
     std::vector<std::string> workloads = ctx.opt.workloads;
@@ -661,11 +691,9 @@ std::vector<suite_case> collide_cases(context& ctx) {
                                                                                             : ctx.cfg.triangle_sizes;
         void (*run)(context&, std::size_t) = w == "boxes" ? &run_static_boxes : w == "moving_boxes" ? &run_moving_boxes
                                                                                                     : &run_triangles;
-        // Per box or triangle, every participant at once (memory_budget.hpp): the objects, each
-        // structure's copy and the pair lists.
-        constexpr std::size_t bytes_per_object_all_participants = 256;
         for (std::size_t n : sizes(preset_sizes))
-            cases.push_back({"collide/" + w + "/" + case_size(n), [&ctx, run, n] { run(ctx, n); }, n, bytes_per_object_all_participants});
+            cases.push_back({"collide/" + w + "/" + case_size(n), [&ctx, run, n] { run(ctx, n); }, n,
+                             estimated_bytes_per_object(ctx, w, n)});
     }
     return cases;
 }
