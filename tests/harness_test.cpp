@@ -171,6 +171,35 @@ TEST(timing, a_long_run_is_timed_once_its_warm_up_included_and_the_others_every_
     EXPECT_EQ(long_runs, 3);
 }
 
+// The collide suite's build_and_self_pairs: a build (short, timed every round) and a query
+// (long, timed once). At 1e7 boxes CGAL's query took 12-38 s and its build 0.08 s: the sum
+// was taken over the build's rounds, reading a query sample that did not exist (its second
+// "total" was a build alone, and the median of the two half the real figure).
+TEST(timing, summed_rounds_pair_each_round_and_stop_at_the_shorter_work) {
+    const timing_result build = summarize({1, 2, 3}), query = summarize({10});
+    const timing_result both = summed_rounds(build, query);
+    EXPECT_EQ(both.repetitions, 1u);
+    EXPECT_DOUBLE_EQ(both.median_seconds, 11);
+    EXPECT_EQ(summed_rounds(query, build).repetitions, 1u);
+    const timing_result all = summed_rounds(build, summarize({10, 20, 30}));
+    EXPECT_EQ(all.repetitions, 3u);
+    EXPECT_DOUBLE_EQ(all.median_seconds, 22);  // the rounds in order: 11, 22, 33
+    // Through time_interleaved: the long query's only sample is round 0's.
+    const std::vector<timed_work> work{{"build", [] { return 0.0; }, 0},
+                                       {"query",
+                                        [] {
+                                            std::this_thread::sleep_for(std::chrono::milliseconds(20));
+                                            return 1.0;
+                                        },
+                                        1}};
+    const auto t = time_interleaved(work, 0, 3, 0.01);
+    ASSERT_EQ(t[0].repetitions, 3u);
+    ASSERT_EQ(t[1].repetitions, 1u);
+    const timing_result sum = summed_rounds(t[0], t[1]);
+    EXPECT_EQ(sum.repetitions, 1u);
+    EXPECT_DOUBLE_EQ(sum.median_seconds, t[0].samples[0] + t[1].samples[0]);
+}
+
 TEST(timing, a_long_repeated_run_ends_the_measurement_after_its_check) {
     int runs = 0, checks = 0;
     const auto sleep_on_run = [&](int long_from) {

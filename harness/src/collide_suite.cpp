@@ -342,15 +342,13 @@ void run_static_boxes(context& ctx, std::size_t n) {
     std::map<std::string, std::vector<configured_figure>> figures;
     for (std::size_t i = 0; i < ps.size(); ++i) {
         const timing_result &build = t[2 * i], &query = t[2 * i + 1];
-        std::vector<double> total(build.samples.size());
-        for (std::size_t r = 0; r < total.size(); ++r) total[r] = build.samples[r] + query.samples[r];
         const collide_index& index = *ps[i].index;
         const std::string& name = index.name();
         // A swept configuration's rows carry it after the params; the default's keep theirs.
         const std::string own = joined_params(params, index.configuration());
         // A build is checked by the pairs of the index it built.
         const row_sink rows{ctx, name, ps[i].bv, workload, n, verified};
-        const timing_result both = summarize(std::move(total));
+        const timing_result both = summed_rounds(build, query);
         rows.add_timed("build", own, build);
         rows.add_timed("self_pairs", own, query);
         rows.add_timed("build_and_self_pairs", own, both);

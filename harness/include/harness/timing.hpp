@@ -48,6 +48,17 @@ inline timing_result summarize(std::vector<double> samples) {
 // CGAL's minimum ellipsoid of 1e5 points takes 2.5 s, five runs of it a bv case's half).
 inline constexpr double long_run_seconds = 2.0;
 
+// Two works timed round by round by time_interleaved with no warm-up round (a build and the
+// query on what it built): the sum of each round's two samples. Sample r of each is round
+// r's, and a work that was long has only round 0's, so the sums run over the rounds both
+// were timed in (a long query beside a short build: round 0's build plus its query, never a
+// build alone).
+inline timing_result summed_rounds(const timing_result& a, const timing_result& b) {
+    std::vector<double> total(std::min(a.samples.size(), b.samples.size()));
+    for (std::size_t r = 0; r < total.size(); ++r) total[r] = a.samples[r] + b.samples[r];
+    return summarize(std::move(total));
+}
+
 // Runs body() warmup + repetitions times; `before()` runs untimed before each (e.g. to
 // reset state). body() returns a value that is checked by `check(value)` after every run,
 // the warm-up included (the answer checksum must equal the validated one). A run that takes
