@@ -7,7 +7,8 @@ folder), the exponent b of value ~ a * n^b, fitted by least squares on log value
 log n over all sizes, and the local exponent between the two largest sizes (the slope of the
 last decade, where caches and memory set the cost). Times: `build_time` and `fit_time` (a
 whole build or fit, ideally b ~ 1 for O(n log n)), `time_per_op` (one query or update,
-ideally b ~ 0 for O(log n)) and the collide suite's `time` (one whole pair query). Memory: `bytes_per_point` / `bytes_per_triangle` at the largest n.
+ideally b ~ 0 for O(log n)) and the collide suite's `time` (one whole pair query). Memory: `bytes_per_point` / `bytes_per_triangle` at the largest n, and the collide suite's
+`memory` (the whole structure's bytes) divided by n.
 
 Only validated rows (`validated` true, `check` not `none`) count. Only figures whose largest
 size is the largest size of their suite in the folder are listed (the scale the tables
@@ -33,6 +34,8 @@ from spatialplots.io import REGISTRY_FILE, RegistryError, read_registry, read_re
 
 TIME_METRICS = ("build_time", "fit_time", "time_per_op", "time")
 MEMORY_METRICS = ("bytes_per_point", "bytes_per_triangle")
+# Whole-structure bytes (the collide suite's `memory`), listed per object: value / n.
+TOTAL_MEMORY_METRICS = ("memory",)
 KEY_FIELDS = ("suite", "structure", "bv", "workload", "dim", "scalar", "operation", "params", "metric")
 MIN_SIZES = 3
 
@@ -43,7 +46,7 @@ def collect(results):
     registry = read_registry(os.path.join(results, REGISTRY_FILE))
     figures = defaultdict(dict)
     for row in read_results(str(results), registry):
-        if not row.validated or row.value <= 0 or row.metric not in TIME_METRICS + MEMORY_METRICS:
+        if not row.validated or row.value <= 0 or row.metric not in TIME_METRICS + MEMORY_METRICS + TOTAL_MEMORY_METRICS:
             continue
         figures[tuple(str(getattr(row, f)) for f in KEY_FIELDS)].setdefault(row.n, row.value)
     return figures
@@ -74,10 +77,12 @@ def exponent_lines(figures, largest, suite):
 
 def memory_lines(figures, largest, suite):
     lines = []
-    for key, name, sizes in at_largest(figures, largest, suite, MEMORY_METRICS):
+    for key, name, sizes in at_largest(figures, largest, suite, MEMORY_METRICS + TOTAL_MEMORY_METRICS):
         _, _, _, workload, dim, scalar, _, params, metric = key
         n = max(sizes)
-        lines.append(f"| {suite} | {name} | {workload} {dim}d {scalar} | {params or '—'} | {metric} | {format_n(n)} | {sizes[n]:.1f} |")
+        per_object = sizes[n] / n if metric in TOTAL_MEMORY_METRICS else sizes[n]
+        shown = f"{metric} ÷ n" if metric in TOTAL_MEMORY_METRICS else metric
+        lines.append(f"| {suite} | {name} | {workload} {dim}d {scalar} | {params or '—'} | {shown} | {format_n(n)} | {per_object:.1f} |")
     return lines
 
 
