@@ -327,6 +327,36 @@ TEST_F(mesh_loading, off_face_index_beyond_size_t_is_rejected_before_cgal_reads_
     }
 }
 
+// Found by fuzzing (fuzz/mesh, the clean-clone CI run of 1a01497): an "STCOFF" file whose
+// vertex line has only its three coordinates reached CGAL's OFF scanner, which counts the
+// line's numbers (3 - 3 - 2 colour columns, not 0) and read colour and texture columns past
+// its vector (File_scanner_OFF.h:621, ASan heap-buffer-overflow). A mesh's vertex lines now
+// hold the columns their header names, and 0, 1, 3 or 4 colour numbers, or the file is
+// rejected naming the line.
+TEST_F(mesh_loading, off_vertex_line_without_the_columns_its_header_names_is_rejected_before_cgal_reads_it) {
+    const std::string m = message_of(write("stcoff.off", "STCOFF\n1 1 0\n0 0 0\n1 0 0 0\n"));
+    EXPECT_NE(m.find("a vertex line of STCOFF needs 5 numbers (coordinates, texture) but has 3"), std::string::npos) << m;
+    EXPECT_NE(m.find("line 3"), std::string::npos) << m;
+    const auto checks = {
+        std::pair{"COFF\n3 1 0\n0 0 0 1 1\n1 0 0\n0 1 0\n3 0 1 2\n", "has 2 colour numbers; expected 0, 1 (a colour map index), 3 or 4"},
+        std::pair{"NOFF\n3 1 0\n0 0 0\n1 0 0\n0 1 0\n3 0 1 2\n", "a vertex line of NOFF needs 6 numbers (coordinates, normal) but has 3"},
+        std::pair{"COFF\n3 1 0\n0 0 0 1 nan 1\n1 0 0\n0 1 0\n3 0 1 2\n", "a column that is not a finite number: \"nan\""},
+        std::pair{"COFF\n3 1 0\n0 0 0 1 1 1\n1 0 0\n0 1 0\n3 0 1 2\n", "has 0 colour numbers but the first vertex line has 3"},
+        std::pair{"STOFF\n3 1 0\n0 0 0 0 0\n1 0 0 0 0\n0 1 0 0 0\n3 0 1 2\n", "STOFF (texture coordinates without colours) is not supported for meshes"},
+    };
+    for (const auto& [text, fragment] : checks) {
+        const std::string message = message_of(write("columns.off", text));
+        EXPECT_NE(message.find(fragment), std::string::npos) << message;
+    }
+    // What the header names, with each allowed colour count, still loads.
+    for (const char* good : {"COFF\n3 1 0\n0 0 0\n1 0 0\n0 1 0\n3 0 1 2\n", "COFF\n3 1 0\n0 0 0 7\n1 0 0 8\n0 1 0 9\n3 0 1 2\n",
+                             "COFF\n3 1 0\n0 0 0 1 2 3 4\n1 0 0 1 2 3 4\n0 1 0 0.1 0.2 0.3 1\n3 0 1 2\n",
+                             "STCNOFF\n3 1 0\n0 0 0 0 0 1 1 2 3 0.5 0.5\n1 0 0 0 0 1 1 2 3 0 0\n0 1 0 0 0 1 1 2 3 1 1\n3 0 1 2\n"}) {
+        SCOPED_TRACE(good);
+        EXPECT_EQ(harness::load_triangle_mesh(write("good.off", good)).triangles.size(), 1u);
+    }
+}
+
 TEST_F(mesh_loading, fetched_real_meshes_load_when_present) {
     const fs::path real = fs::path(SPATIAL_DATASETS_REAL_DIR) / "meshes";
     if (!fs::is_directory(real)) GTEST_SKIP() << "run scripts/fetch_meshes.sh to test the real meshes";

@@ -189,6 +189,44 @@ std::vector<point3> parse_xyz_text(std::string_view text, const fs::path& file) 
 // headerless files that start with the counts; rejects 4OFF, nOFF and binary OFF by name.
 enum class off_faces { ignore, check };
 
+// A mesh's vertex line, for CGAL's OFF scanner (File_scanner_OFF.h), which counts the line's
+// leading numbers and indexes them without bounds checks: after the 3 coordinates, 3 normal
+// components (N), 2 texture coordinates (ST) and, with C, 0, 1 (a colour map index), 3 or 4
+// colour components. Any other count made it read past its vector ("STCOFF" with a
+// three-number vertex line: found by fuzzing, docs/fuzzing.md). It keeps a line's "has
+// colours" for the lines after it, so every line must have the same colour count
+// (`first_colours`: the first line's). Every column must be a finite number, so that its
+// count and ours agree (it stops at the first one it cannot read).
+void check_off_vertex_columns(std::string_view vertex_line, std::string_view variant, const fs::path& file,
+                              std::size_t line_number, std::optional<std::size_t>& first_colours) {
+    token_reader tokens(vertex_line);
+    std::string_view column;
+    std::size_t count = 0;
+    while (tokens.next(column)) {
+        const std::optional<double> value = parse_double(column);
+        if (!value || !std::isfinite(*value))
+            fail_at(file, line_number, "a vertex line has a column that is not a finite number: " + quote_token(column));
+        ++count;
+    }
+    const bool normals = variant.find('N') != std::string_view::npos, colours = variant.find('C') != std::string_view::npos,
+               textures = variant.starts_with("ST");
+    const std::size_t fixed = 3 + (normals ? 3 : 0) + (textures ? 2 : 0);
+    const std::string keyword = std::string(variant) + "OFF";
+    if (count < fixed)
+        fail_at(file, line_number, "a vertex line of " + keyword + " needs " + std::to_string(fixed) +
+                                       " numbers (coordinates" + (normals ? ", normal" : "") +
+                                       (textures ? ", texture" : "") + ") but has " + std::to_string(count));
+    if (!colours) return;
+    const std::size_t colour_columns = count - fixed;
+    if (colour_columns != 0 && colour_columns != 1 && colour_columns != 3 && colour_columns != 4)
+        fail_at(file, line_number, "a vertex line of " + keyword + " has " + std::to_string(colour_columns) +
+                                       " colour numbers; expected 0, 1 (a colour map index), 3 or 4");
+    if (!first_colours) first_colours = colour_columns;
+    if (colour_columns != *first_colours)
+        fail_at(file, line_number, "a vertex line of " + keyword + " has " + std::to_string(colour_columns) +
+                                       " colour numbers but the first vertex line has " + std::to_string(*first_colours));
+}
+
 // Faces (when asked): each face's line starts with its vertex count, a non-negative integer
 // followed by at least that many indices, none negative, on the same line, as CGAL's OFF scanner (which reads a
 // face and skips the rest of its line, colours included) needs them: it converts a negative
@@ -212,6 +250,7 @@ std::vector<point3> parse_off_text(std::string_view text, const fs::path& file, 
     header_tokens.next(token);
     std::optional<std::uint64_t> vertex_count;
     std::string_view face_count_token;  // the word after the vertex count
+    std::string_view variant;           // the header keyword's prefix: "", "N", "C", ..., "STCN"
     if (parse_count(token)) {
         vertex_count = parse_count(token);  // headerless: the counts come first
         header_tokens.next(face_count_token);
@@ -229,6 +268,7 @@ std::vector<point3> parse_off_text(std::string_view text, const fs::path& file, 
                     "unsupported OFF variant " + quote_token(token) +
                         " (supported: [ST][C][N]OFF with 3D vertices)");
         }
+        variant = prefix;
         std::string_view counts_token;
         if (header_tokens.next(counts_token)) {
             if (counts_token == "BINARY") {
@@ -263,6 +303,12 @@ std::vector<point3> parse_off_text(std::string_view text, const fs::path& file, 
     std::vector<point3> points;
     // A lying header must not allocate terabytes: a vertex line needs at least 6 bytes.
     points.reserve(static_cast<std::size_t>(std::min<std::uint64_t>(*vertex_count, text.size() / 6)));
+    // A mesh's texture coordinates without colours: CGAL's scanner reads them at a column index
+    // it only sets for colour files (uninitialised otherwise).
+    if (faces == off_faces::check && variant.starts_with("ST") && variant.find('C') == std::string_view::npos)
+        fail(file, std::string(variant) + "OFF (texture coordinates without colours) is not supported for meshes: "
+                   "CGAL's OFF reader cannot read it; drop the texture columns and the ST, or add colours (STCOFF)");
+    std::optional<std::size_t> first_colours;  // a mesh's colour columns per vertex line (COFF)
     std::string_view vertex_line;
     while (points.size() < *vertex_count) {
         if (!next_content_line(vertex_line)) {
@@ -272,6 +318,7 @@ std::vector<point3> parse_off_text(std::string_view text, const fs::path& file, 
         }
         token_reader tokens(vertex_line);
         points.push_back(parse_xyz(tokens, file, lines.number(), "a vertex line"));
+        if (faces == off_faces::check) check_off_vertex_columns(vertex_line, variant, file, lines.number(), first_colours);
     }
     if (faces == off_faces::ignore) return points;
 
