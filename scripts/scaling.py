@@ -11,8 +11,10 @@ ideally b ~ 0 for O(log n)) and the collide suite's `time` (one whole pair query
 `memory` (the whole structure's bytes) divided by n.
 
 Only validated rows (`validated` true, `check` not `none`) count. Only figures whose largest
-size is the largest size of their suite in the folder are listed (the scale the tables
-reach), so a table run at 1e7 decides what is shown; each section says that size.
+size is in the decade of the largest size of their suite in the folder are listed (the scale
+the tables reach; the same power of ten when rounded, since a generated mesh has about, not
+exactly, its nominal size: the sphere of 1e7 has 9,991,920 triangles), so a table run at
+1e7 decides what is shown; each section says that size.
 
     scripts/scaling.py [--results DIR] [--output FILE]   # default results/, DIR/scaling.md
 
@@ -52,12 +54,17 @@ def collect(results):
     return figures
 
 
+def decade(n):
+    """The power of ten n rounds to on a log scale: 9,991,920 and 10,000,000 are both 7."""
+    return round(math.log10(n))
+
+
 def at_largest(figures, largest, suite, metrics):
     """(key, display name, {n: value}) of the suite's figures in `metrics` whose largest size is
-    the suite's largest, in key order."""
+    in the decade of the suite's largest, in key order."""
     for key in sorted(figures):
         sizes = figures[key]
-        if key[0] == suite and key[-1] in metrics and max(sizes) == largest[suite]:
+        if key[0] == suite and key[-1] in metrics and decade(max(sizes)) == decade(largest[suite]):
             structure, bv = key[1], key[2]
             yield key, structure + (f" ({bv})" if bv else ""), sizes
 
@@ -107,7 +114,8 @@ def main():
            "build or fit (O(n log n) gives b a little above 1), `time_per_op` one query or update (O(log n)",
            "gives b near 0), `time` (collide) one whole pair query. n is the suite's size: points, triangles,",
            "boxes; in the bv suite's overlap and ray rows, points per instance.",
-           "Only figures that reach their suite's largest size in these tables are listed. The sizes of one",
+           "Only figures that reach the decade of their suite's largest size in these tables are listed (a",
+           "generated mesh has about its nominal size: n is its own). The sizes of one",
            "figure may come from different runs (provenance.md): an exponent then compares absolute times",
            "across runs on a shared machine, whose single figures swing by 10-20 %, so its second decimal",
            "is noise.", ""]

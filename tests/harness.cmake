@@ -169,3 +169,11 @@ add_test(NAME provenance_rejects_a_run_without_its_sidecar
                  --results ${CMAKE_CURRENT_SOURCE_DIR}/data/provenance_missing_sidecar --output ${CMAKE_CURRENT_BINARY_DIR}/provenance_refused.md)
 set_tests_properties(provenance_rejects_a_run_without_its_sidecar PROPERTIES PASS_REGULAR_EXPRESSION
                      "knn.csv: 1 rows name run knn-smoke-nosuchrun, whose sidecar .* is missing")
+
+# scripts/scaling.py: a figure counts at its suite's largest size when its own largest size is
+# in the same decade (a generated mesh has about its nominal size).
+add_test(NAME scaling_lists_a_figure_at_its_nominal_largest_size
+         COMMAND bash ${CMAKE_CURRENT_SOURCE_DIR}/check_scaling.sh $<TARGET_FILE:spatialbench> ${PROJECT_SOURCE_DIR}
+                 ${CMAKE_CURRENT_BINARY_DIR}/scaling_nominal_sizes)
+set_tests_properties(scaling_lists_a_figure_at_its_nominal_largest_size PROPERTIES
+                     PASS_REGULAR_EXPRESSION "check_scaling: nominal sizes listed at their decade")
