@@ -53,7 +53,7 @@ public:
 
     // For the driver: query q's result, written once.
     template <class Make>
-    void store(std::size_t q, const std::vector<neighbor_candidate<T>>& found, Make&& make) {
+    void store(std::size_t q, std::span<const neighbor_candidate<T>> found, Make&& make) {
         for (std::size_t j = 0; j < found.size(); ++j) {
             items_[q * per_query_ + j] = make(found[j].slot);
             distances_[q * per_query_ + j] = found[j].distance_squared;

@@ -339,7 +339,8 @@ public:
         if (k == 0 || slots_.size() == 0) return;
         knn_result_set<T> best(std::min<std::size_t>(k, slots_.size()));
         run_knn(x, eps, best);
-        result = std::move(best.finish());
+        const auto found = best.finish();
+        result.assign(found.begin(), found.end());
     }
 
     // Many queries at once (core/knn_batch.hpp): query i's answer is find_nearest(queries[i],
@@ -529,6 +530,8 @@ private:
     };
     void run_knn(const P& x, scalar_type eps, knn_result_set<T>& best) const;
     void knn(node_index n, coords& offset, knn_query& q) const;
+    // A point leaf's offer to the result set; distances first when the leaf is a run.
+    void knn_leaf(const node& nd, knn_query& q) const;
     static T far_cell_distance(const coords& offset, unsigned d, T diff);
     coords root_offsets(const coords& x) const;
     struct side_offsets {
@@ -618,6 +621,8 @@ private:
     // f(slot) for each slot of leaf nd, in bucket order, through `run` when the leaf has one.
     template <class F>
     void scan_leaf(const node& nd, F&& f) const;
+    // Prefetches the `count` values of the run starting at slot `run`; returns the first.
+    const O* prefetch_run(slot_index run, std::uint32_t count) const;
     // The run of a leaf whose bucket holds items[0, count): its first slot when they are
     // consecutive, else no_slot. O(count).
     static slot_index run_of(const slot_index* items, std::uint32_t count) noexcept;

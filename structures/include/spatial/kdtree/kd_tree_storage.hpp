@@ -72,17 +72,23 @@ template <class F>
 inline void kd_tree<O, Config>::scan_leaf(const node& nd, F&& f) const {
     const std::uint32_t count = nd.leaf.count;
     if (const slot_index run = nd.leaf.run; run != no_slot) {
-        // The run's values are contiguous: ask for all their cache lines at once (12 lines
-        // at b = 32 for 3D double), so the misses overlap instead of waiting for the hardware
-        // prefetcher to ramp up along the scan. results/checks/leaf_prefetch has the figures.
-        const char* first = reinterpret_cast<const char*>(&slots_.value(run));
-        const std::size_t bytes = count * sizeof(O);
-        for (std::size_t b = 0; b < bytes; b += 64) __builtin_prefetch(first + b);
+        prefetch_run(run, count);
         for (std::uint32_t i = 0; i < count; ++i) f(static_cast<slot_index>(run + i));
         return;
     }
     const bucket& b = buckets_[nd.first];
     for (std::uint32_t i = 0; i < count; ++i) f(b.items[i]);
+}
+
+// A run's values are contiguous: ask for all their cache lines at once (12 lines at b = 32
+// for 3D double), so the misses overlap instead of waiting for the hardware prefetcher to
+// ramp up along the scan. results/checks/leaf_prefetch has the figures.
+template <stored_object O, class Config>
+inline const O* kd_tree<O, Config>::prefetch_run(slot_index run, std::uint32_t count) const {
+    const O* values = &slots_.value(run);
+    const char* first = reinterpret_cast<const char*>(values);
+    for (std::size_t b = 0; b < count * sizeof(O); b += 64) __builtin_prefetch(first + b);
+    return values;
 }
 
 template <stored_object O, class Config>
