@@ -6,6 +6,8 @@ spatial_add_test(property_test OPTIMIZED property_test.cpp)
 spatial_add_test(kd_tree_test kd_tree_test.cpp)
 # Batched kNN (find_nearest_batch) in both query orders and on several threads; the Morton order.
 spatial_add_test(knn_batch_test knn_batch_test.cpp)
+# The k-best set every kNN search fills, on both sides of its inline array's limit.
+spatial_add_test(knn_result_set_test knn_result_set_test.cpp)
 spatial_add_test(bv_test bv_test.cpp)
 # Bounding volumes, one test file per type (bv_test: aabb and sphere).
 spatial_add_test(obb_test obb_test.cpp)
