@@ -25,6 +25,10 @@ for suite in knn structures bv raycast collide; do
     ${data_dir:+--real-data "$data_dir"}
 done
 
+# Side tables of dedicated runs (results/README.md: knn_order_1e6.csv, knn_bulk_1e6.csv) hold
+# figures the knn run above measured again; each key keeps one row across the tables, theirs.
+/usr/bin/python3 scripts/drop_keys_held_elsewhere.py results/knn.csv results/knn_order_1e6.csv results/knn_bulk_1e6.csv
+
 # Scenes: every structure that answers each scene's effects (smoke: 3 steps each; quick: 30).
 scene_steps=()
 [[ "$preset" == smoke ]] && scene_steps=(--steps 3)

@@ -177,3 +177,11 @@ add_test(NAME scaling_lists_a_figure_at_its_nominal_largest_size
                  ${CMAKE_CURRENT_BINARY_DIR}/scaling_nominal_sizes)
 set_tests_properties(scaling_lists_a_figure_at_its_nominal_largest_size PROPERTIES
                      PASS_REGULAR_EXPRESSION "check_scaling: nominal sizes listed at their decade")
+
+# scripts/drop_keys_held_elsewhere.py (run by scripts/main.sh after the knn suite): the main
+# table loses exactly the rows whose key a side table holds; a file that is no table is refused.
+add_test(NAME results_side_tables_keep_their_keys_and_the_main_table_the_rest
+         COMMAND bash ${CMAKE_CURRENT_SOURCE_DIR}/check_drop_keys.sh ${PROJECT_SOURCE_DIR}
+                 ${CMAKE_CURRENT_BINARY_DIR}/drop_keys)
+set_tests_properties(results_side_tables_keep_their_keys_and_the_main_table_the_rest PROPERTIES
+                     PASS_REGULAR_EXPRESSION "check_drop_keys: side tables' keys taken out, the rest kept")
