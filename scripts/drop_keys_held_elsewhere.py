@@ -19,7 +19,9 @@ import csv
 import pathlib
 import sys
 
-KEY = ("suite", "structure", "bv", "workload", "n", "dim", "scalar", "operation", "params", "metric")
+# The key columns are the plots' package's, as for scripts/scaling.py: one place names them.
+sys.path.insert(0, str(pathlib.Path(__file__).resolve().parent.parent / "plots"))
+from spatialplots.io import KEY_COLUMNS as KEY  # noqa: E402
 
 
 def key_columns(header, path):

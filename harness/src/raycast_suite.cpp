@@ -513,8 +513,8 @@ private:
         // (our_ray_indexes.hpp: clear(), which keeps the arrays' capacity, then one bulk
         // insertion into the empty tree, the constructor's build): constructing a fresh tree
         // per round timed the previous one's destruction and a second tree's allocation and
-        // page faults too: serial work in both figures, which capped the two-thread speed-up.
-        auto one = std::make_unique<tree>(), many = std::make_unique<tree>();
+        // page faults too: serial work in both figures.
+        tree one, many;
         auto build = [this](tree& t, bool parallel) {
             t.clear();
             if (parallel) {
@@ -527,18 +527,18 @@ private:
             return static_cast<double>(t.size());
         };
         const double n_tris = static_cast<double>(triangles_.size());
-        const auto builds = time_interleaved({{where("bvh", set) + " " + t1 + " build", [&] { return build(*one, false); }, n_tris},
-                                              {where("bvh", set) + " " + tn + " build", [&] { return build(*many, true); }, n_tris}},
+        const auto builds = time_interleaved({{where("bvh", set) + " " + t1 + " build", [&] { return build(one, false); }, n_tris},
+                                              {where("bvh", set) + " " + tn + " build", [&] { return build(many, true); }, n_tris}},
                                              0, ctx_.cfg.build_repetitions);
         std::vector<spatial::ray<point3>> rays;
         rays.reserve(set.rays.size());
         for (const auto& r : set.rays) rays.push_back({r.origin, r.direction, T(0)});
-        const double checksum = validate_parallel(*one, *many, rays);
+        const double checksum = validate_parallel(one, many, rays);
         std::vector<tree::iterator> hits(rays.size());
         std::vector<spatial::intersect_info<point3>> infos(rays.size());
         const auto casts = time_interleaved(
-            {{where("bvh", set) + " batched, " + t1, [&] { return batch_checksum(*one, rays, hits, infos, false); }, checksum},
-             {where("bvh", set) + " batched, " + tn, [&] { return batch_checksum(*many, rays, hits, infos, true); }, checksum}},
+            {{where("bvh", set) + " batched, " + t1, [&] { return batch_checksum(one, rays, hits, infos, false); }, checksum},
+             {where("bvh", set) + " batched, " + tn, [&] { return batch_checksum(many, rays, hits, infos, true); }, checksum}},
             1, ctx_.cfg.repetitions);
         const double per_ray_ns = 1e9 / static_cast<double>(rays.size());
         // validate_parallel: the parallel answers against one thread's on every ray and brute

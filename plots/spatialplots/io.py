@@ -19,8 +19,9 @@ import sys
 
 from .registry import Registry, RegistryError
 
-REQUIRED_COLUMNS = ("suite", "structure", "bv", "workload", "n", "dim", "scalar", "operation",
-                    "params", "metric", "value", "unit", "validated", "run_id")
+# The columns that name a figure: one row per key across a results folder's tables.
+KEY_COLUMNS = ("suite", "structure", "bv", "workload", "n", "dim", "scalar", "operation", "params", "metric")
+REQUIRED_COLUMNS = KEY_COLUMNS + ("value", "unit", "validated", "run_id")
 REGISTRY_FILE = "registry.json"
 
 OPTIONAL_COLUMNS = ("check",)  # kept when the table has them, "" otherwise
