@@ -4,6 +4,8 @@ spatial_add_test(container_contract_test container_contract_test.cpp)
 spatial_add_test(objects_test objects_test.cpp)
 spatial_add_test(property_test OPTIMIZED property_test.cpp)
 spatial_add_test(kd_tree_test kd_tree_test.cpp)
+# kd_tree's bulk build on every core: the same tree as the sequential build, node for node.
+spatial_add_test(kd_tree_parallel_test OPTIMIZED kd_tree_parallel_test.cpp)
 # Batched kNN (find_nearest_batch) in both query orders and on several threads; the Morton order.
 spatial_add_test(knn_batch_test knn_batch_test.cpp)
 # The k-best set every kNN search fills, on both sides of its inline array's limit.

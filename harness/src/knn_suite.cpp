@@ -315,7 +315,10 @@ public:
         measure_interleaved(structures);
         const bool batched_workload =
             real || std::find(batched_workloads.begin(), batched_workloads.end(), wc_.label) != batched_workloads.end();
-        if (sweep && batched_workload) measure_batched(structures);
+        if (sweep && batched_workload) {
+            measure_batched(structures);
+            measure_parallel_build();
+        }
         nodes_visited();
         ratios();
     }
@@ -650,6 +653,63 @@ private:
             const double ratio = seconds.at({labelled(s), one_thread}) / times[w].median_seconds;
             record(s, v.params, row(check::derived, s.name(), "knn_batch", v.params, "speedup", ratio, "x"));
         }
+    }
+
+    // kd_tree's bulk build (its default configuration) on one thread and on every core
+    // (insert(first, last, par)), interleaved: each round clear()s the same tree object and
+    // inserts the points into it, as the builds above are timed (kd_tree's build() does the
+    // same). Rows: operation parallel_build, build_time per thread count and the `speedup`.
+    // Validated: the parallel tree is the one-thread tree (equal height, leaves and memory,
+    // and every query answered with the same slots at the same distances), and the one-thread
+    // tree's answers equal brute force on the oracle sample.
+    void measure_parallel_build() {
+        if (!ctx_.wants("kd_tree")) return;
+        std::size_t threads = 1;
+#if defined(SPATIAL_HAVE_TBB)
+        threads = static_cast<std::size_t>(tbb::info::default_concurrency());
+#endif
+        if (threads < 2) return;
+        using tree = spatial::kd_tree<point_type>;
+        tree one, many;
+        const auto build = [this](tree& t, bool parallel) {
+            t.clear();
+            if (parallel) t.insert(wc_.points.begin(), wc_.points.end(), spatial::par);
+            else t.insert(wc_.points.begin(), wc_.points.end());
+            return static_cast<double>(t.size());
+        };
+        const std::string t1 = "threads=1", tn = "threads=" + std::to_string(threads);
+        const double n = static_cast<double>(wc_.points.size());
+        const std::vector<timing_result> builds =
+            time_interleaved({{tag("kd_tree", "build, " + t1) + ", size after build", [&] { return build(one, false); }, n},
+                              {tag("kd_tree", "build, " + tn) + ", size after build", [&] { return build(many, true); }, n}},
+                             0, ctx_.cfg.build_repetitions);
+        const std::string what = tag("kd_tree", "build, " + tn);
+        if (one.height() != many.height() || one.leaf_count() != many.leaf_count() || one.memory_bytes() != many.memory_bytes())
+            throw validation_error(what + ": not the one-thread tree (height, leaves or memory differ)");
+        for (std::size_t q = 0; q < wc_.queries.size(); ++q) {
+            const auto a = one.find_nearest(wc_.queries[q], 10), b = many.find_nearest(wc_.queries[q], 10);
+            std::vector<T> distances;
+            for (std::size_t i = 0; i < a.size(); ++i) {
+                if (i >= b.size() || a[i].slot() != b[i].slot())
+                    throw validation_error(what + ", query " + std::to_string(q) + ": not the one-thread tree's neighbours");
+                distances.push_back(spatial::squared_distance(*a[i], wc_.queries[q]));
+            }
+            if (b.size() != a.size())
+                throw validation_error(what + ", query " + std::to_string(q) + ": not the one-thread tree's neighbours");
+            if (q < oracle_k10_.size())
+                require_same_answer(distances, oracle_k10_[q], tag("kd_tree", "build, " + t1) + ", query " + std::to_string(q) +
+                                                                  " vs brute-force oracle");
+        }
+        const std::string verified = check::all_of({check::size, check::oracle_sample(oracle_k10_.size()), check::cross_all});
+        ctx_.rows.push_back(timed_row(verified, "kd_tree", "parallel_build", t1, "build_time", builds[0], "s"));
+        ctx_.rows.push_back(timed_row(verified, "kd_tree", "parallel_build", tn, "build_time", builds[1], "s"));
+        const double speedup = builds[0].median_seconds / builds[1].median_seconds;
+        ctx_.rows.push_back(row(check::derived, "kd_tree", "parallel_build", tn, "speedup", speedup, "x"));
+        std::ostringstream msg;
+        msg.precision(3);
+        msg << tag("kd_tree", "parallel build") << ", " << threads << " threads: " << builds[0].median_seconds << " -> "
+            << builds[1].median_seconds << " s (" << speedup << "x)";
+        ctx_.prog.say(msg.str());
     }
 
     // Nodes visited per query, from a kd_tree built with statistics compiled in (a separate,

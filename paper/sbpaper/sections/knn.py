@@ -140,6 +140,17 @@ def query_order(ctx, n):
         key = f"knn.order.{key_part(workload)}.speedup"
         quotes.ratio(ctx.book, key, [speedup])
         cells.append(ref(key))
+        # The kd-tree's bulk build on every core over one thread (parallel_build rows, measured
+        # beside the batches).
+        build = [r for r in ctx.rows.find(suite=SUITE, operation="parallel_build", workload=workload, dim="3",
+                                          scalar="double", n=at, metric="speedup", structure="kd_tree")
+                 if r["params"].startswith("threads=")]
+        key = f"knn.order.{key_part(workload)}.build-speedup"
+        if build:
+            quotes.ratio(ctx.book, key, [build])
+            cells.append(ref(key))
+        else:
+            cells.append("---")
         body.append(cells)
     # The text quotes the far-query workload's ratios: defined (as not measured) even when a
     # run has no clusters_far rows, as the smoke preset's has not.
@@ -150,8 +161,8 @@ def query_order(ctx, n):
     if not body:
         ctx.book.missing("knn.order.table", "knn_batch rows (a run with the batched measurement)")
         return
-    ctx.table("knn_query_order.tex", tabular("lrrrrr", ["workload", "as given", "/ best peer", "Morton order",
-                                                         "/ best peer", "Morton, all cores"], body))
+    ctx.table("knn_query_order.tex", tabular("lrrrrrr", ["workload", "as given", "/ best peer", "Morton order",
+                                                          "/ best peer", "Morton, all cores", "build, all cores"], body))
 
 
 def real_data(ctx):

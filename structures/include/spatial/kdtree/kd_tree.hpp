@@ -54,6 +54,7 @@
 #include <cstdint>
 #include <iterator>
 #include <limits>
+#include <mutex>
 #include <numeric>
 #include <span>
 #include <stdexcept>
@@ -76,6 +77,7 @@
 #include "spatial/core/knn_result_set.hpp"
 #include "spatial/core/object_concepts.hpp"
 #include "spatial/core/object_geometry.hpp"
+#include "spatial/core/parallel.hpp"
 #include "spatial/core/query_stats.hpp"
 #include "spatial/core/slot_storage.hpp"
 #include "spatial/kdtree/kd_tree_config.hpp"
@@ -185,6 +187,9 @@ public:
     kd_tree() noexcept { drop_tree(); }
     template <class InputIt>
     kd_tree(InputIt first, InputIt last) : kd_tree() { insert(first, last); }
+    // The same tree built on every core (insert(first, last, par)).
+    template <class InputIt>
+    kd_tree(InputIt first, InputIt last, parallel_policy) : kd_tree() { insert(first, last, par); }
     // Copies are independent trees (iterators into one never refer to the other).
     kd_tree(const kd_tree&) = default;
     kd_tree& operator=(const kd_tree&) = default;
@@ -239,6 +244,15 @@ public:
     // capacity errors; a std::bad_alloc during rebuilding leaves the tree unusable).
     template <class InputIt>
     void insert(InputIt first, InputIt last);
+    // The bulk insertion on every core (core/parallel.hpp). Into an empty tree: the same tree
+    // as insert(first, last), node for node and slot for slot — the splits of disjoint entry
+    // ranges are made concurrently (each split only reorders its own range, so its outcome
+    // does not depend on the schedule), then the nodes are laid out in the order the
+    // sequential build allocates them. Work O(m log m), span O(m) (the root's split and the
+    // layout pass); below 2 x 8192 points, and into a non-empty tree, insert(first, last)
+    // itself. Same validation and guarantees as insert(first, last).
+    template <class InputIt>
+    void insert(InputIt first, InputIt last, parallel_policy);
 
     // ---- erasure ---------------------------------------------------------------------
     // O(leaf_capacity) plus amortised rebuilds. Returns the next element in iteration order.
@@ -494,12 +508,29 @@ private:
         std::uint16_t deepest;
         extent keys;
     };
+    // Where a build takes each inner node's split from: Config::splitter on the spot, or a
+    // plan made beforehand on several threads (planned_splits, kd_tree_build.hpp).
+    struct split_by_config {
+        split_choice<T> operator()(entry* e, std::size_t n) const { return typename Config::splitter{}(e, n, leaf_capacity); }
+    };
+    struct split_record;
+    struct planned_splits;
+    template <class SplitSource>
     built_subtree build_node(node_index at, entry* e, std::size_t n, const coords& lo, const coords& hi,
-                             std::uint16_t depth, bool fresh, std::size_t base);
+                             std::uint16_t depth, bool fresh, std::size_t base, SplitSource& split);
+    built_subtree build_node(node_index at, entry* e, std::size_t n, const coords& lo, const coords& hi,
+                             std::uint16_t depth, bool fresh, std::size_t base) {
+        split_by_config split;
+        return build_node(at, e, n, lo, hi, depth, fresh, base, split);
+    }
+    // Subtrees of fewer entries are planned on one thread (as bvh's parallel_grain).
+    static constexpr std::size_t parallel_grain = 8192;
+    static void plan_splits(entry* es, std::size_t begin, std::size_t count, std::vector<std::vector<split_record>>& chunks,
+                            std::mutex& chunks_mutex);
     template <class RandomIt>
-    void build_fresh(RandomIt batch, std::size_t count);
+    void build_fresh(RandomIt batch, std::size_t count, bool parallel = false);
     template <class RandomIt>
-    void build_fresh_in_place(RandomIt batch, std::size_t count);
+    void build_fresh_in_place(RandomIt batch, std::size_t count, bool parallel);
     void rebuild_all();
     void rebuild_all_in_place();
     void rebalance_from(node_index n);

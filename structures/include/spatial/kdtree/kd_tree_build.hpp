@@ -66,10 +66,12 @@ inline void kd_tree<O, Config>::cell_from_ancestors(node_index n, coords& lo, co
 // out in leaf order. Returns the deepest leaf depth and the keys' bounding box, from which
 // each inner node takes its children's ranges along its cut (O(D) per node on top of the
 // leaves' O(n) pass, so the ranges cost no extra pass per level).
+// `split` gives each inner node's split: the splitter's, or the planned one (the parallel build).
 template <stored_object O, class Config>
+template <class SplitSource>
 inline auto kd_tree<O, Config>::build_node(node_index at, entry* e, std::size_t n, const coords& lo,
-                                           const coords& hi, std::uint16_t depth, bool fresh, std::size_t base)
-    -> built_subtree {
+                                           const coords& hi, std::uint16_t depth, bool fresh, std::size_t base,
+                                           SplitSource& split) -> built_subtree {
     nodes_[at].depth = depth;
     if (n <= leaf_capacity) {
         const node_index b = new_bucket(at, lo, hi);
@@ -94,7 +96,7 @@ inline auto kd_tree<O, Config>::build_node(node_index at, entry* e, std::size_t 
         ++leaves_;
         return out;
     }
-    const split_choice<T> sc = typename Config::splitter{}(e, n, leaf_capacity);
+    const split_choice<T> sc = split(e, n);
     const node_index first = new_pair();
     {
         node& nd = nodes_[at];
@@ -110,9 +112,9 @@ inline auto kd_tree<O, Config>::build_node(node_index at, entry* e, std::size_t 
     coords lhi = hi, rlo = lo;
     lhi[sc.dim] = sc.value;
     rlo[sc.dim] = sc.value;
-    const built_subtree l = build_node(first, e, sc.left, lo, lhi, static_cast<std::uint16_t>(depth + 1), fresh, base);
+    const built_subtree l = build_node(first, e, sc.left, lo, lhi, static_cast<std::uint16_t>(depth + 1), fresh, base, split);
     const built_subtree r = build_node(first + 1, e + sc.left, n - sc.left, rlo, hi,
-                                       static_cast<std::uint16_t>(depth + 1), fresh, base + sc.left);
+                                       static_cast<std::uint16_t>(depth + 1), fresh, base + sc.left, split);
     using detail_rounding::round_down, detail_rounding::round_up;
     nodes_[at].ranges = {round_down<float>(l.keys.lo[sc.dim]), round_up<float>(l.keys.hi[sc.dim]),
                          round_down<float>(r.keys.lo[sc.dim]), round_up<float>(r.keys.hi[sc.dim])};
@@ -125,46 +127,178 @@ inline auto kd_tree<O, Config>::build_node(node_index at, entry* e, std::size_t 
     return out;
 }
 
+// ---- the parallel build's plan (see insert(first, last, par)) --------------------------
+// One inner node of the plan: its entries [begin, begin + count) and the split made there.
+template <stored_object O, class Config>
+struct kd_tree<O, Config>::split_record {
+    std::size_t begin, count;
+    split_choice<T> split;
+};
+// The plan replayed in preorder, the order in which build_node asks for splits; each record
+// is checked against the range build_node asks about (a plan out of step is a bug).
+template <stored_object O, class Config>
+struct kd_tree<O, Config>::planned_splits {
+    const entry* base;
+    typename std::vector<split_record>::const_iterator next, end;
+    split_choice<T> operator()(entry* e, std::size_t n) {
+        if (next == end || next->begin != static_cast<std::size_t>(e - base) || next->count != n)
+            throw std::logic_error("kd_tree: the parallel build's plan is out of step with the layout");
+        return (next++)->split;
+    }
+};
+// The splits of entries [begin, begin + count), made in place. Ranges of at least
+// parallel_grain on both sides of a split are planned concurrently (a skewed split plans its
+// small side on this thread and iterates on the large one, so the recursion stays shallow).
+// Each planner appends chunks of records, each chunk the preorder of a whole subtree or a
+// single node; sorting the chunks by (begin ascending, count descending) — preorder for the
+// ranges of one partition tree — and concatenating them gives the whole tree's preorder.
+template <stored_object O, class Config>
+inline void kd_tree<O, Config>::plan_splits(entry* es, std::size_t begin, std::size_t count,
+                                            std::vector<std::vector<split_record>>& chunks, std::mutex& chunks_mutex) {
+    const auto append = [&](std::vector<split_record>&& local) {
+        if (local.empty()) return;
+        const std::lock_guard<std::mutex> lock(chunks_mutex);
+        chunks.push_back(std::move(local));
+    };
+    const auto plan_sequentially = [&](std::size_t b0, std::size_t m0) {
+        std::vector<split_record> local;
+        std::vector<std::pair<std::size_t, std::size_t>> todo{{b0, m0}};
+        while (!todo.empty()) {
+            const auto [b, m] = todo.back();
+            todo.pop_back();
+            if (m <= leaf_capacity) continue;
+            const split_choice<T> sc = split_by_config{}(es + b, m);
+            local.push_back({b, m, sc});
+            todo.push_back({b + sc.left, m - sc.left});
+            todo.push_back({b, sc.left});
+        }
+        append(std::move(local));
+    };
+    for (;;) {
+        if (count <= parallel_grain) {
+            plan_sequentially(begin, count);
+            return;
+        }
+        const split_choice<T> sc = split_by_config{}(es + begin, count);
+        append({split_record{begin, count, sc}});
+        const std::size_t left = sc.left, right = count - sc.left;
+        if (left >= parallel_grain && right >= parallel_grain) {
+            detail::parallel_invoke([&] { plan_splits(es, begin, left, chunks, chunks_mutex); },
+                                    [&] { plan_splits(es, begin + left, right, chunks, chunks_mutex); });
+            return;
+        }
+        if (left < right) {
+            plan_sequentially(begin, left);
+            begin += left;
+            count = right;
+        } else {
+            plan_sequentially(begin + left, right);
+            count = left;
+        }
+    }
+}
+
 // Bulk build into an empty tree. Slots are assigned in leaf order, so each leaf's points
 // are contiguous in memory (sequential access when a query scans a leaf).
 // Strong guarantee: the empty tree is moved aside and put back if the build cannot allocate;
 // the slots are assigned last, in one step that either happens whole or not at all.
 template <stored_object O, class Config>
 template <class RandomIt>
-inline void kd_tree<O, Config>::build_fresh(RandomIt batch, std::size_t count) {
+inline void kd_tree<O, Config>::build_fresh(RandomIt batch, std::size_t count, bool parallel) {
     tree_backup backup = backup_all();
     try {
-        build_fresh_in_place(batch, count);
+        build_fresh_in_place(batch, count, parallel);
     } catch (const std::bad_alloc&) {
         restore(backup);
         throw;
     }
 }
+// parallel: the entries are made, the splits planned, the points gathered in leaf order and
+// their slots' bucket words written on every core; the nodes are laid out on this thread
+// (O(m) for m points, about 2m / leaf_capacity nodes), from the plan, by the same build_node.
 template <stored_object O, class Config>
 template <class RandomIt>
-inline void kd_tree<O, Config>::build_fresh_in_place(RandomIt batch, std::size_t count) {
+inline void kd_tree<O, Config>::build_fresh_in_place(RandomIt batch, std::size_t count, bool parallel) {
     reset_to_empty();
     free_buckets_.push_back(nodes_[root].first);
     leaves_ = 0;
     std::vector<entry> es(count);
-    for (std::size_t i = 0; i < count; ++i) {
-        es[i] = make_entry(batch[i], static_cast<slot_index>(i));
-        grow_bounds(es[i].c);
+    constexpr std::size_t chunk = std::size_t(1) << 14;
+    if (parallel) {
+        // Bounds are a min / max over all keys: the same whatever the chunks' order.
+        std::mutex bounds_mutex;
+        detail::parallel_chunks(count, chunk, [&](std::size_t b, std::size_t e) {
+            coords lo, hi;
+            lo.fill(std::numeric_limits<T>::infinity());
+            hi.fill(-std::numeric_limits<T>::infinity());
+            for (std::size_t i = b; i < e; ++i) {
+                es[i] = make_entry(batch[i], static_cast<slot_index>(i));
+                for (std::size_t d = 0; d < D; ++d) {
+                    lo[d] = std::min(lo[d], es[i].c[d]);
+                    hi[d] = std::max(hi[d], es[i].c[d]);
+                }
+            }
+            const std::lock_guard<std::mutex> lock(bounds_mutex);
+            grow_bounds(lo);
+            grow_bounds(hi);
+        });
+    } else {
+        for (std::size_t i = 0; i < count; ++i) {
+            es[i] = make_entry(batch[i], static_cast<slot_index>(i));
+            grow_bounds(es[i].c);
+        }
     }
     coords lo, hi;
     lo.fill(-std::numeric_limits<T>::infinity());
     hi.fill(std::numeric_limits<T>::infinity());
-    build_node(root, es.data(), es.size(), lo, hi, 0, true, 0);
+    if (parallel) {
+        std::vector<std::vector<split_record>> chunks;
+        std::mutex chunks_mutex;
+        plan_splits(es.data(), 0, count, chunks, chunks_mutex);
+        std::sort(chunks.begin(), chunks.end(), [](const auto& a, const auto& b) {
+            return a.front().begin != b.front().begin ? a.front().begin < b.front().begin : a.front().count > b.front().count;
+        });
+        std::vector<split_record> plan;
+        for (const auto& c : chunks) plan.insert(plan.end(), c.begin(), c.end());
+        // Exactly what the layout allocates: a pair of nodes per split, a bucket per leaf
+        // (the sequential build's shrink_to_fit below then has nothing to give back).
+        nodes_.reserve(1 + 2 * plan.size());
+        links_.reserve(1 + 2 * plan.size());
+        if constexpr (has_extent) extents_.reserve(1 + 2 * plan.size());
+        buckets_.reserve(1 + plan.size());
+        planned_splits split{es.data(), plan.cbegin(), plan.cend()};
+        build_node(root, es.data(), es.size(), lo, hi, 0, true, 0, split);
+        if (split.next != split.end) throw std::logic_error("kd_tree: the parallel build left planned splits unused");
+    } else {
+        build_node(root, es.data(), es.size(), lo, hi, 0, true, 0);
+    }
     // After partitioning, position i of `es` is the i-th point in leaf order.
     std::vector<O> ordered;
-    ordered.reserve(count);
-    for (const entry& e : es) ordered.push_back(batch[e.slot]);
+    if constexpr (std::is_default_constructible_v<O>) {
+        if (parallel) {
+            ordered.resize(count);
+            detail::parallel_chunks(count, chunk, [&](std::size_t b, std::size_t e) {
+                for (std::size_t i = b; i < e; ++i) ordered[i] = batch[es[i].slot];
+            });
+        }
+    }
+    if (ordered.size() != count) {
+        ordered.reserve(count);
+        for (const entry& e : es) ordered.push_back(batch[e.slot]);
+    }
     slots_.assign(std::move(ordered), 0);
-    for (std::size_t i = 0; i < es.size(); ++i) slots_.set_meta(static_cast<slot_index>(i), es[i].bucket);
+    if (parallel) {
+        detail::parallel_chunks(count, chunk, [&](std::size_t b, std::size_t e) {
+            for (std::size_t i = b; i < e; ++i) slots_.set_meta(static_cast<slot_index>(i), es[i].bucket);
+        });
+    } else {
+        for (std::size_t i = 0; i < es.size(); ++i) slots_.set_meta(static_cast<slot_index>(i), es[i].bucket);
+    }
     size_at_rebuild_ = slots_.size();
     ++maintenance_.full_rebuilds;
     nodes_.shrink_to_fit();
     links_.shrink_to_fit();
+    if constexpr (has_extent) extents_.shrink_to_fit();  // grown with nodes_ (new_pair)
     buckets_.shrink_to_fit();
 }
 

@@ -64,6 +64,24 @@ inline void kd_tree<O, Config>::insert(InputIt first, InputIt last) {
     }
 }
 
+template <stored_object O, class Config>
+template <class InputIt>
+inline void kd_tree<O, Config>::insert(InputIt first, InputIt last, parallel_policy) {
+    if constexpr (!std::random_access_iterator<InputIt>) {
+        const std::vector<O> batch(first, last);
+        insert(batch.begin(), batch.end(), par);
+    } else {
+        const auto m = static_cast<std::size_t>(last - first);
+        if (slots_.size() != 0 || m < 2 * parallel_grain) {
+            insert(first, last);
+            return;
+        }
+        for (auto it = first; it != last; ++it) detail::require_finite_object(*it, site("insert(first, last, par)"));
+        slots_.require_room_for(m, site("insert(first, last, par)"));
+        build_fresh(first, m, true);
+    }
+}
+
 // Removes slot s from its leaf's bucket only (no merge, no release): the undo of a placement.
 template <stored_object O, class Config>
 inline void kd_tree<O, Config>::take_out_of_leaf(slot_index s) noexcept {
