@@ -434,7 +434,7 @@ private:
     struct split_record;
     split_record make_record(const item* base, std::size_t b, std::size_t m, std::size_t left, const item_bounds& bounds,
                              std::vector<bv_point>& scratch) const;
-    struct split_plan;
+    using split_plan = detail::preorder_plan<split_record>;  // core/preorder_plan.hpp
     void plan_splits(item* base, std::size_t b, std::size_t m, item_bounds bounds, split_plan& plan) const;
 
     // ---- dynamic updates (bvh_motion.hpp) ---------------------------------------------

@@ -11,12 +11,11 @@
 // they fit volumes, never in how a leaf or an inner node is laid out, so both emit the same
 // nodes in the same order.
 
-#include <mutex>
-
 #include <new>
 
 #include "spatial/bvh/bvh.hpp"
 #include "spatial/core/capacity_headroom.hpp"
+#include "spatial/core/preorder_plan.hpp"
 
 namespace spatial {
 
@@ -274,25 +273,6 @@ inline auto bvh<O, BV, Config>::make_record(const item* base, std::size_t b, std
     else fit_items(base + b, m, scratch, r.box, r.volume);
     return r;
 }
-// Chunks of records, each the preorder of a whole subtree or a single node, appended by
-// concurrent planners. Ordering the chunks by their first node's (begin ascending, count
-// descending) — which is preorder for nodes of one partition tree — and concatenating
-// them gives the preorder of the whole tree without sorting the records themselves.
-template <stored_object O, class BV, class Config>
-struct bvh<O, BV, Config>::split_plan {
-    std::mutex mutex;
-    std::vector<std::vector<split_record>> chunks;
-    void append(std::vector<split_record>&& local) {
-        std::lock_guard<std::mutex> lock(mutex);
-        chunks.push_back(std::move(local));
-    }
-    void sort_to_preorder() {
-        std::sort(chunks.begin(), chunks.end(), [](const auto& a, const auto& b) {
-            return a.front().begin != b.front().begin ? a.front().begin < b.front().begin
-                                                      : a.front().count > b.front().count;
-        });
-    }
-};
 template <stored_object O, class BV, class Config>
 inline void bvh<O, BV, Config>::plan_splits(item* base, std::size_t b, std::size_t m, item_bounds bounds,
                                             split_plan& plan) const {

@@ -54,7 +54,6 @@
 #include <cstdint>
 #include <iterator>
 #include <limits>
-#include <mutex>
 #include <numeric>
 #include <span>
 #include <stdexcept>
@@ -78,6 +77,7 @@
 #include "spatial/core/object_concepts.hpp"
 #include "spatial/core/object_geometry.hpp"
 #include "spatial/core/parallel.hpp"
+#include "spatial/core/preorder_plan.hpp"
 #include "spatial/core/query_stats.hpp"
 #include "spatial/core/slot_storage.hpp"
 #include "spatial/kdtree/kd_tree_config.hpp"
@@ -525,8 +525,8 @@ private:
     }
     // Subtrees of fewer entries are planned on one thread (as bvh's parallel_grain).
     static constexpr std::size_t parallel_grain = 8192;
-    static void plan_splits(entry* es, std::size_t begin, std::size_t count, std::vector<std::vector<split_record>>& chunks,
-                            std::mutex& chunks_mutex);
+    using split_plan = detail::preorder_plan<split_record>;  // core/preorder_plan.hpp
+    static void plan_splits(entry* es, std::size_t begin, std::size_t count, split_plan& plan);
     template <class RandomIt>
     void build_fresh(RandomIt batch, std::size_t count, bool parallel = false);
     template <class RandomIt>

@@ -4,6 +4,7 @@
 // the points out in leaf order, the full rebuild from the live slots, and the scapegoat rule
 // (Galperin & Rivest 1993) that picks which subtree to rebuild when a leaf gets too deep.
 
+#include <mutex>
 #include <new>
 
 #include "spatial/kdtree/kd_tree.hpp"
@@ -146,20 +147,12 @@ struct kd_tree<O, Config>::planned_splits {
         return (next++)->split;
     }
 };
-// The splits of entries [begin, begin + count), made in place. Ranges of at least
-// parallel_grain on both sides of a split are planned concurrently (a skewed split plans its
-// small side on this thread and iterates on the large one, so the recursion stays shallow).
-// Each planner appends chunks of records, each chunk the preorder of a whole subtree or a
-// single node; sorting the chunks by (begin ascending, count descending) — preorder for the
-// ranges of one partition tree — and concatenating them gives the whole tree's preorder.
+// The splits of entries [begin, begin + count), made in place, appended to `plan` in chunks
+// (core/preorder_plan.hpp). Ranges of at least parallel_grain on both sides of a split are
+// planned concurrently (a skewed split plans its small side on this thread and iterates on the
+// large one, so the recursion stays shallow).
 template <stored_object O, class Config>
-inline void kd_tree<O, Config>::plan_splits(entry* es, std::size_t begin, std::size_t count,
-                                            std::vector<std::vector<split_record>>& chunks, std::mutex& chunks_mutex) {
-    const auto append = [&](std::vector<split_record>&& local) {
-        if (local.empty()) return;
-        const std::lock_guard<std::mutex> lock(chunks_mutex);
-        chunks.push_back(std::move(local));
-    };
+inline void kd_tree<O, Config>::plan_splits(entry* es, std::size_t begin, std::size_t count, split_plan& plan) {
     const auto plan_sequentially = [&](std::size_t b0, std::size_t m0) {
         std::vector<split_record> local;
         std::vector<std::pair<std::size_t, std::size_t>> todo{{b0, m0}};
@@ -172,7 +165,7 @@ inline void kd_tree<O, Config>::plan_splits(entry* es, std::size_t begin, std::s
             todo.push_back({b + sc.left, m - sc.left});
             todo.push_back({b, sc.left});
         }
-        append(std::move(local));
+        plan.append(std::move(local));
     };
     for (;;) {
         if (count <= parallel_grain) {
@@ -180,11 +173,11 @@ inline void kd_tree<O, Config>::plan_splits(entry* es, std::size_t begin, std::s
             return;
         }
         const split_choice<T> sc = split_by_config{}(es + begin, count);
-        append({split_record{begin, count, sc}});
+        plan.append({split_record{begin, count, sc}});
         const std::size_t left = sc.left, right = count - sc.left;
         if (left >= parallel_grain && right >= parallel_grain) {
-            detail::parallel_invoke([&] { plan_splits(es, begin, left, chunks, chunks_mutex); },
-                                    [&] { plan_splits(es, begin + left, right, chunks, chunks_mutex); });
+            detail::parallel_invoke([&] { plan_splits(es, begin, left, plan); },
+                                    [&] { plan_splits(es, begin + left, right, plan); });
             return;
         }
         if (left < right) {
@@ -252,14 +245,11 @@ inline void kd_tree<O, Config>::build_fresh_in_place(RandomIt batch, std::size_t
     lo.fill(-std::numeric_limits<T>::infinity());
     hi.fill(std::numeric_limits<T>::infinity());
     if (parallel) {
-        std::vector<std::vector<split_record>> chunks;
-        std::mutex chunks_mutex;
-        plan_splits(es.data(), 0, count, chunks, chunks_mutex);
-        std::sort(chunks.begin(), chunks.end(), [](const auto& a, const auto& b) {
-            return a.front().begin != b.front().begin ? a.front().begin < b.front().begin : a.front().count > b.front().count;
-        });
+        split_plan chunks;
+        plan_splits(es.data(), 0, count, chunks);
+        chunks.sort_to_preorder();
         std::vector<split_record> plan;
-        for (const auto& c : chunks) plan.insert(plan.end(), c.begin(), c.end());
+        for (const auto& c : chunks.chunks) plan.insert(plan.end(), c.begin(), c.end());
         // Exactly what the layout allocates: a pair of nodes per split, a bucket per leaf
         // (the sequential build's shrink_to_fit below then has nothing to give back).
         nodes_.reserve(1 + 2 * plan.size());
