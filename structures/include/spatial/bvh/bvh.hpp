@@ -67,6 +67,7 @@
 #include "spatial/core/object_geometry.hpp"
 #include "spatial/core/query_stats.hpp"
 #include "spatial/core/parallel.hpp"
+#include "spatial/core/preorder_plan.hpp"
 #include "spatial/core/ray.hpp"
 #include "spatial/core/slot_storage.hpp"
 

@@ -15,7 +15,6 @@
 
 #include "spatial/bvh/bvh.hpp"
 #include "spatial/core/capacity_headroom.hpp"
-#include "spatial/core/preorder_plan.hpp"
 
 namespace spatial {
 
