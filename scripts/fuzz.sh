@@ -41,6 +41,9 @@ targets=(
   "operations 4096 0"
 )
 
+# Sanitizer reports with their stacks (the preset aborts on the first UBSan report).
+export UBSAN_OPTIONS="${UBSAN_OPTIONS:-print_stacktrace=1}"
+
 failed=0
 summary=()
 for entry in "${targets[@]}"; do
@@ -74,6 +77,16 @@ for entry in "${targets[@]}"; do
   if [[ $status -ne 0 || -n "$found" ]]; then
     failed=1
     grep -a -m 3 -E 'FINDING|ERROR:|SUMMARY:|runtime error' "$work/$name.log" | sed 's/^/    /' || true
+    # The first report's stack, and each finding's bytes: CI keeps only this log, not the
+    # scratch directory, so a finding made there must be reproducible from what is printed
+    # (echo BASE64 | base64 -d > input; replay it as the last line says).
+    grep -a -m 16 -E '^ *#[0-9]+ 0x' "$work/$name.log" | sed 's/^ */    /' || true
+    for input in $found; do
+      [[ -f "$artifacts/$input" ]] || continue
+      echo "    input $input ($(stat -c %s "$artifacts/$input") bytes), base64:"
+      head -c 8192 "$artifacts/$input" | base64 -w 0 | sed 's/^/    /'
+      echo
+    done
     summary+=("$(printf '%-12s %10s executions  FOUND: %s (exit %d; log %s)' "$name" "${runs:-?}" \
       "${found:-no input saved}" "$status" "$work/$name.log")")
   else

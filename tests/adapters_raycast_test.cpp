@@ -341,7 +341,7 @@ TEST_F(mesh_loading, off_vertex_line_without_the_columns_its_header_names_is_rej
         std::pair{"COFF\n3 1 0\n0 0 0 1 1\n1 0 0\n0 1 0\n3 0 1 2\n", "has 2 colour numbers; expected 0, 1 (a colour map index), 3 or 4"},
         std::pair{"NOFF\n3 1 0\n0 0 0\n1 0 0\n0 1 0\n3 0 1 2\n", "a vertex line of NOFF needs 6 numbers (coordinates, normal) but has 3"},
         std::pair{"COFF\n3 1 0\n0 0 0 1 nan 1\n1 0 0\n0 1 0\n3 0 1 2\n", "a column that is not a finite number: \"nan\""},
-        std::pair{"COFF\n3 1 0\n0 0 0 1 1 1\n1 0 0\n0 1 0\n3 0 1 2\n", "has 0 colour numbers but the first vertex line has 3"},
+        std::pair{"COFF\n3 1 0\n0 0 0 1 1 1\n1 0 0\n0 1 0\n3 0 1 2\n", "a vertex line of COFF has 0 colour numbers but the first has 3"},
         std::pair{"STOFF\n3 1 0\n0 0 0 0 0\n1 0 0 0 0\n0 1 0 0 0\n3 0 1 2\n", "STOFF (texture coordinates without colours) is not supported for meshes"},
     };
     for (const auto& [text, fragment] : checks) {
@@ -352,6 +352,95 @@ TEST_F(mesh_loading, off_vertex_line_without_the_columns_its_header_names_is_rej
     for (const char* good : {"COFF\n3 1 0\n0 0 0\n1 0 0\n0 1 0\n3 0 1 2\n", "COFF\n3 1 0\n0 0 0 7\n1 0 0 8\n0 1 0 9\n3 0 1 2\n",
                              "COFF\n3 1 0\n0 0 0 1 2 3 4\n1 0 0 1 2 3 4\n0 1 0 0.1 0.2 0.3 1\n3 0 1 2\n",
                              "STCNOFF\n3 1 0\n0 0 0 0 0 1 1 2 3 0.5 0.5\n1 0 0 0 0 1 1 2 3 0 0\n0 1 0 0 0 1 1 2 3 1 1\n3 0 1 2\n"}) {
+        SCOPED_TRACE(good);
+        EXPECT_EQ(harness::load_triangle_mesh(write("good.off", good)).triangles.size(), 1u);
+    }
+}
+
+// Found by fuzzing (fuzz/mesh, the CI run of 00acd08 and a local run): CGAL's OFF header reader
+// takes "vertices faces edges" from the stream, not from a line. A counts line with more numbers
+// after the edge count ("2 1 0 0 1 0") gave CGAL its rest as the first vertex line, so it read
+// every later line one off from our check, and the vertex line "-1 0 0" reached its face scanner
+// as a face of size -1, converted to std::size_t (File_scanner_OFF.h:718, UBSan). A mesh's
+// counts line is now exactly "vertices faces edges", each below 2^31 (CGAL reads them as int).
+TEST_F(mesh_loading, off_counts_line_other_than_vertices_faces_edges_or_commas_are_rejected_before_cgal_reads_it) {
+    const std::string found = std::string("OFF\n# 0 -1 0 0\n2 1 0 0 1      0\n2 1 0 0 1     0   0 \n -1 0    0\n") +
+                              "0 -1 0 0 -100\n0 0 1 0format a";
+    const std::string m = message_of(write("found.off", found));
+    EXPECT_NE(m.find("line 3: a mesh's OFF counts line holds \"vertices faces edges\" and nothing else, but \"0\" follows"),
+              std::string::npos)
+        << m;
+    const auto checks = {
+        std::pair{"OFF\n3 1\n0 0 0\n1 0 0\n0 1 0\n3 0 1 2\n", "line 2: a mesh's OFF counts line needs three numbers"},
+        std::pair{"OFF 3 1\n0 0 0\n1 0 0\n0 1 0\n3 0 1 2\n", "line 1: a mesh's OFF counts line needs three numbers"},
+        std::pair{"OFF 3 1 0 0\n0 0 0\n1 0 0\n0 1 0\n3 0 1 2\n", "but \"0\" follows the edge count"},
+        std::pair{"OFF\n3 1 x\n0 0 0\n1 0 0\n0 1 0\n3 0 1 2\n", "expected the edge count (a whole number below 2^31) after the face count but found \"x\""},
+        std::pair{"OFF\n3 1 -3\n0 0 0\n1 0 0\n0 1 0\n3 0 1 2\n", "found \"-3\""},
+        std::pair{"OFF\n3 2147483648 0\n0 0 0\n1 0 0\n0 1 0\n3 0 1 2\n", "vertex and face counts must be below 2^31"},
+        // The same misreading from a missing edge count: CGAL takes the "1" of "1e0" for it, and
+        // the first vertex line it scans is "e0 0 0", without a number: a COFF scanner then set
+        // its colour flag from 0 - 3 colour columns and read a colour from its empty vector
+        // (its scan_color, called from OFF.h:102; UBSan "applying non-zero offset 24 to null
+        // pointer": the CI run of 00acd08). So did anything after the edge count.
+        std::pair{"COFF\n3 1\n1e0 0 0\n1 0 0\n0 1 0\n3 0 1 2\n", "line 2: a mesh's OFF counts line needs three numbers"},
+        std::pair{"COFF\n3 1 0 x\n0 0 0\n1 0 0\n0 1 0\n3 0 1 2\n", "but \"x\" follows the edge count"},
+        // Commas, which point sets accept: CGAL's reader stops a line at the first, and its COFF
+        // scanner read colour columns past the numbers it had (ASan heap-buffer-overflow).
+        std::pair{"COFF\n3 1 0\n0,0,0\n1,0,0\n0,1,0\n3 0 1 2\n", "line 3: a mesh's OFF numbers are separated by spaces, not commas"},
+        std::pair{"OFF\n3 1 0\n0 0 0\n1 0 0\n0 1 0\n3,0,1,2\n", "line 6: a mesh's OFF numbers are separated by spaces"},
+        // The face count is still named first when it is the problem.
+        std::pair{"OFF\n3\n0 0 0\n1 0 0\n0 1 0\n3 0 1 2\n", "expected the face count after the vertex count"},
+    };
+    for (const auto& [text, fragment] : checks) {
+        const std::string message = message_of(write("counts.off", text));
+        EXPECT_NE(message.find(fragment), std::string::npos) << message;
+    }
+    // Counts on the keyword's line, on their own line, and with a comment after them still load.
+    for (const char* good : {"OFF 3 1 0\n0 0 0\n1 0 0\n0 1 0\n3 0 1 2\n", "OFF\n# c\n3 1 3 # counts\n0 0 0\n1 0 0\n0 1 0\n3 0 1 2\n"}) {
+        SCOPED_TRACE(good);
+        EXPECT_EQ(harness::load_triangle_mesh(write("good.off", good)).triangles.size(), 1u);
+    }
+}
+
+// Found while tracing the finding above: CGAL's OFF scanner converts a COFF colour to bytes
+// without range checks (File_scanner_OFF.h, scan_color), each of these undefined behaviour under
+// UBSan with CGAL 5.5: a colour component of 300, or 255 next to 0.5 (then every component is
+// multiplied by 255); a colour map index of -1 (read before its table) or 1e20 (converted to
+// int); and the same for a face's colour, which it reads after the face's indices, also with 2
+// numbers or with fewer than the first face had. A mesh's colours are now checked first.
+TEST_F(mesh_loading, off_colours_cgal_cannot_convert_to_bytes_are_rejected_before_cgal_reads_them) {
+    const std::string tri = "0 0 0\n1 0 0\n0 1 0\n";
+    const auto checks = {
+        std::pair{"COFF\n3 1 0\n0 0 0 300 0 0\n1 0 0 300 0 0\n0 1 0 300 0 0\n3 0 1 2\n",
+                  "line 3: a vertex line of COFF has colour (300.000000, 0.000000, 0.000000): red, green and blue are whole "
+                  "numbers from 0 to 255, or all three from 0 to 1"},
+        std::pair{"COFF\n3 1 0\n0 0 0 255 0.5 0\n1 0 0 255 0.5 0\n0 1 0 1 1 1\n3 0 1 2\n", "has colour (255.000000, 0.500000"},
+        std::pair{"COFF\n3 1 0\n0 0 0 -1\n1 0 0 -1\n0 1 0 -1\n3 0 1 2\n", "has colour map index -1.000000; an index is a number from 0 to 2^31 - 1"},
+        std::pair{"COFF\n3 1 0\n0 0 0 1e20\n1 0 0 1e20\n0 1 0 1e20\n3 0 1 2\n", "has colour map index 100000000000000000000"},
+        std::pair{"CNOFF\n3 1 0\n0 0 0 0 0 1 9 9 9\n1 0 0 0 0 1 9 9 9\n0 1 0 0 0 1 -9 9 9\n3 0 1 2\n", "line 5: a vertex line of CNOFF has colour (-9"},
+    };
+    for (const auto& [text, fragment] : checks) {
+        const std::string message = message_of(write("colours.off", text));
+        EXPECT_NE(message.find(fragment), std::string::npos) << message;
+    }
+    const auto face_checks = {
+        std::pair{"3 0 1 2 7 7\n", "line 6: face 0 has 2 colour numbers; expected 0, 1 (a colour map index), 3 or 4"},
+        std::pair{"3 0 1 2 2.5 0 0\n", "line 6: face 0 has colour (2.500000, 0.000000, 0.000000)"},
+        std::pair{"3 0 1 2 -3\n", "line 6: face 0 has colour map index -3.000000"},
+        std::pair{"3 0 1 2 7 x 7\n", "line 6: face 0 has a column that is not a finite number: \"x\""},
+    };
+    for (const auto& [face, fragment] : face_checks) {
+        const std::string message = message_of(write("face_colours.off", "COFF\n3 1 0\n" + tri + face));
+        EXPECT_NE(message.find(fragment), std::string::npos) << message;
+    }
+    const std::string fewer = message_of(write("fewer.off", "COFF\n3 2 0\n" + tri + "3 0 1 2 7 7 7\n3 0 1 2\n"));
+    EXPECT_NE(fewer.find("line 7: face 1 has 0 colour numbers but the first has 3"), std::string::npos) << fewer;
+    // Without C in the header the scanner ignores what follows a face's indices, and so do we.
+    EXPECT_EQ(harness::load_triangle_mesh(write("plain.off", "OFF\n3 1 0\n" + tri + "3 0 1 2 2.5 x\n")).triangles.size(), 1u);
+    // Colours CGAL converts: bytes, fractions, a map index beyond its table (clamped), alpha.
+    for (const char* good : {"COFF\n3 1 0\n0 0 0 255 0 128\n1 0 0 0 0 0\n0 1 0 1 1 1\n3 0 1 2 255 255 255 0.5\n",
+                                    "COFF\n3 1 0\n0 0 0 0.5 0.25 1\n1 0 0 0 0 0\n0 1 0 1 1 1\n3 0 1 2 0.5 0.5 0.5\n",
+                                    "COFF\n3 1 0\n0 0 0 500\n1 0 0 0\n0 1 0 148\n3 0 1 2 7\n"}) {
         SCOPED_TRACE(good);
         EXPECT_EQ(harness::load_triangle_mesh(write("good.off", good)).triangles.size(), 1u);
     }

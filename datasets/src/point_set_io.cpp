@@ -15,9 +15,11 @@
 #include <iterator>
 #include <limits>
 #include <optional>
+#include <span>
 #include <sstream>
 #include <string>
 #include <system_error>
+#include <vector>
 
 #if defined(SPATIAL_DATASETS_HAVE_CGAL)
 #include <CGAL/IO/read_ply_points.h>
@@ -197,17 +199,60 @@ enum class off_faces { ignore, check };
 // colours" for the lines after it, so every line must have the same colour count
 // (`first_colours`: the first line's). Every column must be a finite number, so that its
 // count and ours agree (it stops at the first one it cannot read).
-void check_off_vertex_columns(std::string_view vertex_line, std::string_view variant, const fs::path& file,
-                              std::size_t line_number, std::optional<std::size_t>& first_colours) {
-    token_reader tokens(vertex_line);
+// A mesh's colour (COFF), a vertex's or a face's: CGAL's OFF scanner converts it to bytes
+// without range checks. One number is an index into its colour map, converted to int and
+// clamped above only (a negative index read before its table). Three or four are red, green,
+// blue (alpha ignored): whole numbers are converted to unsigned char as they are, otherwise each
+// is multiplied by 255 first; a value outside the byte is undefined behaviour either way.
+void check_off_colour(std::span<const double> colour, const std::string& what, const fs::path& file,
+                      std::size_t line_number) {
+    if (colour.empty()) return;
+    if (colour.size() == 1) {
+        if (!(colour[0] >= 0.0 && colour[0] < 2147483648.0))
+            fail_at(file, line_number, what + " has colour map index " + std::to_string(colour[0]) +
+                                           "; an index is a number from 0 to 2^31 - 1");
+        return;
+    }
+    const auto rgb = colour.first(3);
+    const bool bytes = std::all_of(rgb.begin(), rgb.end(), [](double c) { return c == std::floor(c) && c >= 0.0 && c <= 255.0; });
+    const bool fractions = std::all_of(rgb.begin(), rgb.end(), [](double c) { return c >= 0.0 && c <= 1.0; });
+    if (!bytes && !fractions)
+        fail_at(file, line_number, what + " has colour (" + std::to_string(rgb[0]) + ", " + std::to_string(rgb[1]) + ", " +
+                                       std::to_string(rgb[2]) + "): red, green and blue are whole numbers from 0 to 255, "
+                                       "or all three from 0 to 1");
+}
+
+// The finite numbers of a line's tokens from `tokens` on, or a named failure.
+std::vector<double> finite_columns(token_reader tokens, const std::string& what, const fs::path& file, std::size_t line_number) {
+    std::vector<double> columns;
     std::string_view column;
-    std::size_t count = 0;
     while (tokens.next(column)) {
         const std::optional<double> value = parse_double(column);
         if (!value || !std::isfinite(*value))
-            fail_at(file, line_number, "a vertex line has a column that is not a finite number: " + quote_token(column));
-        ++count;
+            fail_at(file, line_number, what + " has a column that is not a finite number: " + quote_token(column));
+        columns.push_back(*value);
     }
+    return columns;
+}
+
+// 0, 1 (a colour map index), 3 or 4 colour numbers, as many as on the first line of their kind
+// (the scanner keeps a line's "has colours" for the lines after it), in range.
+void check_off_colour_columns(std::span<const double> colour, std::optional<std::size_t>& first_colours,
+                              const std::string& what, const fs::path& file, std::size_t line_number) {
+    const std::size_t n = colour.size();
+    if (n != 0 && n != 1 && n != 3 && n != 4)
+        fail_at(file, line_number, what + " has " + std::to_string(n) + " colour numbers; expected 0, 1 (a colour map index), 3 or 4");
+    if (!first_colours) first_colours = n;
+    if (n != *first_colours)
+        fail_at(file, line_number, what + " has " + std::to_string(n) + " colour numbers but the first has " +
+                                       std::to_string(*first_colours));
+    check_off_colour(colour, what, file, line_number);
+}
+
+void check_off_vertex_columns(std::string_view vertex_line, std::string_view variant, const fs::path& file,
+                              std::size_t line_number, std::optional<std::size_t>& first_colours) {
+    const std::vector<double> columns = finite_columns(token_reader(vertex_line), "a vertex line", file, line_number);
+    const std::size_t count = columns.size();
     const bool normals = variant.find('N') != std::string_view::npos, colours = variant.find('C') != std::string_view::npos,
                textures = variant.starts_with("ST");
     const std::size_t fixed = 3 + (normals ? 3 : 0) + (textures ? 2 : 0);
@@ -217,14 +262,35 @@ void check_off_vertex_columns(std::string_view vertex_line, std::string_view var
                                        " numbers (coordinates" + (normals ? ", normal" : "") +
                                        (textures ? ", texture" : "") + ") but has " + std::to_string(count));
     if (!colours) return;
-    const std::size_t colour_columns = count - fixed;
-    if (colour_columns != 0 && colour_columns != 1 && colour_columns != 3 && colour_columns != 4)
-        fail_at(file, line_number, "a vertex line of " + keyword + " has " + std::to_string(colour_columns) +
-                                       " colour numbers; expected 0, 1 (a colour map index), 3 or 4");
-    if (!first_colours) first_colours = colour_columns;
-    if (colour_columns != *first_colours)
-        fail_at(file, line_number, "a vertex line of " + keyword + " has " + std::to_string(colour_columns) +
-                                       " colour numbers but the first vertex line has " + std::to_string(*first_colours));
+    // The colour columns follow the coordinates and the normal; the texture coordinates come last.
+    const std::size_t first_colour = 3 + (normals ? 3 : 0);
+    check_off_colour_columns(std::span(columns).subspan(first_colour, count - fixed), first_colours,
+                             "a vertex line of " + keyword, file, line_number);
+}
+
+// A mesh's counts line, after its vertex and face counts: the edge count, then nothing. CGAL's
+// OFF header reader takes "vertices faces edges" as three numbers of a stream, not a line: with
+// the edge count missing it takes the first vertex's first number for it, and whatever follows
+// the edge count on its line becomes the first vertex line. Either way every line after it is
+// read one line off from ours, and a line we checked as a vertex reached its face scanner as a
+// face ("-1 0 0": a negative face size converted to std::size_t, UBSan; found by fuzzing,
+// docs/fuzzing.md). It reads the counts as int, so the vertex and face counts must fit one.
+void check_mesh_counts(std::uint64_t vertex_count, std::uint64_t face_count, token_reader rest, const fs::path& file,
+                       std::size_t line_number) {
+    constexpr auto int_max = static_cast<std::uint64_t>(std::numeric_limits<int>::max());
+    if (vertex_count > int_max || face_count > int_max)
+        fail_at(file, line_number, "a mesh's OFF vertex and face counts must be below 2^31 (CGAL's OFF reader reads them as int)");
+    std::string_view edges, extra;
+    if (!rest.next(edges))
+        fail_at(file, line_number, "a mesh's OFF counts line needs three numbers, \"vertices faces edges\", "
+                                   "on one line; the edge count is missing");
+    const std::optional<std::uint64_t> edge_count = parse_count(edges);
+    if (!edge_count || *edge_count > int_max)
+        fail_at(file, line_number, "expected the edge count (a whole number below 2^31) after the face count but found " +
+                                       quote_token(edges));
+    if (rest.next(extra))
+        fail_at(file, line_number, "a mesh's OFF counts line holds \"vertices faces edges\" and nothing else, but " +
+                                       quote_token(extra) + " follows the edge count");
 }
 
 // Faces (when asked): each face's line starts with its vertex count, a non-negative integer
@@ -234,11 +300,18 @@ void check_off_vertex_columns(std::string_view vertex_line, std::string_view var
 std::vector<point3> parse_off_text(std::string_view text, const fs::path& file, off_faces faces = off_faces::ignore) {
     line_reader lines(text);
     std::string_view raw;
-    // Next line with content, comments removed; false at end of file.
+    // Next line with content, comments removed; false at end of file. A mesh's numbers are
+    // separated by white space only: CGAL's OFF reader stops a line at a comma, and its
+    // scanner then indexed colour columns past the numbers it had read (a COFF vertex
+    // line "0,0,0": ASan heap-buffer-overflow in scan_color; docs/fuzzing.md).
     const auto next_content_line = [&](std::string_view& content) {
         while (lines.next(raw)) {
             content = strip_comment(raw);
-            if (!is_blank(content)) return true;
+            if (is_blank(content)) continue;
+            if (faces == off_faces::check && content.find(',') != std::string_view::npos)
+                fail_at(file, lines.number(), "a mesh's OFF numbers are separated by spaces, not commas "
+                                              "(CGAL's OFF reader does not read a comma)");
+            return true;
         }
         return false;
     };
@@ -251,6 +324,7 @@ std::vector<point3> parse_off_text(std::string_view text, const fs::path& file, 
     std::optional<std::uint64_t> vertex_count;
     std::string_view face_count_token;  // the word after the vertex count
     std::string_view variant;           // the header keyword's prefix: "", "N", "C", ..., "STCN"
+    token_reader counts_rest{{}};       // the counts line after the face count
     if (parse_count(token)) {
         vertex_count = parse_count(token);  // headerless: the counts come first
         header_tokens.next(face_count_token);
@@ -281,6 +355,7 @@ std::vector<point3> parse_off_text(std::string_view text, const fs::path& file, 
                             quote_token(counts_token));
             }
             header_tokens.next(face_count_token);
+            counts_rest = header_tokens;
         }
     }
     if (!vertex_count) {
@@ -296,9 +371,16 @@ std::vector<point3> parse_off_text(std::string_view text, const fs::path& file, 
                     "expected the vertex count (\"vertices faces edges\") but found " + quote_token(token));
         }
         count_tokens.next(face_count_token);
+        counts_rest = count_tokens;
     }
     const std::size_t counts_line = lines.number();
     if (*vertex_count == 0) fail(file, "contains no points (the OFF header declares 0 vertices)");
+    const std::optional<std::uint64_t> face_count = parse_count(face_count_token);
+    if (faces == off_faces::check) {
+        if (!face_count)
+            fail_at(file, counts_line, "expected the face count after the vertex count but found " + quote_token(face_count_token));
+        check_mesh_counts(*vertex_count, *face_count, counts_rest, file, counts_line);
+    }
 
     std::vector<point3> points;
     // A lying header must not allocate terabytes: a vertex line needs at least 6 bytes.
@@ -322,9 +404,8 @@ std::vector<point3> parse_off_text(std::string_view text, const fs::path& file, 
     }
     if (faces == off_faces::ignore) return points;
 
-    const std::optional<std::uint64_t> face_count = parse_count(face_count_token);
-    if (!face_count)
-        fail_at(file, counts_line, "expected the face count after the vertex count but found " + quote_token(face_count_token));
+    const bool colours = variant.find('C') != std::string_view::npos;
+    std::optional<std::size_t> first_face_colours;  // a mesh's colour columns per face line (COFF)
     std::string_view face_line;
     for (std::uint64_t f = 0; f < *face_count; ++f) {
         if (!next_content_line(face_line))
@@ -359,6 +440,11 @@ std::vector<point3> parse_off_text(std::string_view text, const fs::path& file, 
         if (indices < *size)
             fail_at(file, lines.number(), face + " declares " + std::to_string(*size) + " vertices but its line has " +
                                               std::to_string(indices) + " indices (a face is one line)");
+        // With C in the header the scanner reads what follows the indices as the face's colour,
+        // by the same rules as a vertex's (it reads past its numbers otherwise).
+        if (colours)
+            check_off_colour_columns(finite_columns(tokens, face, file, lines.number()), first_face_colours, face, file,
+                                     lines.number());
     }
     return points;
 }

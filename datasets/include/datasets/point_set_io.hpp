@@ -33,12 +33,20 @@ std::vector<spatial::point<double, 3>> load_point_set(const std::filesystem::pat
 // Extensions load_point_set accepts in this build (lower case, with the dot).
 std::span<const std::string_view> supported_point_set_extensions() noexcept;
 
-// An OFF mesh checked before CGAL's OFF reader is given it (harness::load_triangle_mesh): the
-// vertices as load_point_set reads them, then each face's line: a non-negative vertex count and
-// that many indices on the line, each a whole number below the vertex count. CGAL's scanner
-// reads them as doubles and converts them to std::size_t, which is undefined behaviour for a
-// negative or huge value (found by fuzzing, docs/fuzzing.md). Throws load_error naming the
-// file and line. O(file size).
+// An OFF mesh checked before CGAL's OFF reader is given it (harness::load_triangle_mesh), so
+// that every line CGAL 5.5's scanner reads is the line we checked, holding what it indexes
+// without bounds checks (each rule was a fuzzing finding or found tracing one; docs/fuzzing.md):
+// - the counts line is exactly "vertices faces edges" (CGAL reads them from the stream, so
+//   anything more, or a missing edge count, shifts every later line), the first two below 2^31;
+// - no line holds a comma (CGAL's reader stops a line there);
+// - the vertices as load_point_set reads them, each line with the columns its [ST][C][N] header
+//   names, finite numbers only;
+// - each face's line: a non-negative vertex count and that many indices, each a whole number
+//   below the vertex count (converted to std::size_t by CGAL: undefined for negative or huge);
+// - with C, a vertex's and a face's colour: 0, 1, 3 or 4 numbers, as many as the first line of
+//   its kind has, that CGAL can convert to bytes (an index from 0 to 2^31 - 1; red, green, blue
+//   whole from 0 to 255 or all from 0 to 1).
+// Throws load_error naming the file and line. O(file size).
 void check_off_faces(const std::filesystem::path& file);
 
 // True when this build reads .ply files (it was configured with SPATIAL_WITH_CGAL=ON).
