@@ -11,6 +11,7 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <random>
 #include <stdexcept>
 #include <vector>
@@ -155,6 +156,93 @@ TEST(bvh_parallel, ray_layout_gathered_on_every_core_is_the_sequential_layout) {
         EXPECT_EQ(sa.objects_tested, sb.objects_tested) << "ray " << q;
     }
     EXPECT_GT(hits, 300u);
+}
+
+// A binary tree as wide_ray_layout::build reads one (the bvh's binary_view), built here by
+// median splits of the objects' centres on a fixed axis per level, down to leaves of
+// `leaf` objects; `chain` splits one object off at each level instead (a tree as deep as
+// it has objects).
+struct test_binary_tree {
+    using node_index = std::uint32_t;
+    struct node {
+        P3 lo, hi;
+        bool leaf = false;
+        std::uint32_t first = 0, count = 0;  // leaf: slots [first, first + count); inner: left child
+    };
+    std::vector<tri> objects;
+    std::vector<std::uint32_t> order;  // slots in leaf order
+    std::vector<node> nodes;
+
+    test_binary_tree(std::vector<tri> objs, std::size_t leaf, bool chain) : objects(std::move(objs)) {
+        for (std::uint32_t i = 0; i < objects.size(); ++i) order.push_back(i);
+        nodes.emplace_back();
+        build(0, 0, static_cast<std::uint32_t>(objects.size()), 0, leaf, chain);
+    }
+    void build(std::size_t n, std::uint32_t b, std::uint32_t e, std::size_t depth, std::size_t leaf, bool chain) {
+        for (std::size_t a = 0; a < 3; ++a) nodes[n].lo[a] = 1e300, nodes[n].hi[a] = -1e300;
+        for (std::uint32_t i = b; i < e; ++i)
+            for (std::size_t k = 0; k < 3; ++k)
+                for (std::size_t a = 0; a < 3; ++a)
+                    nodes[n].lo[a] = std::min(nodes[n].lo[a], objects[order[i]].vertex(k)[a]),
+                    nodes[n].hi[a] = std::max(nodes[n].hi[a], objects[order[i]].vertex(k)[a]);
+        if (e - b <= leaf) {
+            nodes[n].leaf = true, nodes[n].first = b, nodes[n].count = e - b;
+            return;
+        }
+        const std::size_t axis = depth % 3;
+        const std::uint32_t m = chain ? b + 1 : b + (e - b) / 2;
+        std::nth_element(order.begin() + b, order.begin() + m, order.begin() + e, [&](std::uint32_t x, std::uint32_t y) {
+            return objects[x].vertex(0)[axis] < objects[y].vertex(0)[axis];
+        });
+        const auto left = static_cast<std::uint32_t>(nodes.size());
+        nodes[n].first = left;
+        nodes.emplace_back();
+        nodes.emplace_back();
+        build(left, b, m, depth + 1, leaf, chain);
+        build(left + 1, m, e, depth + 1, leaf, chain);
+    }
+    // What wide_ray_layout::build reads.
+    node_index root() const { return 0; }
+    bool is_leaf(node_index n) const { return nodes[n].leaf; }
+    node_index left(node_index n) const { return nodes[n].first; }
+    double lower(node_index n, std::size_t a) const { return nodes[n].lo[a]; }
+    double upper(node_index n, std::size_t a) const { return nodes[n].hi[a]; }
+    std::size_t leaf_size(node_index n) const { return nodes[n].count; }
+    std::size_t object_count() const { return objects.size(); }
+    std::uint32_t leaf_slot(node_index n, std::size_t i) const { return order[nodes[n].first + i]; }
+    const tri& value(std::uint32_t slot) const { return objects[slot]; }
+};
+
+// The collapse into wide nodes on every core (wide_ray_layout::collapse_on_every_core: the
+// top of the tree in order, the subtrees of at most collapse_grain objects concurrently, then
+// renumbered) lays out exactly the sequential collapse's nodes, in the same order: compared
+// node by node, for balanced trees with small and large leaves (subtrees far above and just
+// above the grain), 4- and 8-wide layouts, and a chain as deep as it has objects.
+TEST(bvh_parallel, ray_layout_collapsed_on_every_core_is_the_sequential_layout_node_for_node) {
+    const std::uint64_t seed = spatial_test::test_seed(83);
+    SCOPED_TRACE(spatial_test::replay_hint(seed));
+    const auto compare = [](const test_binary_tree& tree, auto layout_type) {
+        decltype(layout_type) one, many;
+        one.build(tree, false);
+        many.build(tree, true);
+        ASSERT_GT(one.node_count(), 1u);
+        ASSERT_EQ(one.node_count(), many.node_count());
+        const auto a = one.nodes(), b = many.nodes();
+        for (std::size_t i = 0; i < a.size(); ++i) ASSERT_TRUE(a[i] == b[i]) << "wide node " << i << " of " << a.size();
+        EXPECT_EQ(one.memory_bytes(), many.memory_bytes());
+    };
+    using wide8 = bvh_detail::wide_ray_layout<tri, double, 3, 8>;
+    using wide4 = bvh_detail::wide_ray_layout<tri, double, 3, 4>;
+    for (const std::size_t n : {2100u, 30000u, 100000u}) {
+        SCOPED_TRACE(n);
+        for (const std::size_t leaf : {1u, 2u, 7u}) {
+            const test_binary_tree tree(random_triangles(n, seed + n + leaf), leaf, false);
+            compare(tree, wide8{});
+            compare(tree, wide4{});
+        }
+    }
+    const test_binary_tree chain(random_triangles(5000, seed), 1, true);
+    compare(chain, wide8{});
 }
 
 TEST(bvh_parallel, batched_casts_equal_single_casts_with_both_policies) {

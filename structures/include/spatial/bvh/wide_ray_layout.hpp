@@ -41,6 +41,7 @@
 #include <cstring>
 #include <limits>
 #include <new>
+#include <span>
 #include <type_traits>
 #include <vector>
 
@@ -95,6 +96,7 @@ public:
         std::uint8_t q_hi[D][width];
         std::uint32_t child[width];  // inner lane: wide node index; leaf lane: first object
         std::uint8_t count[width];   // 0: inner lane; k > 0: a leaf of k objects
+        friend bool operator==(const wide_node&, const wide_node&) = default;
     };
     // A binary subtree of at most this many objects (two SIMD blocks of triangles) becomes
     // one leaf lane when it is not opened to fill a node: fewer, fuller leaves (the binary SAH
@@ -122,52 +124,19 @@ public:
                                    std::abs(static_cast<double>(tree.upper(tree.root(), a)))});
         usable_ = magnitude_ <= float_range;
         if (!usable_) return;  // every ray takes the double path
-        const std::vector<std::size_t> objects_below = subtree_object_counts(tree);
+        const std::vector<std::size_t> objects_below = subtree_object_counts(tree, parallel);
         // Pass 1 builds the wide nodes; leaf lanes hold their binary node and object count
         // until pass 2 stores the objects (so that the arrays can be sized exactly).
-        struct task {
-            node_index binary;
-            std::uint32_t wide;
-        };
-        std::vector<task> todo;
         std::vector<std::uint32_t> fill_order{0};
         nodes_.push_back(wide_node{});
         if (tree.is_leaf(tree.root())) {
             const std::array<node_index, width> only{tree.root()};
-            fill_node(tree, 0, only, 1, objects_below, todo);
+            std::vector<collapse_task<node_index>> none;
+            fill_node(tree, nodes_, 0, only, 1, objects_below, none);
+        } else if (parallel && objects_below[tree.root()] > 2 * collapse_grain) {
+            collapse_on_every_core(tree, objects_below, fill_order);
         } else {
-            todo.push_back({tree.root(), 0});
-        }
-        while (!todo.empty()) {
-            const task tk = todo.back();
-            todo.pop_back();
-            if (tk.wide != 0) fill_order.push_back(tk.wide);
-            // Open the inner child of largest SAH cost, surface area x objects below, until
-            // there are `width` children (small subtrees are opened too while there is room:
-            // lanes are tested together anyway). The greedy form of a cost-driven collapse
-            // (Ylitie, Karras & Laine 2017 solve it exactly by dynamic programming): the
-            // child a random ray is most likely to enter AND that costs most once entered is
-            // the one worth flattening. Against the largest area alone (Wald, Benthin &
-            // Boulos 2008): 1.17 -> 1.08x Embree's time on the 1e6 sphere, 1.51 -> 1.44x on
-            // the 1e6 soup (docs/experiments/bvh-rays.md, the collapse by SAH cost).
-            std::array<node_index, width> kids{};
-            std::size_t k = 2;
-            kids[0] = tree.left(tk.binary);
-            kids[1] = tree.left(tk.binary) + 1;
-            while (k < width) {
-                std::size_t best = width;
-                double best_cost = -1;
-                for (std::size_t i = 0; i < k; ++i) {
-                    if (tree.is_leaf(kids[i])) continue;
-                    const double cost = half_area(tree, kids[i]) * static_cast<double>(objects_below[kids[i]]);
-                    if (cost > best_cost) best_cost = cost, best = i;
-                }
-                if (best == width) break;
-                const auto opened = kids[best];
-                kids[best] = tree.left(opened);
-                kids[k++] = tree.left(opened) + 1;
-            }
-            fill_node(tree, tk.wide, kids, k, objects_below, todo);
+            collapse(tree, tree.root(), objects_below, nodes_, fill_order);
         }
         // Pass 1 pushed the wide nodes one at a time: release the doubling's spare room (up
         // to 40 % of the array; immutable from here on). A failed reallocation keeps it.
@@ -215,6 +184,8 @@ public:
 
     bool empty() const { return nodes_.empty(); }
     std::size_t node_count() const { return nodes_.size(); }
+    // The wide nodes, root first, in the order build() lays them out (tests compare layouts).
+    std::span<const wide_node> nodes() const { return nodes_; }
     std::size_t memory_bytes() const {
         std::size_t b = nodes_.capacity() * sizeof(wide_node) + objects_.capacity() * sizeof(O) +
                         slots_.capacity() * sizeof(std::uint32_t);
@@ -455,34 +426,226 @@ private:
         std::memcpy(&b, q, sizeof b);
         return __builtin_convertvector(__builtin_convertvector(b, int_lanes), lanes);
     }
-    // Objects below every binary node (indexed by node), without recursion (a degenerate
-    // tree can be as deep as it has nodes).
+    // A binary node whose children wide node `wide` will hold (collapse's work list).
+    template <class NodeIndex>
+    struct collapse_task {
+        NodeIndex binary;
+        std::uint32_t wide;
+    };
+    // The binary nodes wide node of binary node n gets as children: n's two children, then
+    // the inner child of largest SAH cost, surface area x objects below, opened until there
+    // are `width` (small subtrees are opened too while there is room: lanes are tested
+    // together anyway). The greedy form of a cost-driven collapse (Ylitie, Karras & Laine
+    // 2017 solve it exactly by dynamic programming): the child a random ray is most likely
+    // to enter AND that costs most once entered is the one worth flattening. Against the
+    // largest area alone (Wald, Benthin & Boulos 2008): 1.17 -> 1.08x Embree's time on the
+    // 1e6 sphere, 1.51 -> 1.44x on the 1e6 soup (docs/experiments/bvh-rays.md, the collapse
+    // by SAH cost). Returns how many.
     template <class Tree>
-    static std::vector<std::size_t> subtree_object_counts(const Tree& tree) {
-        std::vector<typename Tree::node_index> order{tree.root()};  // parents before children
-        std::size_t largest = tree.root();
-        for (std::size_t i = 0; i < order.size(); ++i) {
-            const auto n = order[i];
-            largest = std::max<std::size_t>(largest, n);
-            if (!tree.is_leaf(n)) order.push_back(tree.left(n)), order.push_back(tree.left(n) + 1);
+    static std::size_t open_children(const Tree& tree, typename Tree::node_index n,
+                                     const std::vector<std::size_t>& objects_below,
+                                     std::array<typename Tree::node_index, width>& kids) {
+        std::size_t k = 2;
+        kids[0] = tree.left(n);
+        kids[1] = tree.left(n) + 1;
+        while (k < width) {
+            std::size_t best = width;
+            double best_cost = -1;
+            for (std::size_t i = 0; i < k; ++i) {
+                if (tree.is_leaf(kids[i])) continue;
+                const double cost = half_area(tree, kids[i]) * static_cast<double>(objects_below[kids[i]]);
+                if (cost > best_cost) best_cost = cost, best = i;
+            }
+            if (best == width) break;
+            const auto opened = kids[best];
+            kids[best] = tree.left(opened);
+            kids[k++] = tree.left(opened) + 1;
         }
-        std::vector<std::size_t> count(largest + 1, 0);
-        for (std::size_t i = order.size(); i-- > 0;) {
-            const auto n = order[i];
-            count[n] = tree.is_leaf(n) ? tree.leaf_size(n) : count[tree.left(n)] + count[tree.left(n) + 1];
+        return k;
+    }
+    // Collapses the binary subtree of inner node `top` into `nodes`, whose entry 0 (already
+    // there) becomes top's wide node, depth first from a stack: a node's inner children get
+    // consecutive indices when it is filled, and the last one is filled next. Appends every
+    // node but 0 to fill_order as it is filled. This order is the layout's, on every core too.
+    template <class Tree, class Nodes>
+    static void collapse(const Tree& tree, typename Tree::node_index top, const std::vector<std::size_t>& objects_below,
+                         Nodes& nodes, std::vector<std::uint32_t>& fill_order) {
+        using node_index = typename Tree::node_index;
+        std::vector<collapse_task<node_index>> todo{{top, 0}};
+        while (!todo.empty()) {
+            const collapse_task<node_index> tk = todo.back();
+            todo.pop_back();
+            if (tk.wide != 0) fill_order.push_back(tk.wide);
+            std::array<node_index, width> kids{};
+            const std::size_t k = open_children(tree, tk.binary, objects_below, kids);
+            fill_node(tree, nodes, tk.wide, kids, k, objects_below, todo);
         }
+    }
+    // Subtrees of at most this many objects are collapsed on their own by collapse_on_every_core.
+    static constexpr std::size_t collapse_grain = 1024;
+    // collapse() of the whole tree on every core of the parallel back end, to the same nodes
+    // in the same order. Because the work list is a stack, collapse() finishes a node's whole
+    // subtree before it takes the next node from below it: the wide nodes of a subtree are
+    // one run of indices, allocated when its top is taken. So: (1) the top of the tree, the
+    // nodes above more than collapse_grain objects, is collapsed in collapse()'s order with
+    // provisional indices, recording each node as it is taken; a smaller subtree is recorded
+    // and not entered; (2) those subtrees are collapsed concurrently, each into its own array;
+    // (3) replaying the record gives every node its index (a top node's inner children the
+    // next indices, a small subtree's nodes the next run, its size known from (2)); (4) the
+    // nodes are copied to their indices, the subtrees concurrently.
+    template <class Tree>
+    void collapse_on_every_core(const Tree& tree, const std::vector<std::size_t>& objects_below,
+                                std::vector<std::uint32_t>& fill_order) {
+        using node_index = typename Tree::node_index;
+        struct taken {
+            std::uint32_t provisional;  // index in nodes_ (the top's nodes)
+            node_index binary;
+            std::size_t subtree;  // index in subtrees, or npos for a top node
+        };
+        constexpr std::size_t npos = ~std::size_t{0};
+        struct subtree {
+            std::vector<wide_node> nodes;  // [0]: the subtree's top
+            std::vector<std::uint32_t> fill_order;
+            std::uint32_t first = 0;  // the index of its nodes [1, size) in the layout
+        };
+        // (1) The top.
+        std::vector<taken> record;
+        std::vector<subtree> subtrees;
+        std::vector<collapse_task<node_index>> todo{{tree.root(), 0}};
+        while (!todo.empty()) {
+            const collapse_task<node_index> tk = todo.back();
+            todo.pop_back();
+            if (tk.wide != 0 && objects_below[tk.binary] <= collapse_grain) {
+                record.push_back({tk.wide, tk.binary, subtrees.size()});
+                subtrees.emplace_back();
+                continue;
+            }
+            record.push_back({tk.wide, tk.binary, npos});
+            std::array<node_index, width> kids{};
+            const std::size_t k = open_children(tree, tk.binary, objects_below, kids);
+            fill_node(tree, nodes_, tk.wide, kids, k, objects_below, todo);
+        }
+        // (2) The subtrees.
+        std::vector<std::size_t> subtree_top(subtrees.size());
+        for (const taken& t : record)
+            if (t.subtree != npos) subtree_top[t.subtree] = t.binary;
+        detail::parallel_chunks(subtrees.size(), 1, [&](std::size_t b, std::size_t e) {
+            for (std::size_t i = b; i < e; ++i) {
+                subtrees[i].nodes.push_back(wide_node{});
+                collapse(tree, static_cast<node_index>(subtree_top[i]), objects_below, subtrees[i].nodes,
+                         subtrees[i].fill_order);
+            }
+        });
+        // (3) The indices.
+        const auto is_inner_lane = [](const wide_node& nd, std::size_t i) {
+            return ((nd.lanes >> i) & 1u) != 0 && nd.count[i] == 0;
+        };
+        std::vector<std::uint32_t> final_index(nodes_.size(), 0);
+        std::size_t next = 1;
+        for (const taken& t : record) {
+            if (t.subtree != npos) {
+                subtrees[t.subtree].first = static_cast<std::uint32_t>(next);
+                next += subtrees[t.subtree].nodes.size() - 1;
+                continue;
+            }
+            const wide_node& nd = nodes_[t.provisional];
+            for (std::size_t i = 0; i < width; ++i)
+                if (is_inner_lane(nd, i)) final_index[nd.child[i]] = static_cast<std::uint32_t>(next++);
+        }
+        // (4) The nodes, and the order they were filled in.
+        const auto renumbered = [&](const wide_node& from, auto&& index_of) {
+            wide_node nd = from;
+            for (std::size_t i = 0; i < width; ++i)
+                if (is_inner_lane(nd, i)) nd.child[i] = index_of(nd.child[i]);
+            return nd;
+        };
+        ray_vector<wide_node> out(next);
+        for (const taken& t : record)
+            if (t.subtree == npos)
+                out[final_index[t.provisional]] =
+                    renumbered(nodes_[t.provisional], [&](std::uint32_t c) { return final_index[c]; });
+        detail::parallel_chunks(record.size(), 64, [&](std::size_t b, std::size_t e) {
+            for (std::size_t r = b; r < e; ++r) {
+                if (record[r].subtree == npos) continue;
+                const subtree& st = subtrees[record[r].subtree];
+                const auto local = [&](std::uint32_t c) { return st.first + c - 1; };
+                out[final_index[record[r].provisional]] = renumbered(st.nodes[0], local);
+                for (std::size_t j = 1; j < st.nodes.size(); ++j) out[local(static_cast<std::uint32_t>(j))] = renumbered(st.nodes[j], local);
+            }
+        });
+        for (const taken& t : record) {
+            if (t.provisional != 0) fill_order.push_back(final_index[t.provisional]);
+            if (t.subtree != npos)
+                for (const std::uint32_t j : subtrees[t.subtree].fill_order) fill_order.push_back(subtrees[t.subtree].first + j - 1);
+        }
+        nodes_ = std::move(out);
+    }
+    // Objects below every binary node (indexed by node), without recursion (a degenerate
+    // tree can be as deep as it has nodes): each node's subtree listed parents first, then
+    // counted children first. With `parallel`, the top levels are listed first (at most 64
+    // nodes deep enough to have a few subtrees per core), and the subtrees below them are
+    // listed and counted concurrently; the counts are the same.
+    template <class Tree>
+    static std::vector<std::size_t> subtree_object_counts(const Tree& tree, bool parallel = false) {
+        using node_index = typename Tree::node_index;
+        std::vector<node_index> top{tree.root()};  // parents before children
+        std::vector<node_index> roots;             // the subtrees below the top
+        if (parallel) {
+            std::size_t level = 0;
+            while (level < top.size() && top.size() - level < 64) {
+                const std::size_t end = top.size();
+                for (; level < end; ++level)
+                    if (!tree.is_leaf(top[level])) top.push_back(tree.left(top[level])), top.push_back(tree.left(top[level]) + 1);
+            }
+            roots.assign(top.begin() + static_cast<std::ptrdiff_t>(level), top.end());
+            top.resize(level);
+        } else {
+            roots = std::move(top);
+            top.clear();
+        }
+        std::vector<std::vector<node_index>> orders(roots.size());
+        std::vector<std::size_t> largest(roots.size(), 0);
+        const auto list = [&](std::size_t b, std::size_t e) {
+            for (std::size_t r = b; r < e; ++r) {
+                std::vector<node_index>& order = orders[r];
+                order.push_back(roots[r]);
+                for (std::size_t i = 0; i < order.size(); ++i) {
+                    const auto n = order[i];
+                    largest[r] = std::max<std::size_t>(largest[r], n);
+                    if (!tree.is_leaf(n)) order.push_back(tree.left(n)), order.push_back(tree.left(n) + 1);
+                }
+            }
+        };
+        std::size_t size = 0;
+        for (const node_index n : top) size = std::max<std::size_t>(size, n);
+        if (parallel) detail::parallel_chunks(roots.size(), 1, list);
+        else list(0, roots.size());
+        for (const std::size_t l : largest) size = std::max(size, l);
+        std::vector<std::size_t> count(size + 1, 0);
+        const auto count_below = [&](const std::vector<node_index>& order) {
+            for (std::size_t i = order.size(); i-- > 0;) {
+                const auto n = order[i];
+                count[n] = tree.is_leaf(n) ? tree.leaf_size(n) : count[tree.left(n)] + count[tree.left(n) + 1];
+            }
+        };
+        const auto count_range = [&](std::size_t b, std::size_t e) {
+            for (std::size_t r = b; r < e; ++r) count_below(orders[r]);
+        };
+        if (parallel) detail::parallel_chunks(roots.size(), 1, count_range);
+        else count_range(0, roots.size());
+        count_below(top);
         return count;
     }
     // Fills wide node `at` with the binary nodes kids[0, k): quantises their boxes, marks leaf
     // lanes (a leaf, or a subtree of at most merged_leaf_objects objects; their objects are
     // stored by pass 2 of build) and queues a wide node for every other lane.
-    template <class Tree, class Task>
-    void fill_node(const Tree& tree, std::size_t at, const std::array<typename Tree::node_index, width>& kids,
-                   std::size_t k, const std::vector<std::size_t>& objects_below, std::vector<Task>& todo) {
+    template <class Tree, class Nodes, class Task>
+    static void fill_node(const Tree& tree, Nodes& nodes, std::size_t at, const std::array<typename Tree::node_index, width>& kids,
+                          std::size_t k, const std::vector<std::size_t>& objects_below, std::vector<Task>& todo) {
         // The quantisation frame per axis: origin = the union's lower corner rounded down to
         // float; 2^e the smallest power of two (a normal float) with 255 2^e >= the union's
         // extent from origin, rounded up.
-        wide_node& nd = nodes_[at];
+        wide_node& nd = nodes[at];
         for (std::size_t a = 0; a < D; ++a) {
             double lo = std::numeric_limits<double>::infinity(), hi = -lo;
             for (std::size_t i = 0; i < k; ++i) {
@@ -508,20 +671,20 @@ private:
                 nd.q_hi[a][i] = static_cast<std::uint8_t>(std::min(255.0, std::ceil(std::ldexp(h, -e))));
             }
         }
-        for (std::size_t i = 0; i < k; ++i) {  // by index from here: nodes_ may grow (and move)
+        for (std::size_t i = 0; i < k; ++i) {  // by index from here: nodes may grow (and move)
             const std::size_t objects = objects_below[kids[i]];
             if (objects == 0) continue;  // an empty leaf (possible after erasures) is no lane
-            nodes_[at].lanes |= static_cast<std::uint8_t>(1u << i);
+            nodes[at].lanes |= static_cast<std::uint8_t>(1u << i);
             if (tree.is_leaf(kids[i]) || objects <= merged_leaf_objects) {
                 // Pass 2 of build replaces the binary node by the leaf's first object.
-                nodes_[at].child[i] = static_cast<std::uint32_t>(kids[i]);
-                nodes_[at].count[i] = static_cast<std::uint8_t>(objects);
+                nodes[at].child[i] = static_cast<std::uint32_t>(kids[i]);
+                nodes[at].count[i] = static_cast<std::uint8_t>(objects);
             } else {
-                const auto w = static_cast<std::uint32_t>(nodes_.size());
-                nodes_[at].child[i] = w;
-                nodes_[at].count[i] = 0;
+                const auto w = static_cast<std::uint32_t>(nodes.size());
+                nodes[at].child[i] = w;
+                nodes[at].count[i] = 0;
                 todo.push_back({kids[i], w});
-                nodes_.push_back(wide_node{});
+                nodes.push_back(wide_node{});
             }
         }
     }
