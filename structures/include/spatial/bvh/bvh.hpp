@@ -41,6 +41,7 @@
 #include <cstdint>
 #include <iterator>
 #include <limits>
+#include <memory>
 #include <span>
 #include <stdexcept>
 #include <string>
@@ -421,6 +422,8 @@ private:
 
     // ---- building (bvh_build.hpp) -----------------------------------------------------
     void write_leaf(node_index at, const item* first, std::size_t m);  // the node writer
+    void open_leaf(node_index at, std::size_t m);
+    void fill_leaf(node_index at, const item* first);
     node_index write_inner(node_index at);
     void make_leaf(node_index at, const item* first, std::size_t m);
     void build_subtree(node_index at, item* first, std::size_t m);
