@@ -191,14 +191,6 @@ std::vector<point3> parse_xyz_text(std::string_view text, const fs::path& file) 
 // headerless files that start with the counts; rejects 4OFF, nOFF and binary OFF by name.
 enum class off_faces { ignore, check };
 
-// A mesh's vertex line, for CGAL's OFF scanner (File_scanner_OFF.h), which counts the line's
-// leading numbers and indexes them without bounds checks: after the 3 coordinates, 3 normal
-// components (N), 2 texture coordinates (ST) and, with C, 0, 1 (a colour map index), 3 or 4
-// colour components. Any other count made it read past its vector ("STCOFF" with a
-// three-number vertex line: found by fuzzing, docs/fuzzing.md). It keeps a line's "has
-// colours" for the lines after it, so every line must have the same colour count
-// (`first_colours`: the first line's). Every column must be a finite number, so that its
-// count and ours agree (it stops at the first one it cannot read).
 // A mesh's colour (COFF), a vertex's or a face's: CGAL's OFF scanner converts it to bytes
 // without range checks. One number is an index into its colour map, converted to int and
 // clamped above only (a negative index read before its table). Three or four are red, green,
@@ -249,6 +241,14 @@ void check_off_colour_columns(std::span<const double> colour, std::optional<std:
     check_off_colour(colour, what, file, line_number);
 }
 
+// A mesh's vertex line, for CGAL's OFF scanner (File_scanner_OFF.h), which counts the line's
+// leading numbers and indexes them without bounds checks: after the 3 coordinates, 3 normal
+// components (N), 2 texture coordinates (ST) and, with C, 0, 1 (a colour map index), 3 or 4
+// colour components. Any other count made it read past its vector ("STCOFF" with a
+// three-number vertex line: found by fuzzing, docs/fuzzing.md). It keeps a line's "has
+// colours" for the lines after it, so every line must have the same colour count
+// (`first_colours`: the first line's). Every column must be a finite number, so that its
+// count and ours agree (it stops at the first one it cannot read).
 void check_off_vertex_columns(std::string_view vertex_line, std::string_view variant, const fs::path& file,
                               std::size_t line_number, std::optional<std::size_t>& first_colours) {
     const std::vector<double> columns = finite_columns(token_reader(vertex_line), "a vertex line", file, line_number);

@@ -136,7 +136,7 @@ public:
         } else if (parallel && objects_below[tree.root()] > 2 * collapse_grain) {
             collapse_on_every_core(tree, objects_below, fill_order);
         } else {
-            collapse(tree, tree.root(), objects_below, nodes_, fill_order);
+            collapse(tree, tree.root(), objects_below, nodes_, filling(fill_order));
         }
         // Pass 1 pushed the wide nodes one at a time: release the doubling's spare room (up
         // to 40 % of the array; immutable from here on). A failed reallocation keeps it.
@@ -465,21 +465,30 @@ private:
     }
     // Collapses the binary subtree of inner node `top` into `nodes`, whose entry 0 (already
     // there) becomes top's wide node, depth first from a stack: a node's inner children get
-    // consecutive indices when it is filled, and the last one is filled next. Appends every
-    // node but 0 to fill_order as it is filled. This order is the layout's, on every core too.
-    template <class Tree, class Nodes>
+    // consecutive indices when it is filled, and the last one is filled next. This order is
+    // the layout's, on every core too. take(task) is told of each node as it is taken and says
+    // whether to fill it (false: its subtree is not entered; collapse_on_every_core defers it).
+    template <class Tree, class Nodes, class Take>
     static void collapse(const Tree& tree, typename Tree::node_index top, const std::vector<std::size_t>& objects_below,
-                         Nodes& nodes, std::vector<std::uint32_t>& fill_order) {
+                         Nodes& nodes, Take&& take) {
         using node_index = typename Tree::node_index;
         std::vector<collapse_task<node_index>> todo{{top, 0}};
         while (!todo.empty()) {
             const collapse_task<node_index> tk = todo.back();
             todo.pop_back();
-            if (tk.wide != 0) fill_order.push_back(tk.wide);
+            if (!take(tk)) continue;
             std::array<node_index, width> kids{};
             const std::size_t k = open_children(tree, tk.binary, objects_below, kids);
             fill_node(tree, nodes, tk.wide, kids, k, objects_below, todo);
         }
+    }
+    // collapse()'s take for a whole (sub)tree: fills every node, appending each but the top (0)
+    // to fill_order, the order in which pass 2 of build gathers the leaves.
+    static auto filling(std::vector<std::uint32_t>& fill_order) {
+        return [&fill_order](const auto& task) {
+            if (task.wide != 0) fill_order.push_back(task.wide);
+            return true;
+        };
     }
     // Subtrees of at most this many objects are collapsed on their own by collapse_on_every_core.
     static constexpr std::size_t collapse_grain = 1024;
@@ -499,41 +508,32 @@ private:
         using node_index = typename Tree::node_index;
         struct taken {
             std::uint32_t provisional;  // index in nodes_ (the top's nodes)
-            node_index binary;
-            std::size_t subtree;  // index in subtrees, or npos for a top node
+            std::size_t subtree;        // index in subtrees, or npos for a top node
         };
         constexpr std::size_t npos = ~std::size_t{0};
         struct subtree {
-            std::vector<wide_node> nodes;  // [0]: the subtree's top
+            node_index top{};              // its binary top
+            std::vector<wide_node> nodes;  // [0]: the top's wide node
             std::vector<std::uint32_t> fill_order;
             std::uint32_t first = 0;  // the index of its nodes [1, size) in the layout
         };
         // (1) The top.
         std::vector<taken> record;
         std::vector<subtree> subtrees;
-        std::vector<collapse_task<node_index>> todo{{tree.root(), 0}};
-        while (!todo.empty()) {
-            const collapse_task<node_index> tk = todo.back();
-            todo.pop_back();
+        collapse(tree, tree.root(), objects_below, nodes_, [&](const collapse_task<node_index>& tk) {
             if (tk.wide != 0 && objects_below[tk.binary] <= collapse_grain) {
-                record.push_back({tk.wide, tk.binary, subtrees.size()});
-                subtrees.emplace_back();
-                continue;
+                record.push_back({tk.wide, subtrees.size()});
+                subtrees.emplace_back().top = tk.binary;
+                return false;
             }
-            record.push_back({tk.wide, tk.binary, npos});
-            std::array<node_index, width> kids{};
-            const std::size_t k = open_children(tree, tk.binary, objects_below, kids);
-            fill_node(tree, nodes_, tk.wide, kids, k, objects_below, todo);
-        }
+            record.push_back({tk.wide, npos});
+            return true;
+        });
         // (2) The subtrees.
-        std::vector<std::size_t> subtree_top(subtrees.size());
-        for (const taken& t : record)
-            if (t.subtree != npos) subtree_top[t.subtree] = t.binary;
         detail::parallel_chunks(subtrees.size(), 1, [&](std::size_t b, std::size_t e) {
             for (std::size_t i = b; i < e; ++i) {
                 subtrees[i].nodes.push_back(wide_node{});
-                collapse(tree, static_cast<node_index>(subtree_top[i]), objects_below, subtrees[i].nodes,
-                         subtrees[i].fill_order);
+                collapse(tree, subtrees[i].top, objects_below, subtrees[i].nodes, filling(subtrees[i].fill_order));
             }
         });
         // (3) The indices.
