@@ -12,6 +12,10 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <array>
+#include <cmath>
+#include <limits>
+#include <string>
 #include <random>
 #include <stdexcept>
 #include <vector>
@@ -21,6 +25,7 @@
 #include "spatial/bv/sphere.hpp"
 #include "spatial/bvh/bvh.hpp"
 #include "spatial/objects/triangle.hpp"
+#include "answer_comparison.hpp"
 #include "test_support.hpp"
 
 using namespace spatial;
@@ -53,6 +58,9 @@ void expect_same_tree(const Tree& a, const Tree& b, std::uint64_t seed) {
     ASSERT_EQ(b.check_invariants(), "");
     EXPECT_EQ(a.node_count(), b.node_count());
     EXPECT_EQ(a.height(), b.height());
+    // Sums in preorder of every node's volume and box area: the same volumes in the same
+    // order, bit for bit.
+    EXPECT_EQ(a.node_surface_areas(), b.node_surface_areas());
     std::mt19937_64 rng(seed);
     std::uniform_real_distribution<double> u(-0.2, 1.2);
     using Pt = typename Tree::point_type;
@@ -86,6 +94,9 @@ void check_parallel_build(const std::vector<O>& data, std::uint64_t seed) {
     {
         SCOPED_TRACE((std::string("built by the constructor, ") + bvh<O, BV, Config>::volume_name()));
         expect_same_tree(sequential, parallel, seed);
+        // The same capacities too: the parallel replay reserves at once the headroom the
+        // sequential build ends with. (Not for the copies below: a copy's arrays are exact.)
+        EXPECT_EQ(sequential.memory_bytes(), parallel.memory_bytes());
     }
     // rebuild(par) of a tree grown by single inserts: the same as rebuild().
     bvh<O, BV, Config> grown, grown_copy;
@@ -108,6 +119,60 @@ TEST(bvh_parallel, build_of_triangles_is_the_sequential_tree_for_every_builder_a
     check_parallel_build<tri, sphere<double, 3>, bvh_sah_config<>>(data, seed);
     check_parallel_build<tri, obb<double, 3>, bvh_sah_config<>>(data, seed);
     check_parallel_build<tri, kdop<double, 3, 14>, bvh_median_config<8>>(data, seed);
+}
+
+// A batch of at least bvh_detail::parallel_split_items objects: the root's split is binned on
+// every core (chunks merged in item order), and the root's bounds are taken while the items
+// are listed: still the sequential tree.
+TEST(bvh_parallel, build_large_enough_to_bin_its_top_splits_on_every_core_is_the_sequential_tree) {
+    const std::uint64_t seed = spatial_test::test_seed(74);
+    SCOPED_TRACE(spatial_test::replay_hint(seed));
+    auto data = random_triangles(bvh_detail::parallel_split_items + 9000, seed);
+    // The smallest first coordinate is a zero, held by flat triangles of both signs: -0 in the
+    // first 16,384 items (the first chunk of the listing), +0 after. One pass in item order
+    // keeps the first, -0; chunks merged in any other order would give +0.
+    for (std::size_t i = 0; i < data.size(); ++i) {
+        std::array<P3, 3> v{data[i].vertex(0), data[i].vertex(1), data[i].vertex(2)};
+        for (P3& p : v) p[0] = i % 97 == 0 ? (i < 16384 ? -0.0 : 0.0) : std::max(p[0], 0.001);
+        data[i] = tri(v[0], v[1], v[2]);
+    }
+    check_parallel_build<tri, aabb<double, 3>, bvh_sah_config<>>(data, seed);
+    check_parallel_build<tri, sphere<double, 3>, bvh_sah_config<>>(data, seed);
+    const bvh<tri> sequential(data.begin(), data.end()), parallel(data.begin(), data.end(), par);
+    EXPECT_EQ(sequential.root_volume().lo[0], 0.0);
+    EXPECT_TRUE(std::signbit(sequential.root_volume().lo[0]));
+    EXPECT_TRUE(std::signbit(parallel.root_volume().lo[0]));
+}
+
+// insert(first, last, par) checks and stores the batch on every core: a batch with rejected
+// objects stores nothing and names the first of them, into an empty tree and into a full one.
+TEST(bvh_parallel, parallel_insert_of_a_batch_with_bad_objects_names_the_first_and_stores_nothing) {
+    const std::uint64_t seed = spatial_test::test_seed(75);
+    SCOPED_TRACE(spatial_test::replay_hint(seed));
+    auto data = random_triangles(100000, seed);
+    const double nan = std::numeric_limits<double>::quiet_NaN();
+    const P3 a = data[30000].vertex(0), b = data[30000].vertex(1);
+    data[30000] = tri(P3{{a[0], a[1], nan}}, a, b);  // the first: coordinate 2
+    data[70000] = tri(P3{{nan, a[1], a[2]}}, a, b);  // a later one: coordinate 0
+    data[99999] = tri(P3{{std::numeric_limits<double>::infinity(), 0, 0}}, a, b);
+    const auto good = random_triangles(20000, seed + 1);
+    bvh<tri> empty, full(good.begin(), good.end());
+    for (bvh<tri>* t : {&empty, &full}) {
+        const auto before = spatial_test::contents(*t);
+        try {
+            t->insert(data.begin(), data.end(), par);
+            FAIL() << "a batch with NaN coordinates was accepted";
+        } catch (const std::invalid_argument& e) {
+            EXPECT_NE(std::string(e.what()).find("insert(first, last)"), std::string::npos) << e.what();
+            EXPECT_NE(std::string(e.what()).find("coordinate 2"), std::string::npos) << e.what();
+        }
+        EXPECT_EQ(spatial_test::contents(*t), before);
+        EXPECT_EQ(t->check_invariants(), "");
+        // Still usable: the good part of the batch goes in.
+        t->insert(data.begin(), data.begin() + 30000, par);
+        EXPECT_EQ(t->size(), before.size() + 30000);
+        EXPECT_EQ(t->check_invariants(), "");
+    }
 }
 
 TEST(bvh_parallel, build_of_points_skewed_and_identical_inputs_is_the_sequential_tree) {

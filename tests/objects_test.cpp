@@ -451,6 +451,36 @@ TEST(brute_force_objects, rejects_non_finite_objects_and_keeps_its_contents) {
     EXPECT_EQ(c.find_in_ball(p3(1.5, 0, 0), 0.49).size(), 0u);
 }
 
+// A NaN in any vertex of a triangle, or in either corner of a box, makes the bounds on that
+// axis NaN, so containers (which check an object's bounds) reject it. std::min and std::max
+// skip a NaN that is not their first argument: a NaN in a triangle's second or third vertex,
+// or in a box's second corner, used to leave finite bounds, and containers stored a triangle
+// whose distances and ray tests were NaN.
+TEST(object_bounds, a_nan_in_any_vertex_or_corner_makes_the_bounds_nan_and_containers_reject_it) {
+    const double nan = std::numeric_limits<double>::quiet_NaN();
+    for (std::size_t k = 0; k < 3; ++k)
+        for (std::size_t axis = 0; axis < 3; ++axis) {
+            std::array<P3, 3> v{p3(0, 0, 0), p3(1, 0, 0), p3(0, 1, 0)};
+            v[k][axis] = nan;
+            const triangle<double, 3> t(v[0], v[1], v[2]);
+            EXPECT_TRUE(std::isnan(t.get_min_bound()[axis]) && std::isnan(t.get_max_bound()[axis]))
+                << "vertex " << k << ", axis " << axis;
+            EXPECT_FALSE(detail::is_finite_object(t)) << "vertex " << k << ", axis " << axis;
+            brute_force<triangle<double, 3>> c;
+            c.insert(triangle<double, 3>(p3(0, 0, 0), p3(1, 0, 0), p3(0, 1, 0)));
+            EXPECT_THROW(c.insert(t), std::invalid_argument) << "vertex " << k << ", axis " << axis;
+            EXPECT_EQ(c.size(), 1u);
+        }
+    for (std::size_t corner = 0; corner < 2; ++corner)
+        for (std::size_t axis = 0; axis < 3; ++axis) {
+            std::array<P3, 2> c{p3(0, 0, 0), p3(1, 1, 1)};
+            c[corner][axis] = nan;
+            const box<double, 3> b(c[0], c[1]);
+            EXPECT_TRUE(std::isnan(b.lo[axis]) && std::isnan(b.hi[axis])) << "corner " << corner << ", axis " << axis;
+            EXPECT_FALSE(detail::is_finite_object(b)) << "corner " << corner << ", axis " << axis;
+        }
+}
+
 #include <cstring>  // std::memcmp: bit-level comparison of hit times
 
 // triangle::prepared_ray (the per-ray part of the watertight test, computed once for many

@@ -1,5 +1,7 @@
 # Library tests: header-only, no peers (fast to build, run under sanitizers).
 spatial_add_test(container_contract_test container_contract_test.cpp)
+# The element store behind every container: bulk append (one core and every core), its undo.
+spatial_add_test(slot_storage_test slot_storage_test.cpp)
 # The ready-made objects: box, sphere, triangle (watertight ray test).
 spatial_add_test(objects_test objects_test.cpp)
 spatial_add_test(property_test OPTIMIZED property_test.cpp)

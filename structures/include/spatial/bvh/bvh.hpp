@@ -423,13 +423,17 @@ private:
     // ---- building (bvh_build.hpp) -----------------------------------------------------
     void write_leaf(node_index at, const item* first, std::size_t m);  // the node writer
     void open_leaf(node_index at, std::size_t m);
+    void open_leaf_on(node_index at, node_index block, std::size_t m);
     void fill_leaf(node_index at, const item* first);
     node_index write_inner(node_index at);
+    void write_inner_over(node_index at, node_index pair);
     void make_leaf(node_index at, const item* first, std::size_t m);
     void build_subtree(node_index at, item* first, std::size_t m);
     using item_bounds = bvh_detail::range_bounds<T, D>;
     static box_type box_from(const item_bounds& b);
-    std::size_t choose_split(item* f, std::size_t m, const item_bounds& bounds, std::array<item_bounds, 2>& parts) const;
+    // on_every_core: a large node's passes may run on every core (the top of rebuild(par)).
+    std::size_t choose_split(item* f, std::size_t m, const item_bounds& bounds, std::array<item_bounds, 2>& parts,
+                             bool on_every_core = false) const;
     void fit_inner_from_items(node_index n, const item* f, std::size_t m);
     void fit_items(const item* f, std::size_t m, std::vector<bv_point>& scratch, box_type& box, BV& volume) const;
     void add_hull_points(const O& v);
@@ -440,6 +444,7 @@ private:
                              std::vector<bv_point>& scratch) const;
     using split_plan = detail::preorder_plan<split_record>;  // core/preorder_plan.hpp
     void plan_splits(item* base, std::size_t b, std::size_t m, item_bounds bounds, split_plan& plan) const;
+    void replay(split_plan& plan, const item* its);
 
     // ---- dynamic updates (bvh_motion.hpp) ---------------------------------------------
     void refit_node(node_index n);

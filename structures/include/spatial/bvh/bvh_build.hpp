@@ -32,10 +32,14 @@ inline void bvh<O, BV, Config>::write_leaf(node_index at, const item* first, std
 // node and block is allocated: each leaf writes its own block and its own slots' words).
 template <stored_object O, class BV, class Config>
 inline void bvh<O, BV, Config>::open_leaf(node_index at, std::size_t m) {
-    const node_index b = alloc_block();
+    open_leaf_on(at, alloc_block(), m);
+}
+// open_leaf with its block already allocated (rebuild(par) numbers the blocks in advance).
+template <stored_object O, class BV, class Config>
+inline void bvh<O, BV, Config>::open_leaf_on(node_index at, node_index block, std::size_t m) {
     node& nd = nodes_[at];
     nd.leaf = true;
-    nd.first = b;
+    nd.first = block;
     nd.count = static_cast<std::uint32_t>(m);
 }
 template <stored_object O, class BV, class Config>
@@ -52,13 +56,18 @@ inline void bvh<O, BV, Config>::fill_leaf(node_index at, const item* first) {
 template <stored_object O, class BV, class Config>
 inline auto bvh<O, BV, Config>::write_inner(node_index at) -> node_index {
     const node_index c = alloc_pair();
+    write_inner_over(at, c);
+    return c;
+}
+// write_inner with the pair already allocated (rebuild(par) numbers the pairs in advance).
+template <stored_object O, class BV, class Config>
+inline void bvh<O, BV, Config>::write_inner_over(node_index at, node_index c) {
     node& nd = nodes_[at];
     nd.leaf = false;
     nd.first = c;
     nd.count = 0;
     nodes_[c].parent = at;
     nodes_[c + 1].parent = at;
-    return c;
 }
 
 // ================= building ============================================================
@@ -114,7 +123,7 @@ inline auto bvh<O, BV, Config>::box_from(const item_bounds& b) -> box_type {
 }
 template <stored_object O, class BV, class Config>
 inline std::size_t bvh<O, BV, Config>::choose_split(item* f, std::size_t m, const item_bounds& bounds,
-                                                    std::array<item_bounds, 2>& parts) const {
+                                                    std::array<item_bounds, 2>& parts, bool on_every_core) const {
     if constexpr (Config::builder == bvh_build_method::median_split) {
         if (m <= leaf_size) return 0;
         const std::size_t left = bvh_detail::median_split(f, m, bounds.centres);
@@ -123,7 +132,7 @@ inline std::size_t bvh<O, BV, Config>::choose_split(item* f, std::size_t m, cons
     } else {
         return bvh_detail::binned_sah_split<Config::sah_bins>(
             f, m, leaf_size, bvh_detail::sah_costs{Config::traversal_cost, Config::intersection_cost, sah_block}, bounds,
-            parts);
+            parts, on_every_core);
     }
 }
 template <stored_object O, class BV, class Config>
@@ -223,50 +232,99 @@ inline void bvh<O, BV, Config>::rebuild_in_place(parallel_policy) {
     // Default-initialised (build_item is trivial): a std::vector would zero all m items on this
     // thread first, and take every page fault of the fresh array there; here the threads that
     // fill the items touch their pages (on the 1e6 sphere the listing took 42 ms, now 25).
+    // The root's bounds are taken in the same pass, per chunk of items, merged in item order
+    // (as item_bounds::of would add them; a pass of its own took 4 ms on one thread).
     const std::unique_ptr<item[]> its(new item[m]);
-    detail::parallel_chunks(m, 4096, [&](std::size_t b, std::size_t e) {
-        for (std::size_t i = b; i < e; ++i) {
-            const slot_index s = dense ? static_cast<slot_index>(i) : occupied[i];
-            its[i] = item_of(slots_.value(s), s);
+    constexpr std::size_t chunk = 16384;
+    std::vector<item_bounds> chunk_bounds((m + chunk - 1) / chunk);
+    detail::parallel_chunks(chunk_bounds.size(), 1, [&](std::size_t b, std::size_t e) {
+        for (std::size_t k = b; k < e; ++k) {
+            item_bounds local;
+            for (std::size_t i = k * chunk; i < std::min(m, (k + 1) * chunk); ++i) {
+                const slot_index s = dense ? static_cast<slot_index>(i) : occupied[i];
+                its[i] = item_of(slots_.value(s), s);
+                local.add(its[i]);
+            }
+            chunk_bounds[k] = local;
         }
     });
+    item_bounds root_bounds;
+    for (const item_bounds& b : chunk_bounds) root_bounds.merge(b);
     nodes_.push_back(node{});
 
     split_plan plan;
-    plan_splits(its.get(), 0, m, item_bounds::of(its.get(), m), plan);
+    plan_splits(its.get(), 0, m, root_bounds, plan);
     plan.sort_to_preorder();
-    std::size_t records = 0, leaves = 0;
-    for (const auto& chunk : plan.chunks) {
-        records += chunk.size();
-        for (const auto& r : chunk) leaves += r.left == 0;
-    }
-    nodes_.reserve(records);
-    items_.reserve(leaves * leaf_size);
-
-    // The nodes and blocks in the sequential builder's order, then the leaves' slots on every core.
-    std::vector<std::pair<node_index, std::size_t>> filled;  // (leaf, its first item)
-    filled.reserve(leaves);
-    std::vector<node_index> pending{root};
-    for (auto& chunk : plan.chunks)
-        for (split_record& r : chunk) {
-            const node_index at = pending.back();
-            pending.pop_back();
-            nodes_[at].volume = std::move(r.volume);
-            if constexpr (!volume_is_box) nodes_[at].own_box = r.box;
-            if (r.left == 0) {
-                open_leaf(at, r.count);
-                filled.emplace_back(at, r.begin);
-                continue;
-            }
-            const node_index c = write_inner(at);
-            pending.push_back(c + 1);
-            pending.push_back(c);
-        }
-    detail::parallel_chunks(filled.size(), 1024, [&](std::size_t b, std::size_t e) {
-        for (std::size_t i = b; i < e; ++i) fill_leaf(filled[i].first, its.get() + filled[i].second);
-    });
+    replay(plan, its.get());
     if constexpr (wide_rays) wide_.reset();
     finish_build();
+}
+// Makes the planned nodes, numbered as the sequential builder numbers them, on every core.
+// Into an empty node array, the sequential builder's allocations are in preorder: the k-th
+// inner node of the preorder gets the child pair (1 + 2k, 2 + 2k), the k-th leaf block k. So
+// once each chunk of the plan (a whole subtree, or a single split above them) knows how many
+// inner nodes and leaves come before it, and which node its first record is, the chunks are
+// written concurrently, each with its own stack: the same nodes, blocks and slot back-links
+// as the sequential replay, which took 10 ms of the 1e6 sphere's build on one thread.
+template <stored_object O, class BV, class Config>
+inline void bvh<O, BV, Config>::replay(split_plan& plan, const item* its) {
+    struct chunk_start {
+        std::size_t inner = 0, leaves = 0;  // counts within the chunk, then ranks of its first
+        node_index node = 0;                // the node of its first record
+    };
+    const std::size_t chunks = plan.chunks.size();
+    std::vector<chunk_start> starts(chunks);
+    detail::parallel_chunks(chunks, 16, [&](std::size_t b, std::size_t e) {
+        for (std::size_t k = b; k < e; ++k)
+            for (const split_record& r : plan.chunks[k]) ++(r.left == 0 ? starts[k].leaves : starts[k].inner);
+    });
+    // Ranks by prefix sums; the first record's node by the sequential replay's stack, run over
+    // the chunks (a whole subtree pushes and pops its own nodes; a single split pushes its pair).
+    std::size_t inner = 0, leaves = 0;
+    std::vector<node_index> pending{root};
+    for (std::size_t k = 0; k < chunks; ++k) {
+        chunk_start& c = starts[k];
+        c.node = pending.back();
+        pending.pop_back();
+        const auto& chunk = plan.chunks[k];
+        if (chunk.size() == 1 && chunk.front().left != 0) {
+            const auto pair = static_cast<node_index>(1 + 2 * inner);
+            pending.push_back(pair + 1);
+            pending.push_back(pair);
+        }
+        const std::size_t in_chunk_inner = c.inner, in_chunk_leaves = c.leaves;
+        c.inner = inner, c.leaves = leaves;
+        inner += in_chunk_inner, leaves += in_chunk_leaves;
+    }
+    // Allocated as the sequential replay would grow them, with the build's headroom reserved
+    // at once (finish_build would otherwise copy both arrays into it).
+    const std::size_t nodes = 1 + 2 * inner;
+    nodes_.reserve(detail::capacity_with_headroom(nodes));
+    items_.reserve(detail::capacity_with_headroom(leaves * leaf_size));
+    nodes_.resize(nodes);
+    items_.resize(leaves * leaf_size, no_slot);
+    detail::parallel_chunks(chunks, 1, [&](std::size_t b, std::size_t e) {
+        std::vector<node_index> stack;
+        for (std::size_t k = b; k < e; ++k) {
+            std::size_t next_inner = starts[k].inner, next_leaf = starts[k].leaves;
+            stack.assign(1, starts[k].node);
+            for (split_record& r : plan.chunks[k]) {
+                const node_index at = stack.back();
+                stack.pop_back();
+                nodes_[at].volume = std::move(r.volume);
+                if constexpr (!volume_is_box) nodes_[at].own_box = r.box;
+                if (r.left == 0) {
+                    open_leaf_on(at, static_cast<node_index>(next_leaf++), r.count);
+                    fill_leaf(at, its + r.begin);
+                    continue;
+                }
+                const auto c = static_cast<node_index>(1 + 2 * next_inner++);
+                write_inner_over(at, c);
+                stack.push_back(c + 1);  // (a single split's pair is left on the stack: later chunks)
+                stack.push_back(c);
+            }
+        }
+    });
 }
 // The bookkeeping after a full build (rebuild() and rebuild(par)).
 template <stored_object O, class BV, class Config>
@@ -334,7 +392,7 @@ inline void bvh<O, BV, Config>::plan_splits(item* base, std::size_t b, std::size
             return;
         }
         std::array<item_bounds, 2> parts;
-        const std::size_t left = choose_split(base + b, m, bounds, parts);
+        const std::size_t left = choose_split(base + b, m, bounds, parts, true);
         std::vector<split_record> single;
         single.push_back(make_record(base, b, m, left, bounds, scratch));
         plan.append(std::move(single));

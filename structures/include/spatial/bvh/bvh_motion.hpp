@@ -44,10 +44,29 @@ inline void bvh<O, BV, Config>::bulk_insert(InputIt first, InputIt last, bool pa
         const std::vector<O> batch(first, last);
         bulk_insert(batch.begin(), batch.end(), parallel);
     } else {
-        for (auto it = first; it != last; ++it) detail::require_finite_object(*it, site("insert(first, last)"));
         const auto m = static_cast<std::size_t>(last - first);
         if (m == 0) return;
         slots_.require_room_for(m, site("insert(first, last)"));
+        const bool builds_anew = slots_.size() == 0 || m * 4 >= slots_.size();
+        if (builds_anew && !slots_.reuses_a_slot()) {
+            // Every object takes a new slot: each is checked and stored in one pass over the
+            // batch (on every core for par), then the whole tree is built. Strong guarantee: a
+            // rejected object stores nothing, and a build that cannot allocate puts the old
+            // tree back (rebuild) and the new slots are taken out.
+            const std::size_t before = slots_.capacity();
+            const std::size_t bad =
+                slots_.append(first, m, 0, parallel, [](const O& x) { return detail::is_finite_object(x); });
+            if (bad != m) detail::require_finite_object(first[static_cast<std::ptrdiff_t>(bad)], site("insert(first, last)"));
+            try {
+                if (parallel) rebuild(par);
+                else rebuild();
+            } catch (const std::bad_alloc&) {
+                slots_.truncate(before);
+                throw;
+            }
+            return;
+        }
+        for (auto it = first; it != last; ++it) detail::require_finite_object(*it, site("insert(first, last)"));
         ensure_fresh();
         slots_.reserve(slots_.capacity() + m);
         // Strong guarantee: a rebuild or a placement that cannot allocate undoes itself, and
@@ -60,7 +79,7 @@ inline void bvh<O, BV, Config>::bulk_insert(InputIt first, InputIt last, bool pa
             stored.emplace_back(slots_.allocate(x, 0), reused);
             return stored.back().first;
         };
-        if (slots_.size() == 0 || m * 4 >= slots_.size()) {
+        if (builds_anew) {  // some objects reuse free slots
             try {
                 for (auto it = first; it != last; ++it) allocate(*it);
                 if (parallel) rebuild(par);

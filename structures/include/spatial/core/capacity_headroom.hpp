@@ -16,10 +16,14 @@
 
 namespace spatial::detail {
 
+// The capacity keep_headroom gives an array of n elements (a builder that knows n in advance
+// reserves it at once, and keep_headroom then has nothing to move).
+constexpr std::size_t capacity_with_headroom(std::size_t n) { return n + n / 8; }
+
 template <class T, class A>
 void keep_headroom(std::vector<T, A>& v) noexcept {
     static_assert(std::is_nothrow_move_constructible_v<T>, "the elements are moved after the one allocation");
-    const std::size_t want = v.size() + v.size() / 8;
+    const std::size_t want = capacity_with_headroom(v.size());
     if (v.capacity() == want) return;
     try {
         std::vector<T, A> moved(v.get_allocator());

@@ -10,7 +10,8 @@
 //   object_overlaps_box(o, lo, hi)           closed-box test; exact if O has overlaps_box,
 //                                            else box against box
 //   object_in_ball(o, c, r)                  object_squared_distance(o, c) <= r^2
-//   require_finite_object(o, where)          rejects NaN/inf bounds (and inverted boxes)
+//   require_finite_object(o, where)          rejects NaN/inf bounds (and inverted boxes);
+//                                            is_finite_object(o) the same as a test
 // All O(1) for the ready object types.
 
 #include <cmath>
@@ -99,6 +100,20 @@ bool object_in_ball(const O& o, const point_type_of<O>& center, typename O::scal
 }
 
 namespace detail {
+// What require_finite_object accepts, as a test (for a batch checked on every core, whose first
+// rejected object is then reported by require_finite_object).
+template <stored_object O>
+bool is_finite_object(const O& o) noexcept {
+    for (std::size_t i = 0; i < O::dimension; ++i) {
+        if constexpr (!bounded_object<O>) {
+            if (!std::isfinite(o[i])) return false;
+        } else {
+            const auto lo = o.get_min_bound()[i], hi = o.get_max_bound()[i];
+            if (!std::isfinite(lo) || !std::isfinite(hi) || !(lo <= hi)) return false;
+        }
+    }
+    return true;
+}
 template <stored_object O, class Where>
 void require_finite_object(const O& o, Where where) {
     if constexpr (!bounded_object<O>) {

@@ -263,7 +263,7 @@ inline void kd_tree<O, Config>::build_fresh_in_place(RandomIt batch, std::size_t
         build_node(root, es.data(), es.size(), lo, hi, 0, true, 0);
     }
     // After partitioning, position i of `es` is the i-th point in leaf order.
-    std::vector<O> ordered;
+    typename slot_storage<O>::value_vector ordered;  // resize leaves trivial objects unwritten
     if constexpr (std::is_default_constructible_v<O>) {
         if (parallel) {
             ordered.resize(count);

@@ -34,6 +34,9 @@ struct box {
         for (std::size_t i = 0; i < D; ++i) {
             lo[i] = std::min(a[i], b[i]);
             hi[i] = std::max(a[i], b[i]);
+            // std::min and std::max return their first argument when the second is NaN: a NaN
+            // corner b gave the finite point box of a, which containers accepted.
+            if (std::isnan(a[i]) || std::isnan(b[i])) lo[i] = hi[i] = std::numeric_limits<T>::quiet_NaN();
         }
     }
     static box inverted() {

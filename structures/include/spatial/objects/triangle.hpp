@@ -44,6 +44,11 @@ public:
         for (std::size_t i = 0; i < D; ++i) {
             lo_[i] = std::min({a[i], b[i], c[i]});
             hi_[i] = std::max({a[i], b[i], c[i]});
+            // std::min and std::max skip a NaN after the first value: without this a NaN in
+            // the second or third vertex left finite bounds, and containers (which check the
+            // bounds) stored a triangle whose distances and ray tests are NaN.
+            if (std::isnan(a[i]) || std::isnan(b[i]) || std::isnan(c[i]))
+                lo_[i] = hi_[i] = std::numeric_limits<T>::quiet_NaN();
         }
     }
 
