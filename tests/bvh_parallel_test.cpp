@@ -97,6 +97,9 @@ void check_parallel_build(const std::vector<O>& data, std::uint64_t seed) {
         // The same capacities too: the parallel replay reserves at once the headroom the
         // sequential build ends with. (Not for the copies below: a copy's arrays are exact.)
         EXPECT_EQ(sequential.memory_bytes(), parallel.memory_bytes());
+        // The quality the parallel build sums from its plan is quality(), bit for bit.
+        EXPECT_EQ(parallel.quality_at_build(), parallel.quality());
+        EXPECT_EQ(sequential.quality_at_build(), parallel.quality_at_build());
     }
     // rebuild(par) of a tree grown by single inserts: the same as rebuild().
     bvh<O, BV, Config> grown, grown_copy;

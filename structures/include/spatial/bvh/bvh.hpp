@@ -42,6 +42,7 @@
 #include <iterator>
 #include <limits>
 #include <memory>
+#include <optional>
 #include <span>
 #include <stdexcept>
 #include <string>
@@ -415,7 +416,8 @@ private:
     void drop_tree() noexcept;
     void ensure_root();
     static const BV& empty_volume();
-    void finish_build();  // bvh_build.hpp
+    void finish_build(std::optional<double> quality_now = std::nullopt);  // bvh_build.hpp
+    double quality_from(double preorder_area_sum) const;                 // bvh_checks.hpp
     void swap_contents(bvh& o) noexcept;
     node_index alloc_block();
     node_index alloc_pair();
@@ -444,7 +446,7 @@ private:
                              std::vector<bv_point>& scratch) const;
     using split_plan = detail::preorder_plan<split_record>;  // core/preorder_plan.hpp
     void plan_splits(item* base, std::size_t b, std::size_t m, item_bounds bounds, split_plan& plan) const;
-    void replay(split_plan& plan, const item* its);
+    double replay(split_plan& plan, const item* its);
 
     // ---- dynamic updates (bvh_motion.hpp) ---------------------------------------------
     void refit_node(node_index n);

@@ -255,9 +255,9 @@ inline void bvh<O, BV, Config>::rebuild_in_place(parallel_policy) {
     split_plan plan;
     plan_splits(its.get(), 0, m, root_bounds, plan);
     plan.sort_to_preorder();
-    replay(plan, its.get());
+    const double quality_now = replay(plan, its.get());
     if constexpr (wide_rays) wide_.reset();
-    finish_build();
+    finish_build(quality_now);
 }
 // Makes the planned nodes, numbered as the sequential builder numbers them, on every core.
 // Into an empty node array, the sequential builder's allocations are in preorder: the k-th
@@ -266,10 +266,15 @@ inline void bvh<O, BV, Config>::rebuild_in_place(parallel_policy) {
 // inner nodes and leaves come before it, and which node its first record is, the chunks are
 // written concurrently, each with its own stack: the same nodes, blocks and slot back-links
 // as the sequential replay, which took 10 ms of the 1e6 sphere's build on one thread.
+// Returns the new tree's quality(): the records are in the preorder quality() sums in, so each
+// node's box area is written at its record's position as the node is written, and the areas
+// are then added up in that order (the same sum, bit for bit; the preorder walk of quality()
+// took 4-5 ms on one thread).
 template <stored_object O, class BV, class Config>
-inline void bvh<O, BV, Config>::replay(split_plan& plan, const item* its) {
+inline double bvh<O, BV, Config>::replay(split_plan& plan, const item* its) {
     struct chunk_start {
         std::size_t inner = 0, leaves = 0;  // counts within the chunk, then ranks of its first
+        std::size_t position = 0;           // its first record's position in the preorder
         node_index node = 0;                // the node of its first record
     };
     const std::size_t chunks = plan.chunks.size();
@@ -280,10 +285,12 @@ inline void bvh<O, BV, Config>::replay(split_plan& plan, const item* its) {
     });
     // Ranks by prefix sums; the first record's node by the sequential replay's stack, run over
     // the chunks (a whole subtree pushes and pops its own nodes; a single split pushes its pair).
-    std::size_t inner = 0, leaves = 0;
+    std::size_t inner = 0, leaves = 0, records = 0;
     std::vector<node_index> pending{root};
     for (std::size_t k = 0; k < chunks; ++k) {
         chunk_start& c = starts[k];
+        c.position = records;
+        records += plan.chunks[k].size();
         c.node = pending.back();
         pending.pop_back();
         const auto& chunk = plan.chunks[k];
@@ -303,16 +310,18 @@ inline void bvh<O, BV, Config>::replay(split_plan& plan, const item* its) {
     items_.reserve(detail::capacity_with_headroom(leaves * leaf_size));
     nodes_.resize(nodes);
     items_.resize(leaves * leaf_size, no_slot);
+    const std::unique_ptr<double[]> areas(new double[records]);
     detail::parallel_chunks(chunks, 1, [&](std::size_t b, std::size_t e) {
         std::vector<node_index> stack;
         for (std::size_t k = b; k < e; ++k) {
-            std::size_t next_inner = starts[k].inner, next_leaf = starts[k].leaves;
+            std::size_t next_inner = starts[k].inner, next_leaf = starts[k].leaves, position = starts[k].position;
             stack.assign(1, starts[k].node);
             for (split_record& r : plan.chunks[k]) {
                 const node_index at = stack.back();
                 stack.pop_back();
                 nodes_[at].volume = std::move(r.volume);
                 if constexpr (!volume_is_box) nodes_[at].own_box = r.box;
+                areas[position++] = static_cast<double>(box_of(nodes_[at]).surface_area());
                 if (r.left == 0) {
                     open_leaf_on(at, static_cast<node_index>(next_leaf++), r.count);
                     fill_leaf(at, its + r.begin);
@@ -325,10 +334,14 @@ inline void bvh<O, BV, Config>::replay(split_plan& plan, const item* its) {
             }
         }
     });
+    double sum = 0;
+    for (std::size_t i = 0; i < records; ++i) sum += areas[i];
+    return quality_from(sum);
 }
-// The bookkeeping after a full build (rebuild() and rebuild(par)).
+// The bookkeeping after a full build (rebuild() and rebuild(par)); quality_now: the new tree's
+// quality() when the build has it already.
 template <stored_object O, class BV, class Config>
-inline void bvh<O, BV, Config>::finish_build() {
+inline void bvh<O, BV, Config>::finish_build(std::optional<double> quality_now) {
     // The sequential builder grows the arrays by doubling (up to half of them spare: on 1e5
     // triangles 28 % of the nodes, 9 bytes a triangle of memory_bytes()), the parallel one
     // reserves them exactly. Both leave an eighth spare (core/capacity_headroom.hpp): an exact
@@ -340,7 +353,7 @@ inline void bvh<O, BV, Config>::finish_build() {
     updates_since_build_ = 0;
     stale_ = false;
     ++full_rebuilds_;
-    quality_at_build_ = quality();
+    quality_at_build_ = quality_now ? *quality_now : quality();
 }
 
 // ---- the parallel builder's plan (see rebuild(parallel_policy)) -----------------------
@@ -349,15 +362,15 @@ inline void bvh<O, BV, Config>::finish_build() {
 // such as Ritter's sphere then see the items in the same order).
 template <stored_object O, class BV, class Config>
 struct bvh<O, BV, Config>::split_record {
-    std::size_t begin, count, left;  // items [begin, begin + count); left == 0: a leaf
-    box_type box;
+    std::uint32_t begin, count, left;  // items [begin, begin + count) (< 2^32); left == 0: a leaf
+    [[no_unique_address]] std::conditional_t<volume_is_box, no_box, box_type> box;  // the volume's box
     BV volume;
 };
 template <stored_object O, class BV, class Config>
 inline auto bvh<O, BV, Config>::make_record(const item* base, std::size_t b, std::size_t m, std::size_t left,
                                             const item_bounds& bounds, std::vector<bv_point>& scratch) const
     -> split_record {
-    split_record r{b, m, left, box_type{}, BV{}};
+    split_record r{static_cast<std::uint32_t>(b), static_cast<std::uint32_t>(m), static_cast<std::uint32_t>(left), {}, BV{}};
     if constexpr (volume_is_box) r.volume = box_from(bounds);  // the box the sequential builder gives it
     else fit_items(base + b, m, scratch, r.box, r.volume);
     return r;

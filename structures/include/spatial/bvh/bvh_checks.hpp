@@ -19,7 +19,13 @@ inline double bvh<O, BV, Config>::quality() const {
     preorder(order);
     double boxes = 0;
     for (node_index n : order) boxes += static_cast<double>(box_of(nodes_[n]).surface_area());
-    return boxes / root_area;
+    return quality_from(boxes);
+}
+// The sum of the nodes' box areas, in preorder, over the root's (1 without a root area).
+template <stored_object O, class BV, class Config>
+inline double bvh<O, BV, Config>::quality_from(double preorder_area_sum) const {
+    const double root_area = has_root() ? static_cast<double>(box_of(nodes_[root]).surface_area()) : 0;
+    return root_area > 0 ? preorder_area_sum / root_area : 1;
 }
 
 template <stored_object O, class BV, class Config>
