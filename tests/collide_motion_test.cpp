@@ -158,6 +158,30 @@ void check_slabs(std::uint64_t seed) {
                 EXPECT_EQ(got, want);
             }
         }
+    // Enough boxes for several chunks of the slabs' member lists (16,384 boxes a chunk): each
+    // slab's list in input order, against the sequential query (checked against brute force
+    // above), pair for pair and in the same order within a slab count's answer.
+    {
+        std::uniform_real_distribution<double> u(0, 1);
+        std::vector<collide::box_bounds<T, D>> many(70000);
+        const double edge = 0.5 * std::pow(2.0 / 70000, 1.0 / static_cast<double>(D));  // ~2 overlaps a box
+        for (auto& b : many)
+            for (std::size_t i = 0; i < D; ++i) b.lo[i] = static_cast<T>(u(rng)), b.hi[i] = static_cast<T>(b.lo[i] + edge);
+        std::vector<pair32> want;
+        g.self_pairs(many, [&](std::uint32_t i, std::uint32_t j) { want.emplace_back(std::min(i, j), std::max(i, j)); });
+        std::sort(want.begin(), want.end());
+        for (std::size_t slabs : {2u, 3u, 7u}) {
+            SCOPED_TRACE(::testing::Message() << "70000 boxes, slabs " << slabs);
+            std::vector<pair32> got, again;
+            g.self_pairs_in_slabs(many, slabs, keep_all, [&](std::uint32_t i, std::uint32_t j) { got.emplace_back(i, j); });
+            g.self_pairs_in_slabs(many, slabs, keep_all, [&](std::uint32_t i, std::uint32_t j) { again.emplace_back(i, j); });
+            EXPECT_EQ(got, again) << "the order of the answer changed between two runs";
+            for (auto& [i, j] : got)
+                if (i > j) std::swap(i, j);
+            std::sort(got.begin(), got.end());
+            EXPECT_EQ(got, want);
+        }
+    }
     // The filter runs on candidates whose boxes overlap: keeping the pairs of even sums keeps
     // exactly those of the brute-force answer.
     const auto boxes = hard_boxes<T, D>(rng, 800, false);
