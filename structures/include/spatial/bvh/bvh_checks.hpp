@@ -9,9 +9,6 @@ namespace spatial {
 
 template <stored_object O, class BV, class Config>
 inline double bvh<O, BV, Config>::quality() const {
-    if (!has_root()) return 1;  // as for an empty root leaf (no area)
-    const double root_area = static_cast<double>(box_of(nodes_[root]).surface_area());
-    if (!(root_area > 0)) return 1;
     // Boxes only: a k-DOP's or hull's own area needs its vertices (kdop::measures), and
     // every full build and automatic refit asks for the quality (20 s of a 26-DOP build of
     // 1e5 triangles went to areas this sum never read).
@@ -21,7 +18,8 @@ inline double bvh<O, BV, Config>::quality() const {
     for (node_index n : order) boxes += static_cast<double>(box_of(nodes_[n]).surface_area());
     return quality_from(boxes);
 }
-// The sum of the nodes' box areas, in preorder, over the root's (1 without a root area).
+// The sum of the nodes' box areas, in preorder, over the root's (1 without a root area: an
+// unallocated tree, as for an empty root leaf, or one whose boxes are all points).
 template <stored_object O, class BV, class Config>
 inline double bvh<O, BV, Config>::quality_from(double preorder_area_sum) const {
     const double root_area = has_root() ? static_cast<double>(box_of(nodes_[root]).surface_area()) : 0;

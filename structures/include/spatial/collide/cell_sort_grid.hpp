@@ -564,8 +564,7 @@ private:
                     const std::uint32_t lo = slab_of(cell_coordinate(boxes[b].lo[D - 1], D - 1));
                     const std::uint32_t hi = slab_of(cell_coordinate(boxes[b].hi[D - 1], D - 1));
                     slab_ranges_[b] = {lo, hi};
-                    ++local[lo];
-                    for (std::uint32_t s = lo + 1; s <= hi; ++s) ++local[s];
+                    for (std::uint32_t s = lo; s <= hi; ++s) ++local[s];
                 }
                 std::copy(local.begin(), local.end(), at.begin() + static_cast<std::ptrdiff_t>(k * count));
             }
@@ -580,9 +579,8 @@ private:
             for (std::size_t k = first; k < last; ++k) {
                 for (std::size_t s = 0; s < count; ++s) out[s] = slabs_[s].members.data() + at[k * count + s];
                 for (std::size_t b = k * chunk; b < std::min(n, (k + 1) * chunk); ++b) {
-                    const auto [lo, hi] = slab_ranges_[b];
-                    *out[lo]++ = static_cast<std::uint32_t>(b);
-                    for (std::uint32_t s = lo + 1; s <= hi; ++s) *out[s]++ = static_cast<std::uint32_t>(b);
+                    for (std::uint32_t s = slab_ranges_[b].first; s <= slab_ranges_[b].second; ++s)
+                        *out[s]++ = static_cast<std::uint32_t>(b);
                 }
             }
         });

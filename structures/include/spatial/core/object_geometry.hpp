@@ -100,34 +100,35 @@ bool object_in_ball(const O& o, const point_type_of<O>& center, typename O::scal
 }
 
 namespace detail {
+// The first coordinate at which o is rejected: a point's NaN or infinite coordinate, an
+// object's NaN, infinite or inverted bound; O::dimension when there is none.
+template <stored_object O>
+std::size_t first_non_finite_coordinate(const O& o) noexcept {
+    for (std::size_t i = 0; i < O::dimension; ++i) {
+        if constexpr (!bounded_object<O>) {
+            if (!std::isfinite(o[i])) return i;
+        } else {
+            const auto lo = o.get_min_bound()[i], hi = o.get_max_bound()[i];
+            if (!std::isfinite(lo) || !std::isfinite(hi) || !(lo <= hi)) return i;
+        }
+    }
+    return O::dimension;
+}
 // What require_finite_object accepts, as a test (for a batch checked on every core, whose first
 // rejected object is then reported by require_finite_object).
 template <stored_object O>
 bool is_finite_object(const O& o) noexcept {
-    for (std::size_t i = 0; i < O::dimension; ++i) {
-        if constexpr (!bounded_object<O>) {
-            if (!std::isfinite(o[i])) return false;
-        } else {
-            const auto lo = o.get_min_bound()[i], hi = o.get_max_bound()[i];
-            if (!std::isfinite(lo) || !std::isfinite(hi) || !(lo <= hi)) return false;
-        }
-    }
-    return true;
+    return first_non_finite_coordinate(o) == O::dimension;
 }
 template <stored_object O, class Where>
 void require_finite_object(const O& o, Where where) {
     if constexpr (!bounded_object<O>) {
         require_finite(o, where, "point");
-    } else {
-        for (std::size_t i = 0; i < O::dimension; ++i) {
-            const auto lo = o.get_min_bound()[i], hi = o.get_max_bound()[i];
-            if (!std::isfinite(lo) || !std::isfinite(hi) || !(lo <= hi)) {
-                std::ostringstream os;
-                os << where << ": object has a non-finite or inverted bound at coordinate " << i << ": [" << lo
-                   << ", " << hi << "] (NaN and infinity are rejected)";
-                throw std::invalid_argument(os.str());
-            }
-        }
+    } else if (const std::size_t i = first_non_finite_coordinate(o); i != O::dimension) {
+        std::ostringstream os;
+        os << where << ": object has a non-finite or inverted bound at coordinate " << i << ": ["
+           << o.get_min_bound()[i] << ", " << o.get_max_bound()[i] << "] (NaN and infinity are rejected)";
+        throw std::invalid_argument(os.str());
     }
 }
 }  // namespace detail
