@@ -8,9 +8,11 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <atomic>
 #include <cmath>
 #include <iterator>
 #include <limits>
+#include <mutex>
 #include <random>
 #include <set>
 #include <vector>
@@ -156,6 +158,18 @@ void check_slabs(std::uint64_t seed) {
                 EXPECT_EQ(std::unique(got.begin(), got.end()), got.end()) << "a pair reported twice";
                 EXPECT_EQ(got.size(), reported);
                 EXPECT_EQ(got, want);
+                // Delivered where found: each pair once, from a slab below the count asked.
+                std::vector<pair32> where_found;
+                std::size_t bad_slab = 0;
+                std::mutex lock;  // the slabs' threads report concurrently
+                g.self_pairs_in_slabs_concurrently(boxes, slabs, [&](std::size_t k, std::uint32_t i, std::uint32_t j) {
+                    const std::lock_guard<std::mutex> hold(lock);
+                    bad_slab += k >= slabs;
+                    where_found.emplace_back(std::min(i, j), std::max(i, j));
+                });
+                EXPECT_EQ(bad_slab, 0u);
+                std::sort(where_found.begin(), where_found.end());
+                EXPECT_EQ(where_found, want);
             }
         }
     // Enough boxes for several chunks of the slabs' member lists (16,384 boxes a chunk): each
@@ -355,6 +369,34 @@ TEST(collide_collision_grid_motion, a_bulk_move_is_all_or_nothing_and_pairs_foll
     EXPECT_EQ(slots(grid.self_pairs()), slots(oracle.self_pairs()));
 }
 
+// The pairs of for_each_self_pair_concurrently, collected per part and sorted. Checks the
+// delivery's promises on the way: every part below parallel_threads(), lower slot first, and
+// no two calls of one part at once (a call that finds its part busy fails).
+template <class Grid>
+auto concurrently_delivered_pairs(const Grid& grid, pair_filter filter) {
+    const std::size_t parts = detail::parallel_threads();
+    std::vector<std::vector<std::pair<typename Grid::iterator, typename Grid::iterator>>> found(parts);
+    std::vector<std::atomic<int>> busy(parts);
+    std::atomic<std::size_t> bad_part{0}, overlapping{0}, unordered{0};
+    grid.for_each_self_pair_concurrently(par, filter, [&](std::size_t part, auto a, auto b) {
+        if (part >= parts) {
+            ++bad_part;
+            return;
+        }
+        if (busy[part].fetch_add(1) != 0) ++overlapping;
+        if (!(a.slot() < b.slot())) ++unordered;
+        found[part].emplace_back(a, b);
+        busy[part].fetch_sub(1);
+    });
+    EXPECT_EQ(bad_part.load(), 0u);
+    EXPECT_EQ(overlapping.load(), 0u);
+    EXPECT_EQ(unordered.load(), 0u);
+    std::vector<std::pair<typename Grid::iterator, typename Grid::iterator>> all;
+    for (const auto& part : found) all.insert(all.end(), part.begin(), part.end());
+    sort_pairs(all);
+    return all;
+}
+
 // self_pairs(par) is self_pairs(): boxes (the grid's test is exact), spheres (the narrow
 // phase runs in the slabs' threads), and a grid with erased slots (boxes gathered with
 // their slots, not in parallel chunks). Under TBB this runs on every core of the machine.
@@ -367,6 +409,7 @@ void check_parallel_self_pairs(std::uint64_t seed) {
         const auto want = grid.self_pairs(filter);
         EXPECT_FALSE(want.empty());
         EXPECT_EQ(grid.self_pairs(par, filter), want);
+        EXPECT_EQ(concurrently_delivered_pairs(grid, filter), want);
     }
     std::vector<typename collision_grid<O>::iterator> erased;
     for (auto it = grid.begin(); it != grid.end(); ++it)
@@ -380,6 +423,8 @@ void check_parallel_self_pairs(std::uint64_t seed) {
         ++streamed;
     });
     EXPECT_EQ(streamed, want.size());
+    for (pair_filter filter : {pair_filter::exact, pair_filter::candidates})
+        EXPECT_EQ(concurrently_delivered_pairs(grid, filter), grid.self_pairs(filter));
 }
 
 TEST(collide_collision_grid_motion, self_pairs_on_several_threads_equal_the_sequential_ones) {

@@ -10,6 +10,7 @@
 #include <cstdint>
 #include <random>
 #include <set>
+#include <type_traits>
 #include <vector>
 
 #include "container_contract.hpp"
@@ -125,6 +126,85 @@ TEST(hashed_grid, sparse_scene_spanning_1e15_cells_answers_quickly_and_exactly) 
     EXPECT_EQ(g.find_in_ball(mid, 6e14).size(), 100u);
     const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     EXPECT_LT(seconds, 1.0) << "sparse fall-backs must avoid walking empty cells";
+}
+
+// k nearest from between dense clusters: the shells of cells around such a query grow far
+// past two blocks before they reach an object, so the search goes on a block at a time
+// (cell_blocks.hpp, grid_core's nearest_by_blocks), skipping empty blocks and pruning blocks
+// and cells beyond the k-th distance. Exact against brute force for points and small boxes,
+// in a uniform grid and in hashed grids around negative coordinates (cells below zero: the
+// block of a cell is floor(c / 8)), with queries inside and outside the data's bounds, k up
+// to more than a cluster holds, eps 0 and 0.5 (within the bound), among a sparse background
+// of objects; then again after one
+// cluster is erased (its blocks counted empty) and after a batch is put back in its place.
+template <class G>
+void check_knn_between_clusters(G g, std::uint64_t seed) {
+    using O = typename G::value_type;
+    using T = typename O::scalar_type;
+    constexpr std::size_t D = O::dimension;
+    using P = point<T, D>;
+    std::mt19937_64 rng(seed);
+    std::uniform_real_distribution<double> spread(-4, 4), noise(-0.03, 0.03), wide(-5.5, 5.5);
+    std::vector<P> centres(6);
+    for (P& c : centres)
+        for (std::size_t i = 0; i < D; ++i) c[i] = static_cast<T>(spread(rng));
+    auto make = [&](std::size_t cluster) {
+        P p;
+        for (std::size_t i = 0; i < D; ++i) p[i] = static_cast<T>(centres[cluster][i] + noise(rng));
+        if constexpr (std::is_same_v<O, P>) {
+            return p;
+        } else {
+            P hi = p;
+            for (std::size_t i = 0; i < D; ++i) hi[i] = static_cast<T>(p[i] + 0.004);
+            return O(p, hi);
+        }
+    };
+    std::vector<O> objects;
+    for (std::size_t k = 0; k < 12000; ++k) objects.push_back(make(k % centres.size()));
+    // A sparse background between the clusters: the k nearest of a far query then lie at
+    // many distances, so a search that stopped a shell of blocks too early would miss one.
+    for (std::size_t k = 0; k < 300; ++k) {
+        P c;
+        for (std::size_t i = 0; i < D; ++i) c[i] = static_cast<T>(wide(rng));
+        if constexpr (std::is_same_v<O, P>) objects.push_back(c);
+        else objects.push_back(O(c, c));
+    }
+    g.insert(objects.begin(), objects.end());
+    brute_force<O> b(objects.begin(), objects.end());
+    auto compare = [&](const char* when) {
+        SCOPED_TRACE(when);
+        for (std::size_t q = 0; q < 60; ++q) {
+            P x;
+            for (std::size_t i = 0; i < D; ++i) x[i] = static_cast<T>(wide(rng));
+            for (std::size_t k : {std::size_t{1}, std::size_t{7}, std::size_t{2500}}) {
+                const auto want = spatial_test::distances_from(x, b.find_nearest(x, k));
+                ASSERT_EQ(spatial_test::distances_from(x, g.find_nearest(x, k)), want) << "query " << q << " k " << k;
+                const auto approx = spatial_test::distances_from(x, g.find_nearest(x, k, T(0.5)));
+                ASSERT_EQ(approx.size(), want.size());
+                EXPECT_LE(approx.back(), 1.5 * 1.5 * want.back() * (1 + 1e-5)) << "query " << q << " k " << k;
+            }
+        }
+    };
+    compare("all clusters");
+    std::vector<typename G::iterator> erased;
+    for (auto it = g.begin(); it != g.end(); ++it)
+        if (it.slot() < 12000 && it.slot() % centres.size() == 0) erased.push_back(it);  // slots follow the batch: cluster 0
+    for (auto it : erased) b.erase(*it), g.erase(it);
+    compare("one cluster erased");
+    std::vector<O> batch;
+    for (std::size_t k = 0; k < 2000; ++k) batch.push_back(make(0));
+    g.insert(batch.begin(), batch.end());
+    b.insert(batch.begin(), batch.end());
+    compare("a batch in its place");
+}
+
+TEST(grid_knn, between_dense_clusters_goes_on_by_blocks_and_stays_exact) {
+    const spatial_test::logged_seed seed(120);
+    check_knn_between_clusters(uniform_grid<P3>(), seed);
+    check_knn_between_clusters(hashed_grid<P3>(0.01), seed);
+    check_knn_between_clusters(hashed_grid<B3>(0.01), seed);
+    check_knn_between_clusters(uniform_grid<B2f>(), seed);
+    check_knn_between_clusters(hashed_grid<point<float, 2>>(0.005f), seed);
 }
 
 TEST(hashed_grid, an_object_spanning_many_cells_is_reported_once_and_erased_from_all) {

@@ -246,23 +246,39 @@ std::vector<index_pair> validated_self_pairs(const context& ctx, std::vector<par
 
 // ---- self pairs on several threads (issue 18's 2-core figure) ----------------------------
 
-// An order-free checksum of a pair set (the parallel query's order depends on its slabs).
+// Order-free checksums of a pair set (the parallel query's order depends on its slabs): a
+// sum of one hash per pair, so parts summed separately add up to the whole.
+std::uint64_t unordered_pair_hash(std::uint32_t a, std::uint32_t b) {
+    std::uint64_t h = (std::uint64_t{a} << 32 | b) * 0x9E3779B97F4A7C15ull;
+    h ^= h >> 29;
+    return h;
+}
+
 double unordered_pairs_checksum(const std::vector<index_pair>& pairs) {
     std::uint64_t sum = 0;
-    for (const auto& [a, b] : pairs) {
-        std::uint64_t h = (std::uint64_t{a} << 32 | b) * 0x9E3779B97F4A7C15ull;
-        h ^= h >> 29;
-        sum += h;
-    }
+    for (const auto& [a, b] : pairs) sum += unordered_pair_hash(a, b);
+    return static_cast<double>(sum >> 11);
+}
+
+// The same checksum over several lists of pairs.
+double unordered_pairs_checksum(const std::vector<std::vector<index_pair>>& parts) {
+    std::uint64_t sum = 0;
+    for (const auto& part : parts)
+        for (const auto& [a, b] : part) sum += unordered_pair_hash(a, b);
     return static_cast<double>(sum >> 11);
 }
 
 // collision_grid's pair query on one thread (for_each_self_pair) against the same query on
-// every thread of the parallel back end (for_each_self_pair(spatial::par): slabs of cell
-// layers, collide/cell_sort_grid.hpp), interleaved, on the grid built once. Both answers
+// every thread of the parallel back end (slabs of cell layers, collide/cell_sort_grid.hpp),
+// interleaved, on the grid built once, in two ways of handing over the pairs:
+//   * for_each_self_pair(spatial::par): the slabs' pairs given to the consumer on the calling
+//     thread (params threads=N);
+//   * for_each_self_pair_concurrently(spatial::par): each pair given to the consumer in the
+//     thread that found it, one list per part (threads=N;delivery=concurrent).
+// The consumer's work is the same in all three: each pair appended to a list, then the
+// lists' checksum, which the concurrent delivery takes per part on every core. Every answer
 // must equal the validated reference pair for pair before timing, and every timed run must
-// reproduce its checksum. Rows: parallel_self_pairs, params threads=1 / threads=N, and the
-// speedup.
+// reproduce its checksum. Rows: parallel_self_pairs for each, and a speedup per parallel one.
 void run_parallel_self_pairs(context& ctx, const std::vector<collide_box>& boxes,
                              const std::vector<index_pair>& reference, const std::string& verified) {
     std::size_t threads = spatial::detail::parallel_threads();
@@ -276,38 +292,69 @@ void run_parallel_self_pairs(context& ctx, const std::vector<collide_box>& boxes
     objects.reserve(n);
     for (const auto& b : boxes) objects.push_back(to_object(b));
     const spatial::collision_grid<collide_box3> grid(objects.begin(), objects.end());
+    enum class delivery { one_thread, calling_thread, concurrent };
     std::vector<index_pair> found;
-    auto query = [&](bool parallel) {
+    std::vector<std::vector<index_pair>> parts(threads);
+    std::vector<std::uint64_t> part_sums(threads);
+    auto query = [&](delivery how) {
+        if (how == delivery::concurrent) {
+            for (auto& part : parts) part.clear();
+            grid.for_each_self_pair_concurrently(spatial::par, spatial::pair_filter::exact, [&](std::size_t k, auto a, auto b) {
+                parts[k].emplace_back(a.slot(), b.slot());
+            });
+            spatial::detail::parallel_chunks(threads, 1, [&](std::size_t first, std::size_t last) {
+                for (std::size_t k = first; k < last; ++k) {
+                    std::uint64_t sum = 0;
+                    for (const auto& [a, b] : parts[k]) sum += unordered_pair_hash(a, b);
+                    part_sums[k] = sum;
+                }
+            });
+            std::uint64_t sum = 0;
+            for (std::uint64_t x : part_sums) sum += x;
+            return static_cast<double>(sum >> 11);
+        }
         found.clear();
         auto add = [&](auto a, auto b) { found.emplace_back(a.slot(), b.slot()); };
-        if (parallel) grid.for_each_self_pair(spatial::par, spatial::pair_filter::exact, add);
+        if (how == delivery::calling_thread) grid.for_each_self_pair(spatial::par, spatial::pair_filter::exact, add);
         else grid.for_each_self_pair(spatial::pair_filter::exact, add);
         return unordered_pairs_checksum(found);
     };
     const std::string where = "collision_grid on boxes n=" + fmt_n(n);
-    for (bool parallel : {false, true}) {
-        query(parallel);
+    const std::string on_n = " on " + std::to_string(threads) + " threads";
+    const std::array<std::string, 3> told{" on one thread", on_n, on_n + ", delivered concurrently"};
+    for (delivery how : {delivery::one_thread, delivery::calling_thread, delivery::concurrent}) {
+        const double sum = query(how);
+        if (how == delivery::concurrent) {
+            found.clear();
+            for (const auto& part : parts) found.insert(found.end(), part.begin(), part.end());
+            if (sum != unordered_pairs_checksum(parts) || sum != unordered_pairs_checksum(found))
+                throw validation_error(where + told[2] + ": the checksum differs from the pairs' own");
+        }
         sort_unique_pairs(found);
         if (found != reference)
-            throw validation_error(where + (parallel ? " on " + std::to_string(threads) + " threads" : " on one thread") +
+            throw validation_error(where + told[static_cast<std::size_t>(how)] +
                                    ": the self pairs differ from the validated reference");
     }
     const double checksum = unordered_pairs_checksum(reference);
-    const std::string t1 = "threads=1", tn = "threads=" + std::to_string(threads);
+    const std::string t1 = "threads=1", tn = "threads=" + std::to_string(threads), tc = tn + ";delivery=concurrent";
     const std::size_t reps = n >= 1000000 ? std::max<std::size_t>(1, ctx.cfg.repetitions - 1) : ctx.cfg.repetitions;
-    const auto t = time_interleaved({{where + ", self pairs, " + t1, [&] { return query(false); }, checksum},
-                                     {where + ", self pairs, " + tn, [&] { return query(true); }, checksum}},
+    const auto t = time_interleaved({{where + ", self pairs" + told[0], [&] { return query(delivery::one_thread); }, checksum},
+                                     {where + ", self pairs" + told[1], [&] { return query(delivery::calling_thread); }, checksum},
+                                     {where + ", self pairs" + told[2], [&] { return query(delivery::concurrent); }, checksum}},
                                     1, reps);
     const std::string params = "overlaps_per_box=2";
     const row_sink rows{ctx, "collision_grid", "-", workload, n, check::all_of({verified, check::cross_all})};
     rows.add_timed("parallel_self_pairs", params + ";" + t1, t[0]);
-    rows.add_timed("parallel_self_pairs", params + ";" + tn, t[1]);
-    rows.add("parallel_self_pairs", params + ";" + tn, "speedup", t[0].median_seconds / t[1].median_seconds, "x",
-             check::derived);
+    for (std::size_t k : {std::size_t{1}, std::size_t{2}}) {
+        const std::string setting = params + ";" + (k == 1 ? tn : tc);
+        rows.add_timed("parallel_self_pairs", setting, t[k]);
+        rows.add("parallel_self_pairs", setting, "speedup", t[0].median_seconds / t[k].median_seconds, "x", check::derived);
+    }
     std::ostringstream msg;
     msg.precision(3);
     msg << where << ", self pairs on " << threads << " threads: " << t[0].median_seconds << " -> " << t[1].median_seconds
-        << " s (" << t[0].median_seconds / t[1].median_seconds << "x)";
+        << " s (" << t[0].median_seconds / t[1].median_seconds << "x), delivered concurrently " << t[2].median_seconds
+        << " s (" << t[0].median_seconds / t[2].median_seconds << "x)";
     ctx.prog.say(msg.str());
 }
 

@@ -122,6 +122,19 @@ public:
     // fixed by the slab count. The same set as self_pairs for any count.
     template <class Keep, class Emit>
     void self_pairs_in_slabs(const std::vector<bounds>& boxes, std::size_t slabs, Keep&& keep, Emit&& emit) {
+        for (slab& sl : slabs_) sl.pairs.clear();
+        self_pairs_in_slabs_concurrently(boxes, slabs, [&](std::size_t k, std::uint32_t i, std::uint32_t j) {
+            if (keep(i, j)) slabs_[k].pairs.emplace_back(i, j);
+        });
+        for (const slab& sl : slabs_)
+            for (const auto& [i, j] : sl.pairs) emit(i, j);
+    }
+    // The same pairs, each given to emit(k, i, j) (i != j) in the thread of the slab k that
+    // found it, k < max(slabs, 1): calls of different slabs run concurrently, calls of one
+    // slab one after the other, so a caller collects per slab without locks (as Embree's
+    // rtcCollide calls its callback from its worker threads). No pair is buffered here.
+    template <class Emit>
+    void self_pairs_in_slabs_concurrently(const std::vector<bounds>& boxes, std::size_t slabs, Emit&& emit) {
         stats_ = {};
         const std::size_t n = boxes.size();
         if (n < 2) return;
@@ -136,18 +149,14 @@ public:
                 slab& sl = slabs_[k];
                 sl.layer_begin = bounds_at[k];
                 sl.layer_end = bounds_at[k + 1];
-                sl.pairs.clear();
                 sort_by_corner_cell<true>(sl, boxes);
                 fill(sl);
-                join_cells<false>(sl, static_cast<std::uint32_t>(n), [&](std::uint32_t i, std::uint32_t j) {
-                    if (keep(i, j)) sl.pairs.emplace_back(i, j);
-                });
+                join_cells<false>(sl, static_cast<std::uint32_t>(n), [&](std::uint32_t i, std::uint32_t j) { emit(k, i, j); });
             }
         });
         for (std::size_t k = 0; k < count; ++k) {
             stats_.entries += slabs_[k].entry_count;
             stats_.candidate_tests += slabs_[k].candidates;
-            for (const auto& [i, j] : slabs_[k].pairs) emit(i, j);
         }
     }
 

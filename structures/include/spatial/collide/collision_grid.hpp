@@ -12,6 +12,7 @@
 // collision structure, not a general index). Queries are const but reuse mutable scratch
 // buffers: concurrent queries on one object race.
 
+#include <algorithm>
 #include <cstddef>
 #include <iterator>
 #include <stdexcept>
@@ -123,18 +124,15 @@ public:
     template <class F>
     void for_each_self_pair(pair_filter filter, F&& f) const {
         gather(*this, boxes_, slot_of_);
-        // For boxes and points the grid's closed box test IS the exact test: no second look
-        // at the objects (which would cost a cache miss per pair).
-        constexpr bool box_is_exact =
-            std::is_same_v<O, objects::box<scalar_type, dimension>> || std::is_same_v<O, point_type>;
-        const bool narrow = filter == pair_filter::exact && !box_is_exact;
+        const bool narrow = filter == pair_filter::exact && !box_test_is_exact;
         // With no free slot (nothing erased), box i is slot i: no lookup per pair.
         const bool dense = slot_of_.size() == slots_.capacity();
         grid_.self_pairs(boxes_, [&](std::uint32_t i, std::uint32_t j) {
-            slot_index s = dense ? i : slot_of_[i], t = dense ? j : slot_of_[j];
+            const slot_index s = dense ? i : slot_of_[i], t = dense ? j : slot_of_[j];
             if (narrow && !collide::narrow_phase(slots_.value(s), slots_.value(t))) return;
-            if (s > t) std::swap(s, t);
-            f(make(s), make(t));
+            // min / max rather than a swap: which of the two is lower is a coin toss, and
+            // a branch on it mispredicted about once in three pairs.
+            f(make(std::min(s, t)), make(std::max(s, t)));
         });
     }
     // The same pairs as for_each_self_pair(filter, f), found on the threads of the parallel
@@ -144,20 +142,8 @@ public:
     // on the calling thread, once per pair, in an order that depends on the thread count.
     template <class F>
     void for_each_self_pair(parallel_policy, pair_filter filter, F&& f) const {
-        const bool dense = slots_.size() == slots_.capacity();
-        if (dense) {
-            // Slot i is object i: each chunk of boxes is written independently.
-            boxes_.resize(slots_.size());
-            slot_of_.clear();
-            detail::parallel_chunks(boxes_.size(), 1 << 14, [&](std::size_t first, std::size_t last) {
-                for (std::size_t i = first; i < last; ++i) boxes_[i] = bounds_of(slots_.value(static_cast<slot_index>(i)));
-            });
-        } else {
-            gather(*this, boxes_, slot_of_);
-        }
-        constexpr bool box_is_exact =
-            std::is_same_v<O, objects::box<scalar_type, dimension>> || std::is_same_v<O, point_type>;
-        const bool narrow = filter == pair_filter::exact && !box_is_exact;
+        const bool dense = gather_on_every_core();
+        const bool narrow = filter == pair_filter::exact && !box_test_is_exact;
         auto slot = [&](std::uint32_t i) { return dense ? static_cast<slot_index>(i) : slot_of_[i]; };
         grid_.self_pairs_in_slabs(
             boxes_, detail::parallel_threads(),
@@ -165,9 +151,28 @@ public:
                 return !narrow || collide::narrow_phase(slots_.value(slot(i)), slots_.value(slot(j)));
             },
             [&](std::uint32_t i, std::uint32_t j) {
-                slot_index s = slot(i), t = slot(j);
-                if (s > t) std::swap(s, t);
-                f(make(s), make(t));
+                const slot_index s = slot(i), t = slot(j);
+                f(make(std::min(s, t)), make(std::max(s, t)));
+            });
+    }
+    // The same pairs again, each delivered where it is found: f(part, a, b), a.slot() <
+    // b.slot(), is called from the threads of the parallel back end, part <
+    // detail::parallel_threads() (at least 1). Calls with different parts run concurrently,
+    // calls with one part one after the other, so f can collect per part without a lock (as
+    // Embree's rtcCollide calls its callback from its threads). Nothing is buffered, and no
+    // pair waits for the calling thread: the choice for a consumer whose own work per pair
+    // (a contact, a checksum) would otherwise run on one core. Which part reports a pair, and
+    // the order within a part, depend on the thread count; the set does not.
+    template <class F>
+    void for_each_self_pair_concurrently(parallel_policy, pair_filter filter, F&& f) const {
+        const bool dense = gather_on_every_core();
+        const bool narrow = filter == pair_filter::exact && !box_test_is_exact;
+        auto slot = [&](std::uint32_t i) { return dense ? static_cast<slot_index>(i) : slot_of_[i]; };
+        grid_.self_pairs_in_slabs_concurrently(
+            boxes_, detail::parallel_threads(), [&](std::size_t part, std::uint32_t i, std::uint32_t j) {
+                const slot_index s = slot(i), t = slot(j);
+                if (narrow && !collide::narrow_phase(slots_.value(s), slots_.value(t))) return;
+                f(part, make(std::min(s, t)), make(std::max(s, t)));
             });
     }
     // self_pairs(filter) on several threads: the same sorted answer.
@@ -211,6 +216,27 @@ public:
     iterator make_iterator(slot_index s) const { return make(s); }
 
 private:
+    // For boxes and points the grid's closed box test IS the exact test: no second look at
+    // the objects (which would cost a cache miss per pair).
+    static constexpr bool box_test_is_exact =
+        std::is_same_v<O, objects::box<scalar_type, dimension>> || std::is_same_v<O, point_type>;
+
+    // The boxes for a parallel query. With no free slot (nothing erased) slot i is object i
+    // and each chunk of boxes is written independently, on every core; otherwise they are
+    // gathered with their slots on the calling thread. Returns whether the storage is dense.
+    bool gather_on_every_core() const {
+        const bool dense = slots_.size() == slots_.capacity();
+        if (!dense) {
+            gather(*this, boxes_, slot_of_);
+            return false;
+        }
+        boxes_.resize(slots_.size());
+        slot_of_.clear();
+        detail::parallel_chunks(boxes_.size(), 1 << 14, [&](std::size_t first, std::size_t last) {
+            for (std::size_t i = first; i < last; ++i) boxes_[i] = bounds_of(slots_.value(static_cast<slot_index>(i)));
+        });
+        return true;
+    }
     template <class Bounds = bounds>
     static Bounds bounds_of(const O& x) {
         Bounds b;

@@ -8,9 +8,10 @@
 // Both expose: the clamp range of cell coordinates (the cell mapping clamps to it, which keeps
 // it monotone), the box of cells that may be non-empty, lookup, insertion and removal of a
 // slot in a cell, and iteration over the non-empty cells (the fallback of queries whose cell
-// box would be larger than the set of occupied cells); and add_batch, which lists a whole
+// box would be larger than the set of occupied cells); add_batch, which lists a whole
 // batch of (cell, slot) entries grouped by cell: one lookup and one reservation per cell
-// instead of one per entry (bulk insertion).
+// instead of one per entry (bulk insertion); and per block of cells (cell_blocks.hpp) whether
+// any of its cells is non-empty, counted where a cell becomes non-empty or empty.
 
 #include <algorithm>
 #include <array>
@@ -22,68 +23,11 @@
 #include "spatial/core/radix_sort.hpp"
 #include "spatial/core/reserve_for_push.hpp"
 #include "spatial/core/slot_storage.hpp"
+#include "spatial/grid/cell_blocks.hpp"
+#include "spatial/grid/cell_box.hpp"
 #include "spatial/grid/slot_list.hpp"
 
 namespace spatial::detail {
-
-template <std::size_t D>
-using cell_key = std::array<std::int64_t, D>;
-
-// A box of cells [lo, hi] (inclusive); empty when lo > hi on some axis.
-template <std::size_t D>
-struct cell_box {
-    cell_key<D> lo{}, hi{};
-    bool empty() const {
-        for (std::size_t i = 0; i < D; ++i)
-            if (lo[i] > hi[i]) return true;
-        return false;
-    }
-    bool contains(const cell_key<D>& c) const {
-        for (std::size_t i = 0; i < D; ++i)
-            if (c[i] < lo[i] || c[i] > hi[i]) return false;
-        return true;
-    }
-    bool overlaps(const cell_box& o) const {
-        for (std::size_t i = 0; i < D; ++i)
-            if (o.hi[i] < lo[i] || o.lo[i] > hi[i]) return false;
-        return true;
-    }
-    // Number of cells, as a double (cell boxes of a hashed grid can be astronomically large).
-    double count() const {
-        if (empty()) return 0;
-        double n = 1;
-        for (std::size_t i = 0; i < D; ++i) n *= static_cast<double>(hi[i] - lo[i]) + 1;
-        return n;
-    }
-    cell_box clipped(const cell_box& o) const {
-        cell_box r;
-        for (std::size_t i = 0; i < D; ++i) {
-            r.lo[i] = std::max(lo[i], o.lo[i]);
-            r.hi[i] = std::min(hi[i], o.hi[i]);
-        }
-        return r;
-    }
-};
-
-// Calls f(cell) for every cell of a non-empty box, last axis slowest.
-template <std::size_t D, class F>
-void for_each_cell(const cell_box<D>& b, F&& f) {
-    if (b.empty()) return;
-    cell_key<D> c = b.lo;
-    while (true) {
-        f(c);
-        std::size_t i = 0;
-        while (i < D) {
-            if (c[i] < b.hi[i]) {
-                ++c[i];
-                break;
-            }
-            c[i] = b.lo[i];
-            ++i;
-        }
-        if (i == D) return;
-    }
-}
 
 // One (cell, slot) listing of a bulk insertion; `order` is the storage's sort key for it.
 template <std::size_t D>
@@ -117,11 +61,21 @@ public:
             n *= static_cast<std::size_t>(dims[i]);
         }
         cells_.assign(n, {});
+        std::size_t blocks = 1;
+        for (std::size_t i = 0; i < D; ++i) {
+            block_dims_[i] = ((dims[i] - 1) >> block_shift<D>) + 1;
+            block_stride_[i] = blocks;
+            blocks *= static_cast<std::size_t>(block_dims_[i]);
+        }
+        block_cells_.assign(blocks, 0);
     }
     void clear() {
         cells_.clear();
         cells_.shrink_to_fit();
+        block_cells_.clear();
+        block_cells_.shrink_to_fit();
         dims_.fill(0);
+        block_dims_.fill(0);
     }
     std::int64_t clamp_lo(std::size_t) const { return 0; }
     std::int64_t clamp_hi(std::size_t i) const { return dims_[i] - 1; }
@@ -135,8 +89,25 @@ public:
             if (k[i] < 0 || k[i] >= dims_[i]) return nullptr;
         return &cells_[index(k)];
     }
-    void add(const key& k, slot_index s) { cells_[index(k)].push_back(s); }
-    void remove(const key& k, slot_index s) { cells_[index(k)].remove(s); }
+    void add(const key& k, slot_index s) {
+        slot_list& list = cells_[index(k)];
+        list.push_back(s);
+        if (list.size() == 1) ++block_cells_[block_index(block_of(k))];
+    }
+    void remove(const key& k, slot_index s) {
+        slot_list& list = cells_[index(k)];
+        if (list.empty()) return;
+        list.remove(s);
+        if (list.empty()) --block_cells_[block_index(block_of(k))];
+    }
+    // Whether any cell of block b is non-empty (false outside the array).
+    bool block_occupied(const key& b) const {
+        for (std::size_t i = 0; i < D; ++i)
+            if (b[i] < 0 || b[i] >= block_dims_[i]) return false;
+        return block_cells_[block_index(b)] != 0;
+    }
+    // As occupied_cells(): the array's blocks, a bound on those a query may find occupied.
+    double occupied_blocks() const { return static_cast<double>(block_cells_.size()); }
     // Counting sort by cell index (radix_sort.hpp), then one reservation per cell and the
     // lists filled in cell order (sequential in the cell array). If a reservation fails, the
     // cells before it list their entries and the rest do not (grid_core undoes the batch).
@@ -147,7 +118,9 @@ public:
             for_each_run(entries, [&](std::size_t a, std::size_t b) {
                 auto& list = cells_[entries[a].order];
                 reserve_for_push(list, b - a);
+                const bool was_empty = list.empty();
                 for (std::size_t i = a; i < b; ++i) list.push_back(entries[i].slot);
+                if (was_empty) ++block_cells_[block_index(block_of(entries[a].cell))];
             });
         } else {  // more than 2^32 cells: beyond a 32-bit key, list them one by one
             for (const auto& e : entries) add(e.cell, e.slot);
@@ -168,7 +141,7 @@ public:
         }
     }
     std::size_t memory_bytes() const {
-        std::size_t b = cells_.capacity() * sizeof(slot_list);
+        std::size_t b = cells_.capacity() * sizeof(slot_list) + block_cells_.capacity() * sizeof(std::uint32_t);
         for (const auto& c : cells_) b += c.heap_bytes();
         return b;
     }
@@ -180,9 +153,15 @@ private:
         for (std::size_t i = 0; i < D; ++i) n += static_cast<std::size_t>(k[i]) * stride_[i];
         return n;
     }
-    key dims_{};
-    std::array<std::size_t, D> stride_{};
+    std::size_t block_index(const key& b) const {
+        std::size_t n = 0;
+        for (std::size_t i = 0; i < D; ++i) n += static_cast<std::size_t>(b[i]) * block_stride_[i];
+        return n;
+    }
+    key dims_{}, block_dims_{};
+    std::array<std::size_t, D> stride_{}, block_stride_{};
     std::vector<slot_list> cells_;
+    std::vector<std::uint32_t> block_cells_;  // per block: its non-empty cells
 };
 
 // Teschner et al.'s hash over D integer coordinates, followed by a multiplicative finaliser
@@ -212,6 +191,7 @@ public:
 
     void clear() {
         map_.clear();
+        block_cells_.clear();
         bounds_ = empty_box();
     }
     std::int64_t clamp_lo(std::size_t) const { return -limit; }
@@ -222,8 +202,12 @@ public:
         const auto it = map_.find(k);
         return it == map_.end() ? nullptr : &it->second;
     }
+    // The block's count is looked up first: if that insertion fails, no cell has changed.
     void add(const key& k, slot_index s) {
-        map_[k].push_back(s);
+        std::uint32_t& count = block_cells_[block_of(k)];
+        slot_list& list = map_[k];
+        list.push_back(s);
+        count += list.size() == 1;
         grow_bounds(k);
     }
     // Sorted by (the low 32 bits of) the cell's hash, so the entries of one cell are adjacent
@@ -266,19 +250,34 @@ public:
                 }
             for (std::size_t c = c0; c < c1; ++c) {
                 const auto [g, h] = cells[c];
+                std::uint32_t& count = block_cells_[block_of(entries[g].cell)];
                 auto& list = map_[entries[g].cell];
                 reserve_for_push(list, h - g);
+                count += list.empty();
                 for (std::size_t i = g; i < h; ++i) list.push_back(entries[i].slot);
                 grow_bounds(entries[g].cell);
             }
         }
     }
+    // Does not allocate. A cell left listed empty by a failed insertion had not been counted.
     void remove(const key& k, slot_index s) {
         const auto it = map_.find(k);
         if (it == map_.end()) return;
+        const bool was_empty = it->second.empty();
         it->second.remove(s);
-        if (it->second.empty()) map_.erase(it);  // the map holds only non-empty cells
+        if (!it->second.empty()) return;
+        map_.erase(it);  // the map holds only non-empty cells
+        if (was_empty) return;
+        const auto block = block_cells_.find(block_of(k));
+        if (--block->second == 0) block_cells_.erase(block);
     }
+    // Whether any cell of block b is non-empty.
+    bool block_occupied(const key& b) const {
+        const auto it = block_cells_.find(b);
+        return it != block_cells_.end() && it->second != 0;
+    }
+    // Blocks with a count (each holds or held a non-empty cell since it was counted).
+    double occupied_blocks() const { return static_cast<double>(block_cells_.size()); }
     double occupied_cells() const { return static_cast<double>(map_.size()); }
     template <class F>
     void for_each_nonempty(F&& f) const {
@@ -286,10 +285,12 @@ public:
     }
     void reserve(std::size_t n) { map_.reserve(n); }
     std::size_t memory_bytes() const {
-        // Node-based map: one node (key, slot list, next pointer, cached hash) per cell plus the
-        // bucket array.
+        // Node-based maps: one node (key, value, next pointer, cached hash) per cell or block
+        // plus the bucket arrays.
         std::size_t b = map_.bucket_count() * sizeof(void*) +
-                        map_.size() * (sizeof(key) + sizeof(slot_list) + 2 * sizeof(void*));
+                        map_.size() * (sizeof(key) + sizeof(slot_list) + 2 * sizeof(void*)) +
+                        block_cells_.bucket_count() * sizeof(void*) +
+                        block_cells_.size() * (sizeof(key) + sizeof(std::uint32_t) + 2 * sizeof(void*));
         for (const auto& [k, list] : map_) b += list.heap_bytes();
         return b;
     }
@@ -314,6 +315,7 @@ private:
         }
     }
     std::unordered_map<key, slot_list, teschner_hash<D>> map_;
+    std::unordered_map<key, std::uint32_t, teschner_hash<D>> block_cells_;  // per block: its non-empty cells
     static cell_box<D> empty_box() {
         cell_box<D> b;
         b.lo.fill(1);

@@ -363,6 +363,11 @@ public:
         for (std::int64_t r = r0; r <= r_max; ++r) {
             const double objects = static_cast<double>(slots_.size());
             walked += ring_count(cq, r, R);
+            if (walked > block_walk_after && walked <= std::min(cells_.occupied_cells(), objects) + 8) {
+                // Far from the data (or in a sparse region): go on a block at a time.
+                nearest_by_blocks(x, cq, r, R, wanted, factor, best, process);
+                break;
+            }
             if (walked > std::min(cells_.occupied_cells(), objects) + 8) {
                 // Sparse: the shell has more cells than there are occupied cells (or objects);
                 // finish over those, each object once (only those no earlier shell reached).
@@ -391,6 +396,61 @@ public:
         }
         for (const auto& cand : best.finish()) out.push_back(make(cand.slot));
         return out;
+    }
+    // The rest of find_nearest once its shells of single cells have grown past a few blocks
+    // (cell_blocks.hpp): the cells within Chebyshev distance r_done of cq are done; from
+    // there, shells of BLOCKS around cq's block, an empty block skipped whole, each non-empty
+    // block's cells at distance >= r_done visited once (so every object still meets its one
+    // canonical cell once). After block shell rho every cell within Chebyshev distance
+    // max(r_done - 1, rho * block_edge) of cq has been visited, which gives the stop test its
+    // lower bound. A query between clusters now walks O(blocks) where it walked O(cells).
+    // Beyond the occupied blocks (a hashed grid far from its few blocks), the occupied cells
+    // not yet visited are scanned instead.
+    template <class Best, class Process>
+    void nearest_by_blocks(const point_type& x, const key& cq, std::int64_t r_done, const box& R, std::size_t wanted,
+                           T factor, Best& best, Process& process) const {
+        const key bq = block_of(cq);
+        const box RB = blocks_of(R);
+        std::int64_t rho0 = 0, rho_max = 0;
+        for (std::size_t i = 0; i < D; ++i) {
+            rho0 = std::max({rho0, RB.lo[i] - bq[i], bq[i] - RB.hi[i]});
+            rho_max = std::max({rho_max, RB.hi[i] - bq[i], bq[i] - RB.lo[i]});
+        }
+        // A block, and within it a cell, that cannot hold an object nearer than the k-th is
+        // skipped: every object met in a cell lies in that cell's box of cells.
+        auto beyond = [&](const box& cells) {
+            return best.size() == wanted && !(cells_squared_lower_bound(x, cells) * bound_slack * factor < best.worst());
+        };
+        auto visit_block_cells = [&](const key& b) {
+            const box cells = cells_of_block(b).clipped(R);
+            if (beyond(cells)) return;
+            for_each_cell(cells, [&](const key& cell) {
+                if (chebyshev(cell, cq) < r_done) return;
+                const slot_list* list = cells_.find(cell);
+                if (list == nullptr || list->empty() || beyond(box{cell, cell})) return;
+                for (slot_index s : *list) process(cell, s);
+            });
+        };
+        double walked = 0;  // blocks of the shells so far
+        for (std::int64_t rho = rho0; rho <= rho_max; ++rho) {
+            walked += ring_count(bq, rho, RB);
+            if (walked > cells_.occupied_blocks() + 8) {
+                // Sparse: finish over the occupied cells no earlier shell reached.
+                cells_.for_each_nonempty([&](const key& cell, const slot_list& list) {
+                    if (chebyshev(cell, cq) < r_done || chebyshev(block_of(cell), bq) < rho) return;
+                    for (slot_index s : list) process(cell, s);
+                });
+                return;
+            }
+            for_each_ring_cell(bq, rho, RB, [&](const key& b) {
+                if (cells_.block_occupied(b)) visit_block_cells(b);
+            });
+            if (best.size() == wanted) {
+                const std::int64_t covered = std::max(r_done - 1, rho * block_edge<D>);
+                const T lb = shell_lower_bound(x, cq, covered, R);
+                if (!(lb * lb * bound_slack * factor < best.worst())) return;
+            }
+        }
     }
     // Objects with object_squared_distance <= radius^2: the cells of the ball's box.
     std::vector<iterator> find_in_ball(const point_type& center, scalar_type radius) const {
@@ -582,6 +642,13 @@ protected:
         return c;
     }();
     static bool is_large(const box& cells) { return cells.count() > large_object_cells; }
+    // find_nearest goes on by blocks once its shells have walked more cells than two blocks
+    // hold: far beyond what a query near the data walks (a few shells of cells).
+    static constexpr double block_walk_after = [] {
+        double c = 2;
+        for (std::size_t i = 0; i < D; ++i) c *= static_cast<double>(block_edge<D>);
+        return c;
+    }();
     bool is_large_slot(slot_index s) const { return is_large(range_of(extent_of(slots_.value(s)))); }
 
     void add_to_cells(slot_index s) {
@@ -812,6 +879,22 @@ private:
         }
     }
 
+    // Lower bound on the squared distance from x to anything that meets a cell of the box
+    // `cells` only (an object whose canonical cell is in it lies in the box of its cell range,
+    // which is no nearer on any axis). Widened as shell_lower_bound's faces are.
+    T cells_squared_lower_bound(const point_type& x, const box& cells) const {
+        T sum = 0;
+        for (std::size_t i = 0; i < D; ++i) {
+            const T lo = origin_[i] + static_cast<T>(cells.lo[i]) * h_;
+            const T hi = origin_[i] + static_cast<T>(cells.hi[i] + 1) * h_;
+            T gap = 0;
+            if (x[i] < lo) gap = lo - x[i] - 8 * std::numeric_limits<T>::epsilon() * (std::abs(x[i]) + std::abs(origin_[i]) + std::abs(lo));
+            else if (x[i] > hi) gap = x[i] - hi - 8 * std::numeric_limits<T>::epsilon() * (std::abs(x[i]) + std::abs(origin_[i]) + std::abs(hi));
+            gap = std::max(gap, T(0));
+            sum += gap * gap;
+        }
+        return sum;
+    }
     // Lower bound on the distance from x to any object none of whose cells lies within
     // Chebyshev distance r of cq: such an object lies entirely beyond a face of the shell's
     // box on some axis (only faces with occupied cells beyond them count). Widened by the
