@@ -138,7 +138,7 @@ TEST(hashed_grid, sparse_scene_spanning_1e15_cells_answers_quickly_and_exactly) 
 // of objects; then again after one
 // cluster is erased (its blocks counted empty) and after a batch is put back in its place.
 template <class G>
-void check_knn_between_clusters(G g, std::uint64_t seed) {
+void check_knn_between_clusters(G g, std::uint64_t seed, std::size_t clustered = 12000) {
     using O = typename G::value_type;
     using T = typename O::scalar_type;
     constexpr std::size_t D = O::dimension;
@@ -160,7 +160,7 @@ void check_knn_between_clusters(G g, std::uint64_t seed) {
         }
     };
     std::vector<O> objects;
-    for (std::size_t k = 0; k < 12000; ++k) objects.push_back(make(k % centres.size()));
+    for (std::size_t k = 0; k < clustered; ++k) objects.push_back(make(k % centres.size()));
     // A sparse background between the clusters: the k nearest of a far query then lie at
     // many distances, so a search that stopped a shell of blocks too early would miss one.
     for (std::size_t k = 0; k < 300; ++k) {
@@ -188,7 +188,7 @@ void check_knn_between_clusters(G g, std::uint64_t seed) {
     compare("all clusters");
     std::vector<typename G::iterator> erased;
     for (auto it = g.begin(); it != g.end(); ++it)
-        if (it.slot() < 12000 && it.slot() % centres.size() == 0) erased.push_back(it);  // slots follow the batch: cluster 0
+        if (it.slot() < clustered && it.slot() % centres.size() == 0) erased.push_back(it);  // slots follow the batch: cluster 0
     for (auto it : erased) b.erase(*it), g.erase(it);
     compare("one cluster erased");
     std::vector<O> batch;
@@ -200,7 +200,9 @@ void check_knn_between_clusters(G g, std::uint64_t seed) {
 
 TEST(grid_knn, between_dense_clusters_goes_on_by_blocks_and_stays_exact) {
     const spatial_test::logged_seed seed(120);
-    check_knn_between_clusters(uniform_grid<P3>(), seed);
+    // A uniform grid goes by blocks once its occupied cells span 4^D blocks' worth: in 3D
+    // 32,768 cells, so one cell an object and 40,000 of them.
+    check_knn_between_clusters(uniform_grid<P3, uniform_grid_config<1>>(), seed, 40000);
     check_knn_between_clusters(hashed_grid<P3>(0.01), seed);
     check_knn_between_clusters(hashed_grid<B3>(0.01), seed);
     check_knn_between_clusters(uniform_grid<B2f>(), seed);
