@@ -173,7 +173,7 @@ void check_knn_between_clusters(G g, std::uint64_t seed, std::size_t clustered =
     brute_force<O> b(objects.begin(), objects.end());
     auto compare = [&](const char* when) {
         SCOPED_TRACE(when);
-        for (std::size_t q = 0; q < 60; ++q) {
+        for (std::size_t q = 0; q < 40; ++q) {
             P x;
             for (std::size_t i = 0; i < D; ++i) x[i] = static_cast<T>(wide(rng));
             for (std::size_t k : {std::size_t{1}, std::size_t{7}, std::size_t{2500}}) {
