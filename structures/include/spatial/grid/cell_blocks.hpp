@@ -24,6 +24,8 @@ template <std::size_t D>
 inline constexpr unsigned block_shift = D <= 3 ? 3u : 2u;
 template <std::size_t D>
 inline constexpr std::int64_t block_edge = std::int64_t(1) << block_shift<D>;
+template <std::size_t D>
+inline constexpr double block_cells = cells_in_cube<D>(static_cast<double>(block_edge<D>));
 
 // The block holding cell c: floor(c / block_edge) per axis (an arithmetic shift, so negative
 // cell coordinates of a hashed grid round down as well).

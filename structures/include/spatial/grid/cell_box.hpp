@@ -13,6 +13,14 @@ namespace spatial::detail {
 template <std::size_t D>
 using cell_key = std::array<std::int64_t, D>;
 
+// The cells of a cube of `edge` cells a side: edge^D.
+template <std::size_t D>
+constexpr double cells_in_cube(double edge) {
+    double c = 1;
+    for (std::size_t i = 0; i < D; ++i) c *= edge;
+    return c;
+}
+
 // A box of cells [lo, hi] (inclusive); empty when lo > hi on some axis.
 template <std::size_t D>
 struct cell_box {

@@ -363,13 +363,13 @@ public:
         for (std::int64_t r = r0; r <= r_max; ++r) {
             const double objects = static_cast<double>(slots_.size());
             walked += ring_count(cq, r, R);
-            if (walked > block_walk_after && R.count() >= blocks_worth_going_by * block_cells &&
-                walked <= std::min(cells_.occupied_cells(), objects) + 8) {
+            const bool sparse = walked > std::min(cells_.occupied_cells(), objects) + 8;
+            if (!sparse && walked > block_walk_after && R.count() >= cells_worth_going_by_blocks) {
                 // Far from the data (or in a sparse region): go on a block at a time.
                 nearest_by_blocks(x, cq, r, R, wanted, factor, best, process);
                 break;
             }
-            if (walked > std::min(cells_.occupied_cells(), objects) + 8) {
+            if (sparse) {
                 // Sparse: the shell has more cells than there are occupied cells (or objects);
                 // finish over those, each object once (only those no earlier shell reached).
                 if (objects < cells_.occupied_cells()) {
@@ -637,28 +637,15 @@ protected:
     // query can test in O(1). A grid suits objects about its cell size (Ericson 2005,
     // "Real-Time Collision Detection", section 7.2); the few that are not (a floor, a wall,
     // an outlier thousands of cells long) cost each query one test instead.
-    static constexpr double large_object_cells = [] {
-        double c = 1;
-        for (std::size_t i = 0; i < D; ++i) c *= 4;
-        return c;
-    }();
+    static constexpr double large_object_cells = cells_in_cube<D>(4);
     static bool is_large(const box& cells) { return cells.count() > large_object_cells; }
     // find_nearest goes on by blocks once its shells have walked more cells than two blocks
     // hold (far beyond what a query near the data walks: a few shells of cells), in a grid
     // whose occupied cells span at least 4^D blocks' worth: in a smaller one the blocks are
     // as wide as its clusters and whole blocks near the answer cost more than shells of
     // cells (the structures suite's clusters_far at 10^4 points was slower by blocks).
-    static constexpr double block_cells = [] {
-        double c = 1;
-        for (std::size_t i = 0; i < D; ++i) c *= static_cast<double>(block_edge<D>);
-        return c;
-    }();
-    static constexpr double block_walk_after = 2 * block_cells;
-    static constexpr double blocks_worth_going_by = [] {
-        double c = 1;
-        for (std::size_t i = 0; i < D; ++i) c *= 4;
-        return c;
-    }();
+    static constexpr double block_walk_after = 2 * block_cells<D>;
+    static constexpr double cells_worth_going_by_blocks = cells_in_cube<D>(4) * block_cells<D>;
     bool is_large_slot(slot_index s) const { return is_large(range_of(extent_of(slots_.value(s)))); }
 
     void add_to_cells(slot_index s) {
@@ -889,6 +876,11 @@ private:
         }
     }
 
+    // The rounding of a cell face's coordinate on axis i (origin + j h) and of the cell
+    // mapping, relative to x: what the distance bounds below subtract.
+    T face_slack(const point_type& x, std::size_t i, T face) const {
+        return 8 * std::numeric_limits<T>::epsilon() * (std::abs(x[i]) + std::abs(origin_[i]) + std::abs(face));
+    }
     // Lower bound on the squared distance from x to anything that meets a cell of the box
     // `cells` only (an object whose canonical cell is in it lies in the box of its cell range,
     // which is no nearer on any axis). Widened as shell_lower_bound's faces are.
@@ -898,8 +890,8 @@ private:
             const T lo = origin_[i] + static_cast<T>(cells.lo[i]) * h_;
             const T hi = origin_[i] + static_cast<T>(cells.hi[i] + 1) * h_;
             T gap = 0;
-            if (x[i] < lo) gap = lo - x[i] - 8 * std::numeric_limits<T>::epsilon() * (std::abs(x[i]) + std::abs(origin_[i]) + std::abs(lo));
-            else if (x[i] > hi) gap = x[i] - hi - 8 * std::numeric_limits<T>::epsilon() * (std::abs(x[i]) + std::abs(origin_[i]) + std::abs(hi));
+            if (x[i] < lo) gap = lo - x[i] - face_slack(x, i, lo);
+            else if (x[i] > hi) gap = x[i] - hi - face_slack(x, i, hi);
             gap = std::max(gap, T(0));
             sum += gap * gap;
         }
@@ -914,13 +906,11 @@ private:
         for (std::size_t i = 0; i < D; ++i) {
             if (cq[i] + r < R.hi[i]) {
                 const T face = origin_[i] + static_cast<T>(cq[i] + r + 1) * h_;
-                const T slack = 8 * std::numeric_limits<T>::epsilon() * (std::abs(x[i]) + std::abs(origin_[i]) + std::abs(face));
-                lb = std::min(lb, face - x[i] - slack);
+                lb = std::min(lb, face - x[i] - face_slack(x, i, face));
             }
             if (cq[i] - r > R.lo[i]) {
                 const T face = origin_[i] + static_cast<T>(cq[i] - r) * h_;
-                const T slack = 8 * std::numeric_limits<T>::epsilon() * (std::abs(x[i]) + std::abs(origin_[i]) + std::abs(face));
-                lb = std::min(lb, x[i] - face - slack);
+                lb = std::min(lb, x[i] - face - face_slack(x, i, face));
             }
         }
         return std::max(lb, T(0));
