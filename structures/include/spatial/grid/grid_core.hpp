@@ -401,12 +401,18 @@ public:
     // The rest of find_nearest once its shells of single cells have grown past a few blocks
     // (cell_blocks.hpp): the cells within Chebyshev distance r_done of cq are done; from
     // there, shells of BLOCKS around cq's block, an empty block skipped whole, each non-empty
-    // block's cells at distance >= r_done visited once (so every object still meets its one
-    // canonical cell once). After block shell rho every cell within Chebyshev distance
-    // max(r_done - 1, rho * block_edge) of cq has been visited, which gives the stop test its
-    // lower bound. A query between clusters now walks O(blocks) where it walked O(cells).
-    // Beyond the occupied blocks (a hashed grid far from its few blocks), the occupied cells
-    // not yet visited are scanned instead.
+    // block's non-empty cells at distance >= r_done visited once (so every object still meets
+    // its one canonical cell once). After block shell rho every cell within Chebyshev
+    // distance max(r_done - 1, rho * block_edge) of cq has been visited, which gives the stop
+    // test its lower bound. A query between clusters now walks O(blocks) where it walked
+    // O(cells). Once the shells would hold more blocks than are occupied (a hashed grid far
+    // from its few blocks), the occupied blocks not yet visited are taken all at once instead.
+    //
+    // Within a shell the occupied blocks, and within a block its cells, are visited nearest
+    // box first (the order of a best-first search, Hjaltason & Samet 1999, "Distance browsing
+    // in spatial databases", kept inside each shell): the first cells met then fill the k best
+    // and the rest of the shell is pruned by its box. In shell order a query between clusters
+    // met a far corner block first and listed every object of its cells.
     template <class Best, class Process>
     void nearest_by_blocks(const point_type& x, const key& cq, std::int64_t r_done, const box& R, std::size_t wanted,
                            T factor, Best& best, Process& process) const {
@@ -419,33 +425,57 @@ public:
         }
         // A block, and within it a cell, that cannot hold an object nearer than the k-th is
         // skipped: every object met in a cell lies in that cell's box of cells.
-        auto beyond = [&](const box& cells) {
-            return best.size() == wanted && !(cells_squared_lower_bound(x, cells) * bound_slack * factor < best.worst());
+        auto beyond = [&](T squared_lower_bound) {
+            return best.size() == wanted && !(squared_lower_bound * bound_slack * factor < best.worst());
         };
+        struct near_block {
+            T squared_lower_bound;
+            key b;
+        };
+        struct near_cell {
+            T squared_lower_bound;
+            key cell;
+            const slot_list* list;
+        };
+        auto nearest_first = [](const auto& a, const auto& c) { return a.squared_lower_bound < c.squared_lower_bound; };
+        std::vector<near_block> shell;
+        std::vector<near_cell> cells;
         auto visit_block_cells = [&](const key& b) {
-            const box cells = cells_of_block(b).clipped(R);
-            if (beyond(cells)) return;
-            for_each_cell(cells, [&](const key& cell) {
-                if (chebyshev(cell, cq) < r_done) return;
-                const slot_list* list = cells_.find(cell);
-                if (list == nullptr || list->empty() || beyond(box{cell, cell})) return;
-                for (slot_index s : *list) process(cell, s);
+            cells.clear();
+            cells_.for_each_nonempty_in_block(b, [&](const key& cell, const slot_list& list) {
+                if (chebyshev(cell, cq) >= r_done) cells.push_back({cells_squared_lower_bound(x, box{cell, cell}), cell, &list});
             });
+            std::sort(cells.begin(), cells.end(), nearest_first);
+            for (const near_cell& c : cells) {
+                if (beyond(c.squared_lower_bound)) return;
+                for (slot_index s : *c.list) process(c.cell, s);
+            }
         };
         double walked = 0;  // blocks of the shells so far
         for (std::int64_t rho = rho0; rho <= rho_max; ++rho) {
             walked += ring_count(bq, rho, RB);
-            if (walked > cells_.occupied_blocks() + 8) {
-                // Sparse: finish over the occupied cells no earlier shell reached.
-                cells_.for_each_nonempty([&](const key& cell, const slot_list& list) {
-                    if (chebyshev(cell, cq) < r_done || chebyshev(block_of(cell), bq) < rho) return;
-                    for (slot_index s : list) process(cell, s);
+            const bool sparse = walked > cells_.occupied_blocks() + 8;
+            shell.clear();
+            auto add_block = [&](const key& b) {
+                shell.push_back({cells_squared_lower_bound(x, cells_of_block(b).clipped(R)), b});
+            };
+            if (sparse) {
+                // More blocks in the shells than are occupied: finish over the occupied blocks no
+                // earlier shell reached, all at once, nearest first.
+                cells_.for_each_occupied_block([&](const key& b) {
+                    if (chebyshev(b, bq) >= rho) add_block(b);
                 });
-                return;
+            } else {
+                for_each_ring_cell(bq, rho, RB, [&](const key& b) {
+                    if (cells_.block_occupied(b)) add_block(b);
+                });
             }
-            for_each_ring_cell(bq, rho, RB, [&](const key& b) {
-                if (cells_.block_occupied(b)) visit_block_cells(b);
-            });
+            std::sort(shell.begin(), shell.end(), nearest_first);
+            for (const near_block& nb : shell) {
+                if (beyond(nb.squared_lower_bound)) break;
+                visit_block_cells(nb.b);
+            }
+            if (sparse) return;
             if (best.size() == wanted) {
                 const std::int64_t covered = std::max(r_done - 1, rho * block_edge<D>);
                 const T lb = shell_lower_bound(x, cq, covered, R);
