@@ -359,6 +359,12 @@ public:
             }
             best.add(object_squared_distance(slots_.value(s), x), s);
         };
+        if (R.count() >= cells_worth_going_by_blocks && !cells_.block_occupied(block_of(cq))) {
+            // In an empty block of a large grid: far from the data, by blocks from the start.
+            nearest_by_blocks(x, cq, r0, R, wanted, factor, best, process);
+            for (const auto& cand : best.finish()) out.push_back(make(cand.slot));
+            return out;
+        }
         double walked = 0;  // cells of the shells so far: beyond the occupied cells, scan those
         for (std::int64_t r = r0; r <= r_max; ++r) {
             const double objects = static_cast<double>(slots_.size());
