@@ -200,8 +200,8 @@ void check_knn_between_clusters(G g, std::uint64_t seed, std::size_t clustered =
 
 TEST(grid_knn, between_dense_clusters_goes_on_by_blocks_and_stays_exact) {
     const spatial_test::logged_seed seed(120);
-    // A uniform grid goes by blocks once its occupied cells span 4^D blocks' worth: in 3D
-    // 32,768 cells, so one cell an object and 40,000 of them.
+    // A uniform grid goes by blocks once its occupied cells span a block's worth (512 cells
+    // in 3D); with one cell an object, 40,000 objects span many blocks.
     check_knn_between_clusters(uniform_grid<P3, uniform_grid_config<1>>(), seed, 40000);
     check_knn_between_clusters(hashed_grid<P3>(0.01), seed);
     check_knn_between_clusters(hashed_grid<B3>(0.01), seed);
