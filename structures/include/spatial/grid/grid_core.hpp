@@ -359,18 +359,15 @@ public:
             }
             best.add(object_squared_distance(slots_.value(s), x), s);
         };
-        if (R.count() >= cells_worth_going_by_blocks && !cells_.block_occupied(block_of(cq))) {
-            // In an empty block of a large grid: far from the data, by blocks from the start.
-            nearest_by_blocks(x, cq, r0, R, wanted, factor, best, process);
-            for (const auto& cand : best.finish()) out.push_back(make(cand.slot));
-            return out;
-        }
+        const bool blocks_pay = R.count() >= cells_worth_going_by_blocks;
+        // In an empty block of a large grid: far from the data, by blocks from the first shell.
+        const bool from_an_empty_block = blocks_pay && !cells_.block_occupied(block_of(cq));
         double walked = 0;  // cells of the shells so far: beyond the occupied cells, scan those
         for (std::int64_t r = r0; r <= r_max; ++r) {
             const double objects = static_cast<double>(slots_.size());
             walked += ring_count(cq, r, R);
             const bool sparse = walked > std::min(cells_.occupied_cells(), objects) + 8;
-            if (!sparse && walked > block_walk_after && R.count() >= cells_worth_going_by_blocks) {
+            if (from_an_empty_block || (!sparse && walked > block_walk_after && blocks_pay)) {
                 // Far from the data (or in a sparse region): go on a block at a time.
                 nearest_by_blocks(x, cq, r, R, wanted, factor, best, process);
                 break;
@@ -683,7 +680,7 @@ protected:
     // structures suite's clusters_far at 10^4 points was slower by blocks. Nearest first it is
     // faster there, and at 10^5.)
     static constexpr double block_walk_after = 2 * block_cells<D>;
-    static constexpr double cells_worth_going_by_blocks = cells_in_cube<D>(1) * block_cells<D>;
+    static constexpr double cells_worth_going_by_blocks = block_cells<D>;
     bool is_large_slot(slot_index s) const { return is_large(range_of(extent_of(slots_.value(s)))); }
 
     void add_to_cells(slot_index s) {
