@@ -44,6 +44,10 @@ if ! munge -n 2> /dev/null | unmunge > /dev/null 2>&1; then
   munge -n | unmunge > /dev/null || { echo "FAIL: munged started but does not answer"; exit 1; }
 fi
 
+# MinJobAge=10: sbatch --wait polls after 2 s, then multiplies its sleep by 4 while it is under
+# MinJobAge / 2 and 32 s (Slurm's sbatch.c, _job_wait); at the default 300 the smoke array's
+# 11 s of jobs were seen done only at the 42nd second. With 10 it polls every 8 s at most, and
+# a finished job's record still outlives the poll that finds it.
 cat > "$out/slurm.conf" << CONF
 ClusterName=spatialbench
 SlurmctldHost=${node}(127.0.0.1)
@@ -66,6 +70,7 @@ SlurmdLogFile=$out/slurmd.log
 SlurmctldPort=6817
 SlurmdPort=6818
 JobCompType=jobcomp/none
+MinJobAge=10
 AccountingStorageType=accounting_storage/none
 NodeName=${node} NodeAddr=127.0.0.1 CPUs=$(nproc) State=UNKNOWN
 PartitionName=local Nodes=ALL Default=YES MaxTime=INFINITE State=UP

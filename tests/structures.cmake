@@ -7,7 +7,7 @@ spatial_add_test(objects_test objects_test.cpp)
 spatial_add_test(property_test OPTIMIZED property_test.cpp)
 spatial_add_test(kd_tree_test kd_tree_test.cpp)
 # kd_tree's bulk build on every core: the same tree as the sequential build, node for node.
-spatial_add_test(kd_tree_parallel_test OPTIMIZED kd_tree_parallel_test.cpp)
+spatial_add_test(kd_tree_parallel_test kd_tree_parallel_test.cpp)
 # Batched kNN (find_nearest_batch) in both query orders and on several threads; the Morton order.
 spatial_add_test(knn_batch_test knn_batch_test.cpp)
 # The k-best set every kNN search fills, on both sides of its inline array's limit.
@@ -23,14 +23,14 @@ spatial_add_test(convex_hull_test convex_hull_test.cpp)
 spatial_add_test(bvh_test bvh_test.cpp)
 spatial_add_test(bvh_volumes_test bvh_volumes_test.cpp)
 spatial_add_test(bvh_2d_float_test bvh_2d_float_test.cpp)
-spatial_add_test(bvh_contract_test OPTIMIZED bvh_contract_test.cpp)
+spatial_add_test(bvh_contract_test bvh_contract_test.cpp)
 # Loose/classic octree and the uniform and hashed grids (shared hard cases: octree_grid_checks.hpp).
 spatial_add_test(octree_test octree_test.cpp)
 # The octree's own broad phase (self_pairs / pairs_with descents) against brute force.
 spatial_add_test(tree_pairs_test OPTIMIZED tree_pairs_test.cpp)
 spatial_add_test(grid_test grid_test.cpp)
 # kd_tree over objects with extent (skd-tree): contract suite and hard cases; differential tests.
-spatial_add_test(kd_tree_objects_test OPTIMIZED kd_tree_objects_test.cpp)
+spatial_add_test(kd_tree_objects_test kd_tree_objects_test.cpp)
 spatial_add_test(kd_tree_objects_differential_test OPTIMIZED kd_tree_objects_differential_test.cpp)
 spatial_add_test(bvh_ray_fast_path_test OPTIMIZED bvh_ray_fast_path_test.cpp)
 # It forces the 8-wide layout even where AVX is off (the sanitizer build has no -march=native):
