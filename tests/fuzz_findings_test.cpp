@@ -212,6 +212,31 @@ TYPED_TEST(fuzz_findings, knn_does_not_prune_a_cell_whose_distance_rounds_up_nea
             << "k = " << k;
 }
 
+// Found by the operations fuzzer in hashed_grid<box> (CI of 96fc62c, 2026-12-02): the first
+// object, near -123456, sizes the cells at about 7716, so objects near 1e30 land in cells
+// clamped to 2^50 on x, which hold everything beyond the clamp too. The kNN search by blocks
+// (grid_core.hpp) bounded such a cell by its nominal faces, about 1e30 short of its objects:
+// both cells of the clamp column got the same bound, and whichever was visited first ended
+// the search, with the farther object when it came first (two of these four orders, before
+// the fix).
+TYPED_TEST(fuzz_findings, knn_reaches_every_cell_at_the_clamp_of_the_cell_coordinates) {
+    const double far = 0x1.93e5939a08ceap+99, first = -0x1.e240c9fbe76c9p+16;
+    const P3 q{{far, -1, 0}};
+    for (const double side : {1.0, -1.0})
+        for (const bool nearer_first : {true, false}) {
+            SCOPED_TRACE(testing::Message() << "side " << side << ", nearer stored first " << nearer_first);
+            this->c.clear(), this->oracle.clear();
+            const P3 nearer{{far, 0.25, 0.1 * side}}, farther{{far, 0.5, -0.5 * side}};
+            this->store(nearer_first ? std::vector<P3>{P3{{first, 0, 0}}, nearer, farther}
+                                     : std::vector<P3>{P3{{first, 0, 0}}, farther, nearer});
+            for (std::size_t k = 1; k <= 3; ++k)
+                EXPECT_EQ(spatial_test::distances_from(q, this->c.find_nearest(q, k)),
+                          spatial_test::distances_from(q, this->oracle.find_nearest(q, k)))
+                    << "k = " << k;
+            this->expect_sound();
+        }
+}
+
 // Found by the operations fuzzer (CI, 2026-11-28): the bvh places a small batch (below a quarter
 // of its size) in the Morton order of the objects' centres (bvh_motion.hpp). A batch a denormal
 // wide made the encoder's scale +inf, and the centre at the low end was encoded as 0 * inf = NaN,

@@ -83,6 +83,9 @@ public:
     }
     std::int64_t clamp_lo(std::size_t) const { return 0; }
     std::int64_t clamp_hi(std::size_t i) const { return dims_[i] - 1; }
+    // The uniform grid re-grids so that every object lies in its box: the clamp only ever
+    // moves a query point, and each cell holds objects within its own faces.
+    static constexpr bool clamp_cells_hold_beyond = false;
     cell_box<D> bounds() const {
         cell_box<D> b;
         for (std::size_t i = 0; i < D; ++i) b.hi[i] = dims_[i] - 1;
@@ -246,6 +249,9 @@ public:
     }
     std::int64_t clamp_lo(std::size_t) const { return -limit; }
     std::int64_t clamp_hi(std::size_t) const { return limit; }
+    // An object beyond +-2^50 cells is listed in the cells at the clamp: on that side those
+    // cells reach to infinity, and no distance bound may use their outer face.
+    static constexpr bool clamp_cells_hold_beyond = true;
     // Box of every cell that was non-empty since the last clear (grow-only: conservative).
     cell_box<D> bounds() const { return bounds_; }
     const slot_list* find(const key& k) const {

@@ -918,15 +918,20 @@ private:
     }
     // Lower bound on the squared distance from x to anything that meets a cell of the box
     // `cells` only (an object whose canonical cell is in it lies in the box of its cell range,
-    // which is no nearer on any axis). Widened as shell_lower_bound's faces are.
+    // which is no nearer on any axis). Widened as shell_lower_bound's faces are. A hashed
+    // grid's cells at the clamp of the cell coordinates also hold every object beyond it, so
+    // a box reaching the clamp has no face on that side (fuzzing found the bound of such a
+    // cell, from its nominal faces, pruning the nearest object at 1e30: docs/fuzzing.md).
     T cells_squared_lower_bound(const point_type& x, const box& cells) const {
         T sum = 0;
         for (std::size_t i = 0; i < D; ++i) {
+            const bool open_below = Cells::clamp_cells_hold_beyond && cells.lo[i] <= cells_.clamp_lo(i);
+            const bool open_above = Cells::clamp_cells_hold_beyond && cells.hi[i] >= cells_.clamp_hi(i);
             const T lo = origin_[i] + static_cast<T>(cells.lo[i]) * h_;
             const T hi = origin_[i] + static_cast<T>(cells.hi[i] + 1) * h_;
             T gap = 0;
-            if (x[i] < lo) gap = lo - x[i] - face_slack(x, i, lo);
-            else if (x[i] > hi) gap = x[i] - hi - face_slack(x, i, hi);
+            if (x[i] < lo && !open_below) gap = lo - x[i] - face_slack(x, i, lo);
+            else if (x[i] > hi && !open_above) gap = x[i] - hi - face_slack(x, i, hi);
             gap = std::max(gap, T(0));
             sum += gap * gap;
         }
