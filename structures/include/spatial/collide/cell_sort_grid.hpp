@@ -46,7 +46,8 @@
 // layer lies below. Step 3's rule puts every pair in exactly one cell, and every cell in
 // exactly one slab, so the slabs' answers are disjoint and their union is the sequential
 // answer, whatever the number of slabs. Each slab's boxes are listed once for all slabs, on
-// every core (list_slab_members); extra work: boxes crossing a slab boundary are entered
+// every core, each with its first cell in the slab (list_slab_members), so a slab's counting
+// sort reads its list, not its boxes; extra work: boxes crossing a slab boundary are entered
 // twice.
 
 #include <algorithm>
@@ -143,13 +144,15 @@ public:
         const std::vector<std::uint32_t> bounds_at = slab_boundaries(boxes, std::max<std::size_t>(slabs, 1));
         const std::size_t count = bounds_at.size() - 1;
         if (slabs_.size() < count) slabs_.resize(count);
+        for (std::size_t k = 0; k < count; ++k) {
+            slabs_[k].layer_begin = bounds_at[k];
+            slabs_[k].layer_end = bounds_at[k + 1];
+        }
         list_slab_members(boxes, bounds_at);
         spatial::detail::parallel_chunks(count, 1, [&](std::size_t first, std::size_t last) {
             for (std::size_t k = first; k < last; ++k) {
                 slab& sl = slabs_[k];
-                sl.layer_begin = bounds_at[k];
-                sl.layer_end = bounds_at[k + 1];
-                sort_by_corner_cell<true>(sl, boxes);
+                sort_by_corner_cell<true>(sl, boxes, k);
                 fill(sl);
                 join_cells<false>(sl, static_cast<std::uint32_t>(n), [&](std::uint32_t i, std::uint32_t j) { emit(k, i, j); });
             }
@@ -163,7 +166,8 @@ public:
     const query_stats& last_query_stats() const { return stats_; }
     std::size_t memory_bytes() const {
         std::size_t b = sizeof(*this) + combined_.capacity() * sizeof(bounds) +
-                        slab_ranges_.capacity() * sizeof(std::pair<std::uint32_t, std::uint32_t>);
+                        member_lists_.capacity() * sizeof(std::vector<member>) + member_cells_.capacity() * sizeof(std::size_t);
+        for (const auto& list : member_lists_) b += list.capacity() * sizeof(member);
         for (const slab& sl : slabs_) b += sl.memory_bytes();
         return b;
     }
@@ -216,6 +220,10 @@ private:
     // Set in a box's last-axis span when the box was cut at its slab's lower end: its first
     // layer lies below the slab, so no cell of the slab is its first on that axis.
     static constexpr std::uint32_t cut_below = std::uint32_t(1) << 31;
+    // A box listed for a slab of a parallel query: its index and its first cell in the slab.
+    struct member {
+        std::uint32_t box, corner;
+    };
 
     // The buffers of one slab of cell layers [layer_begin, layer_end) along the last axis:
     // the whole grid in a sequential query, one thread's share in a parallel one. Cells are
@@ -223,7 +231,7 @@ private:
     struct slab {
         std::uint32_t layer_begin = 0, layer_end = 0;
         std::size_t cells = 0, entry_count = 0, candidates = 0;
-        std::vector<std::uint32_t> starts, cursors, corner, ids, sorted_corner, members;
+        std::vector<std::uint32_t> starts, cursors, corner, ids, sorted_corner;
         std::vector<entry_type> entries;
         std::vector<bounds> sorted;
         std::vector<std::array<std::uint32_t, D>> sorted_span;
@@ -236,7 +244,7 @@ private:
         std::size_t memory_bytes() const {
             return sizeof(*this) +
                    (starts.capacity() + cursors.capacity() + corner.capacity() + ids.capacity() +
-                    sorted_corner.capacity() + members.capacity()) *
+                    sorted_corner.capacity()) *
                        sizeof(std::uint32_t) +
                    entries.capacity() * sizeof(entry_type) + sorted.capacity() * sizeof(bounds) +
                    sorted_span.capacity() * sizeof(std::array<std::uint32_t, D>) +
@@ -505,19 +513,27 @@ private:
     // (list_slab_members: the boxes reaching into its layers, in input order), clipped to its
     // layers.
     template <bool Sliced>
-    void sort_by_corner_cell(slab& sl, const std::vector<bounds>& boxes) const {
-        const std::size_t m = Sliced ? sl.members.size() : boxes.size();
-        auto box_index = [&](std::size_t k) { return Sliced ? sl.members[k] : static_cast<std::uint32_t>(k); };
+    void sort_by_corner_cell(slab& sl, const std::vector<bounds>& boxes, std::size_t slab_index = 0) const {
         sl.cells = stride_[D - 1] * (sl.layer_end - sl.layer_begin);
         sl.starts.assign(sl.cells + 1, 0);
-        sl.corner.resize(m);  // by position in the slab's list
-        std::size_t total = 0;
-        std::array<std::uint32_t, D> extra;
-        for (std::size_t k = 0; k < m; ++k) {
-            std::size_t corner;
-            total += cell_range<Sliced>(sl, boxes[box_index(k)], corner, extra);  // > 0: a member
-            sl.corner[k] = static_cast<std::uint32_t>(corner);
-            ++sl.starts[corner + 1];
+        std::size_t m = 0, total = 0;
+        if constexpr (Sliced) {
+            // The listing found each member's first cell: the count reads the lists only.
+            for_each_member_list(slab_index, [&](const std::vector<member>& list, std::size_t cells) {
+                for (const member& e : list) ++sl.starts[e.corner + 1];
+                m += list.size();
+                total += cells;
+            });
+        } else {
+            m = boxes.size();
+            sl.corner.resize(m);  // by position in the input
+            std::array<std::uint32_t, D> extra;
+            for (std::size_t k = 0; k < m; ++k) {
+                std::size_t corner;
+                total += cell_range<false>(sl, boxes[k], corner, extra);
+                sl.corner[k] = static_cast<std::uint32_t>(corner);
+                ++sl.starts[corner + 1];
+            }
         }
         if (total > std::numeric_limits<std::uint32_t>::max())
             throw std::length_error("cell_sort_grid: more than 2^32 - 1 (cell, box) entries");
@@ -533,7 +549,13 @@ private:
         // missed the cache on every write of 1e6 boxes. Each box's cell range is computed
         // again from the box just read rather than read back: a few multiplications instead
         // of two more random reads per box. ids holds the caller's indices.
-        for (std::size_t k = 0; k < m; ++k) sl.ids[sl.starts[sl.corner[k]]++] = box_index(k);
+        if constexpr (Sliced) {
+            for_each_member_list(slab_index, [&](const std::vector<member>& list, std::size_t) {
+                for (const member& e : list) sl.ids[sl.starts[e.corner]++] = e.box;
+            });
+        } else {
+            for (std::size_t k = 0; k < m; ++k) sl.ids[sl.starts[sl.corner[k]]++] = static_cast<std::uint32_t>(k);
+        }
         constexpr std::size_t ahead = 8;
         for (std::size_t at = 0; at < m; ++at) {
             if (at + ahead < m) __builtin_prefetch(&boxes[sl.ids[at + ahead]]);
@@ -545,11 +567,15 @@ private:
         }
     }
     // Each slab's members: the boxes whose last-axis layers meet the slab's, in input order,
-    // listed on every core. Each box's range of slabs is found once; then per fixed chunk of
-    // boxes a count per slab, prefix sums over the chunks in order, and the lists written by
-    // chunk. (Each slab used to test every box itself: on 1e6 boxes in 2 slabs, 16 ms of each
-    // slab's 28 ms sort went to the boxes of the other slab.) O(n S_b) for boxes meeting S_b
-    // slabs; span O(n / threads + chunks x slabs).
+    // each with its first cell in the slab, listed on every core in one pass over the boxes:
+    // per fixed chunk of boxes one list per slab (member_lists_, capacities kept across
+    // queries) and the lists' cell counts. A slab then counts its cells from its lists alone.
+    // (Each slab used to test every box itself: on 1e6 boxes in 2 slabs, 16 ms of each slab's
+    // 28 ms sort went to the boxes of the other slab. A count pass and a write pass over the
+    // boxes came next, and the slab's sort read its boxes once more for their first cells;
+    // two slabs reading about three quarters of the boxes' cache lines each, at once, lose
+    // to each other's misses.) O(n S_b) for boxes meeting S_b slabs; span O(n / threads +
+    // chunks x slabs).
     void list_slab_members(const std::vector<bounds>& boxes, const std::vector<std::uint32_t>& bounds_at) {
         const std::size_t n = boxes.size(), count = bounds_at.size() - 1;
         constexpr std::size_t chunk = std::size_t{1} << 14;
@@ -563,36 +589,32 @@ private:
             for (std::size_t j = 1; j < count; ++j) s += layer >= bounds_at[j];
             return s;
         };
-        slab_ranges_.resize(n);
-        std::vector<std::size_t> at(chunks * count, 0);  // [chunk][slab]: its count, then its first position
+        if (member_lists_.size() < chunks * count) member_lists_.resize(chunks * count);
+        member_cells_.assign(chunks * count, 0);
+        member_chunks_ = chunks;
+        member_slabs_ = count;
         spatial::detail::parallel_chunks(chunks, 1, [&](std::size_t first, std::size_t last) {
-            std::vector<std::size_t> local(count);
+            std::array<std::uint32_t, D> extra;
             for (std::size_t k = first; k < last; ++k) {
-                std::fill(local.begin(), local.end(), 0);
+                std::vector<member>* lists = member_lists_.data() + k * count;
+                std::size_t* cells = member_cells_.data() + k * count;
+                for (std::size_t s = 0; s < count; ++s) lists[s].clear();
                 for (std::size_t b = k * chunk; b < std::min(n, (k + 1) * chunk); ++b) {
                     const std::uint32_t lo = slab_of(cell_coordinate(boxes[b].lo[D - 1], D - 1));
                     const std::uint32_t hi = slab_of(cell_coordinate(boxes[b].hi[D - 1], D - 1));
-                    slab_ranges_[b] = {lo, hi};
-                    for (std::uint32_t s = lo; s <= hi; ++s) ++local[s];
-                }
-                std::copy(local.begin(), local.end(), at.begin() + static_cast<std::ptrdiff_t>(k * count));
-            }
-        });
-        for (std::size_t s = 0; s < count; ++s) {
-            std::size_t members = 0;
-            for (std::size_t k = 0; k < chunks; ++k) members += std::exchange(at[k * count + s], members);
-            slabs_[s].members.resize(members);
-        }
-        spatial::detail::parallel_chunks(chunks, 1, [&](std::size_t first, std::size_t last) {
-            std::vector<std::uint32_t*> out(count);
-            for (std::size_t k = first; k < last; ++k) {
-                for (std::size_t s = 0; s < count; ++s) out[s] = slabs_[s].members.data() + at[k * count + s];
-                for (std::size_t b = k * chunk; b < std::min(n, (k + 1) * chunk); ++b) {
-                    for (std::uint32_t s = slab_ranges_[b].first; s <= slab_ranges_[b].second; ++s)
-                        *out[s]++ = static_cast<std::uint32_t>(b);
+                    for (std::uint32_t s = lo; s <= hi; ++s) {
+                        std::size_t corner;
+                        cells[s] += cell_range<true>(slabs_[s], boxes[b], corner, extra);
+                        lists[s].push_back({static_cast<std::uint32_t>(b), static_cast<std::uint32_t>(corner)});
+                    }
                 }
             }
         });
+    }
+    // f(list, cells) for each chunk's list of slab s's members, in input order.
+    template <class F>
+    void for_each_member_list(std::size_t s, F&& f) const {
+        for (std::size_t k = 0; k < member_chunks_; ++k) f(member_lists_[k * member_slabs_ + s], member_cells_[k * member_slabs_ + s]);
     }
     // Counting sort of the slab's (cell, box) entries into its entries, grouped by cell, each
     // tagged with its first-cell bits (step 3).
@@ -680,7 +702,11 @@ private:
     double inv_h_ = 1;
     std::vector<slab> slabs_;  // [0] serves the sequential queries
     std::vector<bounds> combined_;
-    std::vector<std::pair<std::uint32_t, std::uint32_t>> slab_ranges_;  // per box: its first and last slab
+    // A parallel query's slab members (list_slab_members): per chunk of boxes and slab,
+    // chunk-major, the members the chunk gives the slab in input order, and their cell count.
+    std::vector<std::vector<member>> member_lists_;
+    std::vector<std::size_t> member_cells_;
+    std::size_t member_chunks_ = 0, member_slabs_ = 0;
     std::array<std::array<std::size_t, table_size>, table_size> small_offset_{};
     std::array<std::array<entry_type, table_size>, table_size> small_bits_{};
     std::array<std::uint32_t, table_size> small_count_{};
