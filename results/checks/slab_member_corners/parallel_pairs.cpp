@@ -1,5 +1,4 @@
 #include <chrono>
-#include <tbb/global_control.h>
 #include <cstdio>
 #include <random>
 #include <algorithm>
