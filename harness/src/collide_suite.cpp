@@ -330,7 +330,10 @@ void run_parallel_self_pairs(context& ctx, const std::vector<collide_box>& boxes
     }
     const double checksum = unordered_pairs_checksum(reference);
     const std::string t1 = "threads=1", tn = "threads=" + std::to_string(threads), tc = tn + ";delivery=concurrent";
-    const std::size_t reps = n >= 1000000 ? std::max<std::size_t>(1, ctx.cfg.repetitions - 1) : ctx.cfg.repetitions;
+    // A speed-up is a ratio of two medians: at least 7 interleaved rounds of each, also where
+    // the static figures take fewer (a query of 1e6 boxes is about a tenth of a second; two
+    // rounds made the 1e6 speed-ups of one day spread from 1.5 to 2.1 between runs).
+    const std::size_t reps = std::max<std::size_t>(ctx.cfg.repetitions, 7);
     const auto t = time_interleaved({{where + ", self pairs" + told[0], [&] { return query(delivery::one_thread); }, checksum},
                                      {where + ", self pairs" + told[1], [&] { return query(delivery::calling_thread); }, checksum},
                                      {where + ", self pairs" + told[2], [&] { return query(delivery::concurrent); }, checksum}},
