@@ -572,10 +572,10 @@ private:
     // queries) and the lists' cell counts. A slab then counts its cells from its lists alone.
     // (Each slab used to test every box itself: on 1e6 boxes in 2 slabs, 16 ms of each slab's
     // 28 ms sort went to the boxes of the other slab. A count pass and a write pass over the
-    // boxes came next, and the slab's sort read its boxes once more for their first cells;
-    // two slabs reading about three quarters of the boxes' cache lines each, at once, lose
-    // to each other's misses.) O(n S_b) for boxes meeting S_b slabs; span O(n / threads +
-    // chunks x slabs).
+    // boxes came next, and the slab's sort read its boxes once more for their first cells:
+    // slabs reading their boxes at once, on cores that share one cache, lose to each other's
+    // misses; results/checks/slab_member_corners.) O(n S_b) for boxes meeting S_b slabs;
+    // span O(n / threads + chunks x slabs).
     void list_slab_members(const std::vector<bounds>& boxes, const std::vector<std::uint32_t>& bounds_at) {
         const std::size_t n = boxes.size(), count = bounds_at.size() - 1;
         constexpr std::size_t chunk = std::size_t{1} << 14;
