@@ -433,6 +433,122 @@ TEST(collide_collision_grid_motion, self_pairs_on_several_threads_equal_the_sequ
     check_parallel_self_pairs<objects::sphere<double, 3>>(seed);
 }
 
+// The moving set's candidate list (collide/fat_box_pairs.hpp): over steps of small motions
+// the pairs are answered from a list (built, then reused: checked in the statistics) and
+// equal brute force's at every step; a reused list delivers in increasing slot order. Then
+// the cases that must leave it: a box jumping out of its fat box, an erase and an insert
+// (renumbering), a query with no update (the list still serves), motion too fast for the
+// boxes' size (no list at all), and a grid with erased slots (boxes mapped to slots). Boxes
+// and spheres (whose narrow phase runs on the list's candidates).
+template <class O>
+void check_candidate_list(std::uint64_t seed) {
+    spatial_test::seeded_rng rng(seed);
+    std::vector<O> objects = random_objects<O>(rng, 1200);
+    std::vector<P3> velocity(objects.size());
+    std::uniform_real_distribution<double> u(-1, 1);
+    for (P3& v : velocity) v = P3{{0.0004 * u(rng), 0.0004 * u(rng), 0.0004 * u(rng)}};
+    collision_grid<O> grid(objects.begin(), objects.end());
+    std::vector<typename collision_grid<O>::iterator> handle;
+    for (auto it = grid.begin(); it != grid.end(); ++it) handle.push_back(it);
+    auto slots = [](const auto& pairs) {
+        std::vector<pair32> out;
+        for (const auto& [a, b] : pairs) out.emplace_back(static_cast<std::uint32_t>(a.slot()), static_cast<std::uint32_t>(b.slot()));
+        return out;
+    };
+    // The oracle: brute force over the live objects, in slot order (slot of handle k).
+    auto expected = [&]() {
+        std::vector<std::uint32_t> slot_of;
+        std::vector<O> live;
+        for (auto it = grid.begin(); it != grid.end(); ++it) live.push_back(*it), slot_of.push_back(static_cast<std::uint32_t>(it.slot()));
+        brute_force<O> oracle(live.begin(), live.end());
+        std::vector<pair32> out;
+        for (const auto& [a, b] : oracle.self_pairs())
+            out.emplace_back(std::min(slot_of[a.slot()], slot_of[b.slot()]), std::max(slot_of[a.slot()], slot_of[b.slot()]));
+        std::sort(out.begin(), out.end());
+        return out;
+    };
+    auto streamed = [&]() {
+        std::vector<pair32> out;
+        grid.for_each_self_pair(pair_filter::exact, [&](auto a, auto b) {
+            out.emplace_back(static_cast<std::uint32_t>(a.slot()), static_cast<std::uint32_t>(b.slot()));
+        });
+        return out;
+    };
+    auto step = [&](double speed) {
+        for (std::size_t k = 0; k < handle.size(); ++k) {
+            const P3 d{{speed * velocity[k][0], speed * velocity[k][1], speed * velocity[k][2]}};
+            handle[k] = grid.update(handle[k], moved(*handle[k], d));
+        }
+    };
+    for (int s = 0; s < 12; ++s) {
+        SCOPED_TRACE(::testing::Message() << "slow step " << s);
+        step(1);
+        const std::size_t reused = grid.candidate_list_stats().reused;
+        const auto got = streamed();
+        if (grid.candidate_list_stats().reused > reused) {
+            EXPECT_TRUE(std::is_sorted(got.begin(), got.end())) << "a reused list's order";
+        }
+        auto sorted = got;
+        std::sort(sorted.begin(), sorted.end());
+        ASSERT_EQ(sorted, expected());
+    }
+    EXPECT_GE(grid.candidate_list_stats().built, 1u);
+    EXPECT_GE(grid.candidate_list_stats().reused, 6u);
+    EXPECT_GT(grid.candidate_list_stats().candidates, 0u);
+    // No update: the list answers again (nothing left its fat box).
+    const std::size_t reused = grid.candidate_list_stats().reused;
+    EXPECT_EQ(slots(grid.self_pairs()), expected());
+    EXPECT_EQ(grid.candidate_list_stats().reused, reused + 1);
+    // One object jumps onto another: out of its fat box, so a full query finds the new pair.
+    handle[0] = grid.update(handle[0], *handle[1]);
+    EXPECT_EQ(slots(grid.self_pairs()), expected());
+    // Erase and insert renumber the boxes: no list survives them.
+    grid.erase(handle.back());
+    handle.pop_back();
+    step(1);
+    EXPECT_EQ(slots(grid.self_pairs()), expected());
+    handle.push_back(grid.insert(*handle[2]));
+    step(1);
+    EXPECT_EQ(slots(grid.self_pairs()), expected());
+    for (int s = 0; s < 6; ++s) {
+        step(1);
+        EXPECT_EQ(slots(grid.self_pairs()), expected()) << "after renumbering, step " << s;
+    }
+    // Too fast for the objects' size (about their size per step): full queries, no new list.
+    const std::size_t built = grid.candidate_list_stats().built;
+    for (int s = 0; s < 4; ++s) {
+        step(60);
+        EXPECT_EQ(slots(grid.self_pairs()), expected()) << "fast step " << s;
+    }
+    EXPECT_EQ(grid.candidate_list_stats().built, built);
+}
+
+TEST(collide_collision_grid_motion, moving_objects_answered_from_a_candidate_list_equal_brute_force) {
+    check_candidate_list<B3>(213);
+    check_candidate_list<objects::sphere<double, 3>>(214);
+}
+
+// Near the top of double's range a fat box would overflow: the query takes the boxes as they
+// are (no list), and the answer is still exact.
+TEST(collide_collision_grid_motion, boxes_near_the_largest_double_take_no_candidate_list) {
+    const double big = std::numeric_limits<double>::max();
+    std::vector<B3> boxes;
+    for (int k = 0; k < 6; ++k) boxes.push_back(B3(P3{{big * 0.5, big * 0.5, -1.0 + k}}, P3{{big, big, 0.5 + k}}));
+    collision_grid<B3> grid(boxes.begin(), boxes.end());
+    std::vector<collision_grid<B3>::iterator> handle;
+    for (auto it = grid.begin(); it != grid.end(); ++it) handle.push_back(it);
+    for (int s = 0; s < 4; ++s) {
+        for (auto& h : handle) {
+            B3 b = *h;
+            b.lo[0] -= big * 1e-3;  // a margin of 3e-3 * big on x: past the largest double
+            b.lo[2] += 0.01, b.hi[2] += 0.01;
+            h = grid.update(h, b);
+        }
+        EXPECT_EQ(grid.self_pairs().size(), 5u) << "step " << s;  // neighbours in z overlap by 0.5
+    }
+    EXPECT_EQ(grid.candidate_list_stats().built, 0u);
+}
+
 // A bulk insert validates the whole batch before storing any of it, whether the range can be
 // read twice (validated in place) or only once (copied first).
 TEST(collide_collision_grid_motion, a_bulk_insert_with_a_nan_stores_nothing_from_either_kind_of_range) {
@@ -480,6 +596,7 @@ void check_tracker_against_sets(std::uint64_t seed, int per_step, Id low, Id hig
         std::vector<pair_type> now;
         for (int k = 0; k < per_step; ++k) now.emplace_back(id(rng), id(rng));
         now.push_back(now.front());  // a duplicate is one pair
+        if (step % 3 == 2) std::sort(now.begin(), now.end());  // sorted with its duplicate: the O(p) path
         const std::set<pair_type> cur(now.begin(), now.end());
         std::vector<pair_type> added, removed;
         std::set_difference(cur.begin(), cur.end(), previous.begin(), previous.end(), std::back_inserter(added));

@@ -6,6 +6,13 @@
 // O(n + e + k) on boxes of similar size (e cell entries, k overlapping pairs) — cheaper than
 // repairing any dynamic index when a sizeable fraction of the objects moved.
 //
+// Moving sets (collide/fat_box_pairs.hpp): a sequential self-pair query that follows update()s
+// of the same objects keeps the pairs of the boxes grown by a measured margin, and the next
+// queries re-test only those candidates while every object stays inside its grown box: most
+// steps of a simulation then cost two linear passes instead of a grid. The answers are the
+// same pairs; a query with no update() since the previous one, and the parallel and bipartite
+// queries, run the grid as before.
+//
 // Semantics as every structure's pair queries (collide/pairs.hpp): each pair once, self
 // pairs as (lower slot, higher slot), sorted by slot; candidates = closed bounding boxes
 // overlap; exact adds collide::narrow_phase. Box range queries are a linear scan (this is a
@@ -15,6 +22,7 @@
 #include <algorithm>
 #include <cstddef>
 #include <iterator>
+#include <optional>
 #include <stdexcept>
 #include <string>
 #include <type_traits>
@@ -22,6 +30,7 @@
 #include <vector>
 
 #include "spatial/collide/cell_sort_grid.hpp"
+#include "spatial/collide/fat_box_pairs.hpp"
 #include "spatial/collide/pairs.hpp"
 #include "spatial/core/input_checks.hpp"
 #include "spatial/core/object_concepts.hpp"
@@ -53,6 +62,7 @@ public:
     // O(1).
     iterator insert(const O& x) {
         detail::require_finite_object(x, "collision_grid::insert");
+        renumbered();
         return make(slots_.allocate(x, 1));
     }
     // Validates the whole batch before storing any of it. O(m). A forward range is validated
@@ -73,6 +83,7 @@ public:
     iterator erase(const_iterator pos) {
         check(pos, "collision_grid::erase");
         const slot_index s = pos.slot();
+        renumbered();
         slots_.release(s);
         return make(slots_.next_occupied(s + 1));
     }
@@ -81,6 +92,7 @@ public:
         detail::require_finite_object(x, "collision_grid::update");
         check(pos, "collision_grid::update");
         slots_.replace(pos.slot(), x);
+        moved_ = true;
         return pos;
     }
     // Moves many: [first, last) yields (iterator, new object) pairs. Every pair is validated
@@ -92,15 +104,20 @@ public:
             check(it->first, "collision_grid::update(first, last)");
         }
         for (auto it = first; it != last; ++it) slots_.replace(it->first.slot(), it->second);
+        moved_ = true;
     }
-    void clear() { slots_.clear(); }
+    void clear() {
+        renumbered();
+        slots_.clear();
+    }
 
     size_type size() const { return slots_.size(); }
     bool empty() const { return slots_.size() == 0; }
     iterator begin() const { return make(slots_.next_occupied(0)); }
     iterator end() const { return make(static_cast<slot_index>(slots_.capacity())); }
     std::size_t memory_bytes() const {
-        return sizeof(*this) + slots_.memory_bytes() + grid_.memory_bytes() + boxes_.capacity() * sizeof(bounds) +
+        return sizeof(*this) + slots_.memory_bytes() + grid_.memory_bytes() + moving_.memory_bytes() +
+               boxes_.capacity() * sizeof(bounds) +
                (slot_of_.capacity() + other_slot_of_.capacity()) * sizeof(slot_index) +
                other_boxes_.capacity() * sizeof(bounds);
     }
@@ -119,21 +136,26 @@ public:
         sort_pairs(out);
         return out;
     }
-    // The same pairs, unsorted (in the grid's deterministic order), to a callback f(a, b)
-    // with a.slot() < b.slot(): no result vector, no sort (what a simulation loop wants).
+    // The same pairs, unsorted, to a callback f(a, b) with a.slot() < b.slot(): no result
+    // vector, no sort (what a simulation loop wants). The order is deterministic: the grid's,
+    // or increasing (a.slot(), b.slot()) for a query answered from the moving set's candidate
+    // list (fat_box_pairs.hpp; then O(n + c) for c candidates).
     template <class F>
     void for_each_self_pair(pair_filter filter, F&& f) const {
-        gather(*this, boxes_, slot_of_);
+        const auto moved = gather_measuring_motion();
         const bool narrow = filter == pair_filter::exact && !box_test_is_exact;
         // With no free slot (nothing erased), box i is slot i: no lookup per pair.
-        const bool dense = slot_of_.size() == slots_.capacity();
-        grid_.self_pairs(boxes_, [&](std::uint32_t i, std::uint32_t j) {
+        const bool dense = slots_.size() == slots_.capacity();
+        auto deliver = [&](std::uint32_t i, std::uint32_t j) {
             const slot_index s = dense ? i : slot_of_[i], t = dense ? j : slot_of_[j];
             if (narrow && !collide::narrow_phase(slots_.value(s), slots_.value(t))) return;
             // min / max rather than a swap: which of the two is lower is a coin toss, and
             // a branch on it mispredicted about once in three pairs.
             f(make(std::min(s, t)), make(std::max(s, t)));
-        });
+        };
+        auto full_query = [&](const std::vector<bounds>& fat, auto&& collect) { grid_.self_pairs(fat, collect); };
+        if (moving_.answer(boxes_, moved, full_query, deliver)) return;
+        grid_.self_pairs(boxes_, deliver);
     }
     // The same pairs as for_each_self_pair(filter, f), found on the threads of the parallel
     // back end (spatial::par, core/parallel.hpp): the boxes are gathered in parallel chunks
@@ -203,9 +225,15 @@ public:
             return pairs_between(*this, other, filter);
         }
     }
-    // Statistics of the last pair query (cells, entries, pairs looked at, cell size).
+    // Statistics of the last pair query that ran the grid (cells, entries, pairs looked at,
+    // cell size).
     const typename collide::cell_sort_grid<scalar_type, dimension>::query_stats& grid_stats() const {
         return grid_.last_query_stats();
+    }
+    // The moving set's candidate lists so far: built, queries answered from one, the current
+    // list's candidates and margin.
+    const typename collide::fat_box_pairs<scalar_type, dimension>::statistics& candidate_list_stats() const {
+        return moving_.stats();
     }
 
     // For pairs_with between two collision_grids of possibly different object types.
@@ -237,6 +265,34 @@ private:
         });
         return true;
     }
+    // The objects were renumbered: the last query's boxes and candidate list no longer apply.
+    void renumbered() {
+        boxes_current_ = false;
+        moving_.forget();
+    }
+    // gather() for a sequential self-pair query; when objects moved since the previous query
+    // and none was inserted or erased, also the largest change of any bound per axis (what
+    // the candidate list sizes its margin from). Otherwise nullopt.
+    std::optional<typename collide::fat_box_pairs<scalar_type, dimension>::displacement> gather_measuring_motion() const {
+        const bool comparable = std::exchange(moved_, false) && boxes_current_ && boxes_.size() == slots_.size();
+        boxes_current_ = true;
+        if (!comparable) {
+            gather(*this, boxes_, slot_of_);
+            return std::nullopt;
+        }
+        typename collide::fat_box_pairs<scalar_type, dimension>::displacement moved{};
+        slot_of_.clear();
+        std::size_t k = 0;
+        for (slot_index s = slots_.next_occupied(0); s < slots_.capacity(); s = slots_.next_occupied(s + 1), ++k) {
+            const bounds b = bounds_of(slots_.value(s));
+            for (std::size_t a = 0; a < dimension; ++a)
+                moved[a] = std::max({moved[a], std::abs(static_cast<double>(b.lo[a]) - static_cast<double>(boxes_[k].lo[a])),
+                                     std::abs(static_cast<double>(b.hi[a]) - static_cast<double>(boxes_[k].hi[a]))});
+            boxes_[k] = b;
+            slot_of_.push_back(s);
+        }
+        return moved;
+    }
     template <class Bounds = bounds>
     static Bounds bounds_of(const O& x) {
         Bounds b;
@@ -259,6 +315,7 @@ private:
     void store(It first, It last, std::size_t m) {
         slots_.require_room_for(m, "collision_grid::insert(first, last)");
         slots_.reserve(slots_.capacity() + m);
+        renumbered();
         for (; first != last; ++first) slots_.allocate(*first, 1);
     }
     void check(const_iterator pos, const char* what) const {
@@ -271,6 +328,11 @@ private:
     mutable collide::cell_sort_grid<scalar_type, dimension> grid_;
     mutable std::vector<bounds> boxes_, other_boxes_;
     mutable std::vector<slot_index> slot_of_, other_slot_of_;
+    // The moving set's candidate list, and what it needs to know: whether update() ran since
+    // the last self-pair query, and whether boxes_ holds the last query's boxes in the
+    // current numbering (no insert or erase since).
+    mutable collide::fat_box_pairs<scalar_type, dimension> moving_;
+    mutable bool moved_ = false, boxes_current_ = false;
 };
 
 }  // namespace spatial

@@ -28,13 +28,18 @@ public:
     // Replaces the current set by `pairs` (any order; (a, b) and (b, a) are the same pair
     // for self pairs only if the caller normalises them — self_pairs() already reports
     // (lower, higher)). Returns the number of pairs that changed (added + removed).
-    std::size_t step(std::vector<pair_type> pairs) {
-        sort_unique_pairs(pairs, buffers_);
+    // The step's set is copied into a buffer kept from step to step (as are the sort's and
+    // the differences'), so a simulation loop allocates nothing once the sets stop growing:
+    // taking the set by value had cost a fresh allocation, and its first-touch page faults,
+    // every step.
+    std::size_t step(const std::vector<pair_type>& pairs) {
+        next_.assign(pairs.begin(), pairs.end());
+        sort_unique_pairs(next_, buffers_);
         added_.clear();
         removed_.clear();
-        std::set_difference(pairs.begin(), pairs.end(), current_.begin(), current_.end(), std::back_inserter(added_));
-        std::set_difference(current_.begin(), current_.end(), pairs.begin(), pairs.end(), std::back_inserter(removed_));
-        current_ = std::move(pairs);
+        std::set_difference(next_.begin(), next_.end(), current_.begin(), current_.end(), std::back_inserter(added_));
+        std::set_difference(current_.begin(), current_.end(), next_.begin(), next_.end(), std::back_inserter(removed_));
+        current_.swap(next_);
         return added_.size() + removed_.size();
     }
     void clear() {
@@ -49,7 +54,7 @@ public:
     const std::vector<pair_type>& removed() const { return removed_; }
 
 private:
-    std::vector<pair_type> current_, added_, removed_;
+    std::vector<pair_type> current_, next_, added_, removed_;
     pair_sort_buffers buffers_;  // the sort's scratch, reused step after step
 };
 
