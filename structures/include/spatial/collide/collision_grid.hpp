@@ -1,7 +1,7 @@
 #pragma once
 // spatial::collision_grid<O> — a broad-phase structure for scenes where most objects move
 // every step: it stores the objects with stable handles and answers each pair query with a
-// grid REBUILT from scratch by counting sort (collide/cell_sort_grid.hpp). Nothing is
+// grid REBUILT from scratch by counting sort (collide/cell_sort_grid.hpp). No index is
 // maintained between queries, so moving an object is O(1) and the whole pair query is
 // O(n + e + k) on boxes of similar size (e cell entries, k overlapping pairs) — cheaper than
 // repairing any dynamic index when a sizeable fraction of the objects moved.
@@ -9,9 +9,10 @@
 // Moving sets (collide/fat_box_pairs.hpp): a sequential self-pair query that follows update()s
 // of the same objects keeps the pairs of the boxes grown by a measured margin, and the next
 // queries re-test only those candidates while every object stays inside its grown box: most
-// steps of a simulation then cost two linear passes instead of a grid. The answers are the
-// same pairs; a query with no update() since the previous one, and the parallel and bipartite
-// queries, run the grid as before.
+// steps of a simulation then cost three linear passes (gather, containment, candidates)
+// instead of a grid. The answers are the same pairs. A query with no update() since the
+// previous one answers from a live list but never builds one (a static set runs the grid at
+// every query); the parallel and bipartite queries run the grid as before.
 //
 // Semantics as every structure's pair queries (collide/pairs.hpp): each pair once, self
 // pairs as (lower slot, higher slot), sorted by slot; candidates = closed bounding boxes
