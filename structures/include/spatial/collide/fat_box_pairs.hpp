@@ -27,8 +27,9 @@
 // Cost of a query answered from the list: O(n + c) for n boxes and c candidates (at most a
 // constant factor more than the pairs, for boxes of similar size); a rebuild costs one full
 // query on the fat boxes plus sorting its c pairs (O(n + c), a counting sort).
-// Memory: one fat box per box, two 32-bit indices per candidate (twice while a list is built)
-// and two 32-bit words per box for that sort.
+// Memory: one fat box per box, two 32-bit indices per candidate, and the build's scratch
+// (as many again for the unsorted candidates, two 32-bit words per box for their sort), kept
+// for the next build as every buffer here is.
 
 #include <algorithm>
 #include <array>
