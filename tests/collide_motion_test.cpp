@@ -437,9 +437,10 @@ TEST(collide_collision_grid_motion, self_pairs_on_several_threads_equal_the_sequ
 // the pairs are answered from a list (built, then reused: checked in the statistics) and
 // equal brute force's at every step; a reused list delivers in increasing slot order. Then
 // the cases that must leave it: a box jumping out of its fat box, an erase and an insert
-// (renumbering), a query with no update (the list still serves), motion too fast for the
-// boxes' size (no list at all), and a grid with erased slots (boxes mapped to slots). Boxes
-// and spheres (whose narrow phase runs on the list's candidates).
+// (renumbering), a query with no update (the list still serves), motion that turns at every
+// step (own margins give way to a single one), motion too fast for the boxes' size (no list
+// at all), and a grid with erased slots (boxes mapped to slots). Boxes and spheres (whose
+// narrow phase runs on the list's candidates).
 template <class O>
 void check_candidate_list(std::uint64_t seed) {
     spatial_test::seeded_rng rng(seed);
@@ -495,6 +496,7 @@ void check_candidate_list(std::uint64_t seed) {
     EXPECT_GE(grid.candidate_list_stats().built, 1u);
     EXPECT_GE(grid.candidate_list_stats().reused, 6u);
     EXPECT_GT(grid.candidate_list_stats().candidates, 0u);
+    EXPECT_TRUE(grid.candidate_list_stats().own_margins) << "constant velocities: each box's margin from its own motion";
     // No update: the list answers again (nothing left its fat box).
     const std::size_t reused = grid.candidate_list_stats().reused;
     EXPECT_EQ(slots(grid.self_pairs()), expected());
@@ -514,6 +516,16 @@ void check_candidate_list(std::uint64_t seed) {
         step(1);
         EXPECT_EQ(slots(grid.self_pairs()), expected()) << "after renumbering, step " << s;
     }
+    // Motion that turns at every step (a random walk): some box soon outruns the margin its
+    // own last move gave it, and the lists that follow give every box the largest move's.
+    bool single_margin = false;
+    for (int s = 0; s < 16; ++s) {
+        for (P3& v : velocity) v = P3{{0.0004 * u(rng), 0.0004 * u(rng), 0.0004 * u(rng)}};
+        step(1);
+        EXPECT_EQ(slots(grid.self_pairs()), expected()) << "turning step " << s;
+        single_margin |= grid.candidate_list_stats().built > 0 && !grid.candidate_list_stats().own_margins;
+    }
+    EXPECT_TRUE(single_margin) << "no list with a single margin after own margins failed";
     // Too fast for the objects' size (about their size per step): full queries, no new list.
     const std::size_t built = grid.candidate_list_stats().built;
     for (int s = 0; s < 4; ++s) {

@@ -2,14 +2,18 @@
 // candidate list (collide/fat_box_pairs.hpp) against the grid alone, plus the pair tracker:
 // the collide stage of the boxes_100k scene (100000 cubes of edge 0.0136 in the unit cube,
 // about two overlaps each, every box moving 0.001 per step in its own direction and bouncing
-// off the walls; `speed` scales that). Both paths' pair sets are compared every step.
-// Build: see README.md. Run: moving_pairs <steps> <speed>.
+// off the walls; `speed` scales that; with `walk`, every box draws a new velocity of the same
+// distribution at every step: motion that turns; with `mirror`, they move as in the scene
+// runner, see below). Both paths' pair sets are compared every step. Build: see README.md.
+// Run: moving_pairs <steps> <speed> [walk | mirror].
 #include <algorithm>
 #include <array>
 #include <chrono>
+#include <cmath>
 #include <cstdio>
 #include <cstdlib>
 #include <random>
+#include <string>
 #include <vector>
 
 #include "spatial/collide/cell_sort_grid.hpp"
@@ -29,6 +33,18 @@ int main(int argc, char** argv) {
     std::vector<std::array<double, 3>> c(n), v(n);
     for (int i = 0; i < n; ++i)
         for (int d = 0; d < 3; ++d) c[i][d] = half + u(rng) * (1 - 2 * half), v[i][d] = (u(rng) - 0.5) * 0.002 * speed;
+    // `mirror`: as the scene runner moves them (datasets/scene_motion.hpp): a uniformly random
+    // direction at speed 0.001 per step, and a box that crosses a wall is mirrored back inside
+    // (moved in by twice its overshoot) as its velocity flips.
+    const bool mirror = argc > 3 && std::string(argv[3]) == "mirror";
+    if (mirror) {
+        std::normal_distribution<double> g;
+        for (auto& w : v) {
+            double length = 0;
+            for (double& x : w) x = g(rng), length += x * x;
+            for (double& x : w) x *= 0.001 * speed / std::sqrt(length);
+        }
+    }
     auto box_of = [&](int i) {
         B b;
         for (int d = 0; d < 3; ++d) b.lo[d] = c[i][d] - half, b.hi[d] = c[i][d] + half;
@@ -43,11 +59,17 @@ int main(int argc, char** argv) {
     std::vector<pair32> list_pairs, plain_pairs;
     double t_list = 0, t_list_track = 0, t_plain = 0, t_plain_track = 0, t_built = 0, t_reused = 0;
     std::size_t built = 0, reused = 0;
+    const bool walk = argc > 3 && std::string(argv[3]) == "walk";
     for (int s = 0; s < steps; ++s) {
+        if (walk)
+            for (int i = 0; i < n; ++i)
+                for (int d = 0; d < 3; ++d) v[i][d] = (u(rng) - 0.5) * 0.002 * speed;
         for (int i = 0; i < n; ++i)
             for (int d = 0; d < 3; ++d) {
                 c[i][d] += v[i][d];
-                if (c[i][d] < half || c[i][d] > 1 - half) v[i][d] = -v[i][d];
+                const bool out = c[i][d] < half || c[i][d] > 1 - half;
+                if (out && mirror) c[i][d] = c[i][d] < half ? 2 * half - c[i][d] : 2 * (1 - half) - c[i][d];
+                if (out) v[i][d] = -v[i][d];
             }
         for (int i = 0; i < n; ++i) handle[i] = grid.update(handle[i], box_of(i));
         // The grid alone (rounds alternate with the list's, same boxes).

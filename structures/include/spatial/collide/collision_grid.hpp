@@ -118,7 +118,7 @@ public:
     iterator end() const { return make(static_cast<slot_index>(slots_.capacity())); }
     std::size_t memory_bytes() const {
         return sizeof(*this) + slots_.memory_bytes() + grid_.memory_bytes() + moving_.memory_bytes() +
-               boxes_.capacity() * sizeof(bounds) +
+               (boxes_.capacity() + previous_boxes_.capacity()) * sizeof(bounds) +
                (slot_of_.capacity() + other_slot_of_.capacity()) * sizeof(slot_index) +
                other_boxes_.capacity() * sizeof(bounds);
     }
@@ -143,7 +143,7 @@ public:
     // list (fat_box_pairs.hpp; then O(n + c) for c candidates).
     template <class F>
     void for_each_self_pair(pair_filter filter, F&& f) const {
-        const auto moved = gather_measuring_motion();
+        const bool covered = gather_for_moving_set();
         const bool narrow = filter == pair_filter::exact && !box_test_is_exact;
         // With no free slot (nothing erased), box i is slot i: no lookup per pair.
         const bool dense = slots_.size() == slots_.capacity();
@@ -155,7 +155,7 @@ public:
             f(make(std::min(s, t)), make(std::max(s, t)));
         };
         auto full_query = [&](const std::vector<bounds>& fat, auto&& collect) { grid_.self_pairs(fat, collect); };
-        if (moving_.answer(boxes_, moved, full_query, deliver)) return;
+        if (moving_.answer(boxes_, moved_since_, kept_previous_ ? &previous_boxes_ : nullptr, covered, full_query, deliver)) return;
         grid_.self_pairs(boxes_, deliver);
     }
     // The same pairs as for_each_self_pair(filter, f), found on the threads of the parallel
@@ -271,28 +271,34 @@ private:
         boxes_current_ = false;
         moving_.forget();
     }
-    // gather() for a sequential self-pair query; when objects moved since the previous query
-    // and none was inserted or erased, also the largest change of any bound per axis (what
-    // the candidate list sizes its margin from). Otherwise nullopt.
-    std::optional<typename collide::fat_box_pairs<scalar_type, dimension>::displacement> gather_measuring_motion() const {
-        const bool comparable = std::exchange(moved_, false) && boxes_current_ && boxes_.size() == slots_.size();
+    // gather() for a sequential self-pair query, and whether every box lies inside its fat
+    // box of the moving set's live list (checked in the same pass). When objects moved since
+    // the previous query and none was inserted or erased, the previous query's boxes are kept
+    // in previous_boxes_ (a swap, no copy) and moved_since_ is set: what a new list measures
+    // the motion from. A query with no update() since reuses the gathered boxes as they are.
+    bool gather_for_moving_set() const {
+        const bool updated = std::exchange(moved_, false);
+        const bool comparable = boxes_current_ && boxes_.size() == slots_.size();
+        moved_since_ = updated && comparable;
+        kept_previous_ = moved_since_ && moving_.wants_previous();
         boxes_current_ = true;
-        if (!comparable) {
+        if (comparable && !updated) return moving_.live();  // unchanged since the last query
+        if (kept_previous_) previous_boxes_.swap(boxes_);
+        if (!(moving_.live() && comparable)) {
             gather(*this, boxes_, slot_of_);
-            return std::nullopt;
+            return false;
         }
-        typename collide::fat_box_pairs<scalar_type, dimension>::displacement moved{};
+        boxes_.resize(slots_.size());
         slot_of_.clear();
+        bool covered = true;
         std::size_t k = 0;
         for (slot_index s = slots_.next_occupied(0); s < slots_.capacity(); s = slots_.next_occupied(s + 1), ++k) {
             const bounds b = bounds_of(slots_.value(s));
-            for (std::size_t a = 0; a < dimension; ++a)
-                moved[a] = std::max({moved[a], std::abs(static_cast<double>(b.lo[a]) - static_cast<double>(boxes_[k].lo[a])),
-                                     std::abs(static_cast<double>(b.hi[a]) - static_cast<double>(boxes_[k].hi[a]))});
+            covered &= moving_.contains(k, b);
             boxes_[k] = b;
             slot_of_.push_back(s);
         }
-        return moved;
+        return covered;
     }
     template <class Bounds = bounds>
     static Bounds bounds_of(const O& x) {
@@ -327,13 +333,13 @@ private:
 
     slot_storage<O> slots_;
     mutable collide::cell_sort_grid<scalar_type, dimension> grid_;
-    mutable std::vector<bounds> boxes_, other_boxes_;
+    mutable std::vector<bounds> boxes_, previous_boxes_, other_boxes_;
     mutable std::vector<slot_index> slot_of_, other_slot_of_;
     // The moving set's candidate list, and what it needs to know: whether update() ran since
     // the last self-pair query, and whether boxes_ holds the last query's boxes in the
     // current numbering (no insert or erase since).
     mutable collide::fat_box_pairs<scalar_type, dimension> moving_;
-    mutable bool moved_ = false, boxes_current_ = false;
+    mutable bool moved_ = false, boxes_current_ = false, moved_since_ = false, kept_previous_ = false;
 };
 
 }  // namespace spatial

@@ -15,12 +15,19 @@
 // one pass that checks each box against its fat box and one pass over the candidates; the
 // full query runs only when some box has left its fat box.
 //
-// The margin is measured, not configured: on axis a it is queries_per_list times the largest
-// change of any box's bound on that axis since the previous query. Where that exceeds a
-// quarter of the boxes' mean edge on some axis, the boxes move too far for their size and the
-// query is a full one (a list's candidates grow as the cube of the fat boxes' width). A list
-// that had to be rebuilt at once (some boxes jump) makes the next backoff_queries moving
-// queries full queries.
+// The margins are measured, not configured. Each box's margin on an axis is q times the
+// change of its own bounds on that axis since the previous query, at least a floor (a
+// fraction of the largest change's margin) and at most a cap (half the boxes' mean edge): a
+// slow box gets a thin skin and a fast one a thick one, so the candidates follow the motion
+// each box has (Box2D likewise sizes each proxy's fat box from its own displacement). q is
+// up to max_queries_per_list, less where the typical margin would exceed a quarter of the
+// mean edge (up to 3 with a single margin), and no list is built below min_queries_per_list:
+// the boxes move too far for their size (a list's candidates grow as the cube of the fat boxes' width). When some box
+// outruns its own margin within a few queries (motion that turns: a random walk), the next
+// global_lists lists give every box the largest change's margin instead (a single margin
+// for all boxes, as in the first version); then own margins are tried again. A list that
+// served only the query that built it, or a refused one, makes the next backoff_queries
+// moving queries full queries.
 //
 // Exactness does not depend on the margin's rounding: containment is checked with
 // comparisons, and the candidates are the exact closed overlaps of the fat boxes.
@@ -36,7 +43,7 @@
 #include <cmath>
 #include <cstddef>
 #include <cstdint>
-#include <optional>
+#include <limits>
 #include <utility>
 #include <vector>
 
@@ -48,25 +55,46 @@ template <class T, std::size_t D>
 class fat_box_pairs {
 public:
     using bounds = box_bounds<T, D>;
-    // The largest change of any box's bounds per axis since the previous query.
-    using displacement = std::array<double, D>;
     struct statistics {
         std::size_t built = 0;        // lists built (full queries on fat boxes)
         std::size_t reused = 0;       // queries answered from a list built by an earlier one
         std::size_t candidates = 0;   // candidates of the current list
-        std::array<double, D> margin{};  // the current list's margin per axis
+        std::array<double, D> margin{};  // the current list's smallest margin per axis (its floor)
+        bool own_margins = false;        // whether its boxes' margins follow their own motion
     };
 
-    // The margin is this many times the last per-query displacement: a list serves about
-    // this many queries after the one that builds it when the boxes keep their speed. 3
-    // against 1.5, 2, 4 and 6 on the boxes of the boxes_100k scene at their speed and at a
-    // quarter of it (results/checks/fat_box_pairs).
-    static constexpr double queries_per_list = 3;
-    // No list when that margin would exceed this fraction of the mean edge on some axis: the
-    // boxes move too far for their size. Fat boxes are then at most 1.5 times as wide, so the
-    // candidates stay within about 1.5^D times the pairs (for boxes of similar size).
-    static constexpr double largest_margin_per_edge = 0.25;
-    // After a list that served a single query, this many moving queries go without one.
+    // A box's margin is q times its last change, q chosen per list: as large as this, so
+    // that a list serves about q queries after the one that builds it while the boxes keep
+    // their velocity, unless the typical margin (q times the mean change; the largest with a
+    // single margin) would then exceed typical_margin_per_edge times the boxes' mean edge on
+    // some axis: q shrinks to fit. Below min_queries_per_list no list is built: the boxes move
+    // too far for their size. 5 against 3, 4 and 6 on the boxes of the boxes_100k scene at its
+    // speed, a quarter and twice it (results/checks/fat_box_pairs).
+    static constexpr double max_queries_per_list = 5;
+    // With a single margin, up to 3 (against 1.5, 2, 4 and 6 in the first version's sweep):
+    // every box then carries the fastest one's margin.
+    static constexpr double max_queries_per_single_margin_list = 3;
+    // A list's build costs about two full queries: below this it does not pay.
+    static constexpr double min_queries_per_list = 3;
+    // The typical margin's limit, and each box's: a fast box's margin stops at twice it.
+    // With typical fat boxes at most 1.5 times as wide, the candidates stay within about
+    // 1.5^D times the pairs (for boxes of similar size).
+    static constexpr double typical_margin_per_edge = 0.25;
+    static constexpr double largest_margin_per_edge = 0.5;
+    // Margins are that much larger still, relatively: boxes moving at a constant velocity
+    // are exactly q changes from their fat boxes' faces after q queries, and rounding put
+    // about half of those outside, ending lists a query early.
+    static constexpr double rounding_allowance = 1e-3;
+    // Own margins are at least this fraction of the margin the largest change gives (and at
+    // most the typical margin): a box that barely moved in the last step still has some skin.
+    // 0.25 against 0.5 and 1 (a single margin) in results/checks/fat_box_pairs.
+    static constexpr double own_margin_floor = 0.25;
+    // A list of own margins that served fewer queries than this (some box outran its margin)
+    // makes the next global_lists lists use the largest change's margin for every box.
+    static constexpr std::size_t own_margins_serve_at_least = 3;
+    static constexpr std::size_t global_lists = 8;
+    // After a list that served a single query, or a refused one, this many moving queries go
+    // without one.
     static constexpr std::size_t backoff_queries = 16;
 
     // The boxes were renumbered (inserted, erased): no list applies any more.
@@ -77,30 +105,57 @@ public:
         fat_.clear();
     }
 
+    // Whether a list is live (its fat boxes are those of the boxes in the current numbering).
+    bool live() const { return live_; }
+    // Whether box k (a box of the current query) lies inside its fat box; for a live list, as
+    // the caller gathers the boxes (one pass instead of a gather and a check). Branchless.
+    bool contains(std::size_t k, const bounds& b) const {
+        bool inside = true;
+        for (std::size_t a = 0; a < D; ++a) inside &= (fat_[k].lo[a] <= b.lo[a]) & (b.hi[a] <= fat_[k].hi[a]);
+        return inside;
+    }
+
+    // Whether the next moving query may build a list, so that the caller keeps the previous
+    // query's boxes for it (answer's `previous`); otherwise it need not (no list is live and
+    // the backoff runs: keeping a second set of boxes alive costs a few percent there).
+    bool wants_previous() const { return live_ || backoff_ == 0; }
+
     // Answers a self-pair query over `boxes` from the candidate list, emit(i, j) with i < j
-    // for every overlapping pair, in increasing (i, j): from the current list if every box
-    // is still inside its fat box; otherwise, when the boxes moved (`moved`: the
-    // displacement since the previous query over the same boxes), from a new list that
-    // `full_query(fat_boxes, collect)` builds. Returns false, having emitted nothing, when
-    // neither applies (the caller then runs its full query on `boxes`).
+    // for every overlapping pair, in increasing (i, j): from the current list if `covered`
+    // (every box is inside its fat box: contains() over the gather; meaningful for a live
+    // list of as many boxes); otherwise, when the boxes `moved` since the previous query and
+    // `previous` holds that query's boxes in the same numbering (as wants_previous() asked),
+    // from a new list that `full_query(fat_boxes, collect)` builds. Returns false, having
+    // emitted nothing, when neither applies (the caller then runs its full query on `boxes`).
+    // Out of line: inlined, it made the caller's full query a few percent slower even when
+    // no list was live.
     template <class FullQuery, class Emit>
-    bool answer(const std::vector<bounds>& boxes, const std::optional<displacement>& moved, FullQuery&& full_query, Emit&& emit) {
+    [[gnu::noinline]] bool answer(const std::vector<bounds>& boxes, bool moved, const std::vector<bounds>* previous,
+                                  bool covered, FullQuery&& full_query, Emit&& emit) {
         if (live_) {
-            if (covers(boxes)) {
+            if (covered && boxes.size() == fat_.size()) {
                 ++served_;
                 ++stats_.reused;
                 scan(boxes, emit);
                 return true;
             }
             live_ = false;
-            if (served_ <= 1) backoff_ = backoff_queries;
+            if (list_own_ && served_ < own_margins_serve_at_least)
+                global_lists_ = global_lists;  // some box outran its own margin: the largest for all
+            else if (served_ <= 1)
+                backoff_ = backoff_queries;
         }
         if (!moved) return false;
         if (backoff_ > 0) {
             --backoff_;
             return false;
         }
-        if (!build(boxes, *moved, full_query)) return false;
+        if (!previous || previous->size() != boxes.size()) return false;
+        if (!build(boxes, *previous, full_query)) {
+            backoff_ = backoff_queries;
+            return false;
+        }
+        if (!list_own_) --global_lists_;
         scan(boxes, emit);
         return true;
     }
@@ -113,58 +168,80 @@ public:
     }
 
 private:
-    bool covers(const std::vector<bounds>& boxes) const {
-        if (boxes.size() != fat_.size()) return false;
-        bool inside = true;
-        for (std::size_t k = 0; k < boxes.size(); ++k)
-            for (std::size_t a = 0; a < D; ++a) inside &= (fat_[k].lo[a] <= boxes[k].lo[a]) & (boxes[k].hi[a] <= fat_[k].hi[a]);
-        return inside;
-    }
+    // A new list from the boxes' change since the previous query; false (no list) when the
+    // boxes move too far for their size, did not move, or the fat boxes would overflow.
     template <class FullQuery>
-    bool build(const std::vector<bounds>& boxes, const displacement& moved, FullQuery& full_query) {
+    bool build(const std::vector<bounds>& boxes, const std::vector<bounds>& previous, FullQuery& full_query) {
         const std::size_t n = boxes.size();
         if (n < 2) return false;
-        std::array<double, D> edge{};
-        for (const bounds& b : boxes)
-            for (std::size_t a = 0; a < D; ++a) edge[a] += static_cast<double>(b.hi[a]) - static_cast<double>(b.lo[a]);
-        std::array<T, D> margin{};
+        // Per axis: the boxes' mean edge, and the largest and the mean change of a box.
+        std::array<double, D> edge{}, largest{}, mean{};
+        for (std::size_t k = 0; k < n; ++k)
+            for (std::size_t a = 0; a < D; ++a) {
+                edge[a] += static_cast<double>(boxes[k].hi[a]) - static_cast<double>(boxes[k].lo[a]);
+                const double change = std::max(std::abs(static_cast<double>(boxes[k].lo[a]) - static_cast<double>(previous[k].lo[a])),
+                                               std::abs(static_cast<double>(boxes[k].hi[a]) - static_cast<double>(previous[k].hi[a])));
+                largest[a] = std::max(largest[a], change);
+                mean[a] += change;
+            }
+        const bool own = global_lists_ == 0;
+        // q: the most queries a list can serve with typical margins within their limit.
+        double q = own ? max_queries_per_list : max_queries_per_single_margin_list;
         bool any = false;
         for (std::size_t a = 0; a < D; ++a) {
-            const double want = queries_per_list * moved[a];
-            if (!(want <= largest_margin_per_edge * edge[a] / static_cast<double>(n))) return false;
-            margin[a] = static_cast<T>(want);
-            any |= margin[a] > 0;
+            const double typical = own ? mean[a] / static_cast<double>(n) : largest[a];
+            if (typical > 0) q = std::min(q, typical_margin_per_edge * edge[a] / static_cast<double>(n) / typical);
+            any |= largest[a] > 0;
+        }
+        if (!(q >= min_queries_per_list)) return false;  // too fast for the boxes' size (or NaN)
+        q *= 1 + rounding_allowance;
+        std::array<T, D> floor{}, cap{};
+        for (std::size_t a = 0; a < D; ++a) {
+            const double typical = q * (own ? mean[a] / static_cast<double>(n) : largest[a]);
+            floor[a] = static_cast<T>(own ? std::min(own_margin_floor * q * largest[a], typical) : typical);
+            cap[a] = static_cast<T>(std::max(largest_margin_per_edge * edge[a] / static_cast<double>(n), static_cast<double>(floor[a])));
         }
         if (!any) return false;  // nothing moved: a list would die at the first motion
         fat_.resize(n);
+        // Boxes are finite (checked when stored), so a fat bound can only overflow to an
+        // infinity, never become a NaN: a comparison with the largest finite value sees it.
+        constexpr T top = std::numeric_limits<T>::max();
+        const T factor = own ? static_cast<T>(q) : T(0);  // a single margin: the floor for all
         bool finite = true;
         for (std::size_t k = 0; k < n; ++k)
             for (std::size_t a = 0; a < D; ++a) {
-                fat_[k].lo[a] = boxes[k].lo[a] - margin[a];
-                fat_[k].hi[a] = boxes[k].hi[a] + margin[a];
-                finite &= std::isfinite(fat_[k].lo[a]) && std::isfinite(fat_[k].hi[a]);
+                const T change = std::max(std::abs(boxes[k].lo[a] - previous[k].lo[a]), std::abs(boxes[k].hi[a] - previous[k].hi[a]));
+                const T m = std::max(std::min(factor * change, cap[a]), floor[a]);
+                fat_[k].lo[a] = boxes[k].lo[a] - m;
+                fat_[k].hi[a] = boxes[k].hi[a] + m;
+                finite &= (-top <= fat_[k].lo[a]) & (fat_[k].hi[a] <= top);
             }
         if (!finite) {  // near the top of T's range: the full query takes the boxes as they are
             fat_.clear();
             return false;
         }
         unsorted_.clear();
-        full_query(fat_, [&](std::uint32_t i, std::uint32_t j) { unsorted_.emplace_back(std::min(i, j), std::max(i, j)); });
+        starts_.assign(n + 1, 0);  // the counting sort's counts, taken as the pairs come
+        full_query(fat_, [&](std::uint32_t i, std::uint32_t j) {
+            const std::uint32_t lower = std::min(i, j);
+            unsorted_.emplace_back(lower, std::max(i, j));
+            ++starts_[lower + 1];
+        });
         sort_by_lower_index(n);
         live_ = true;
+        list_own_ = own;
         served_ = 1;
         ++stats_.built;
         stats_.candidates = pairs_.size();
-        for (std::size_t a = 0; a < D; ++a) stats_.margin[a] = static_cast<double>(margin[a]);
+        stats_.own_margins = own;
+        for (std::size_t a = 0; a < D; ++a) stats_.margin[a] = static_cast<double>(floor[a]);
         return true;
     }
-    // unsorted_ (each pair once, as the full query reports it) into pairs_ in increasing
-    // (i, j): a counting sort by i over the n boxes, then each i's few partners by insertion
+    // unsorted_ (each pair once, as the full query reports it; starts_[i + 1] counts the
+    // pairs of lower index i) into pairs_ in increasing (i, j): a counting sort by i, then each i's few partners by insertion
     // sort (about 1.5^D times the overlaps per box). Two passes over the candidates where the
     // radix sort of 64-bit keys (pair_sort.hpp) made six, plus its key building and unpacking.
     void sort_by_lower_index(std::size_t n) {
-        starts_.assign(n + 1, 0);
-        for (const auto& [i, j] : unsorted_) ++starts_[i + 1];
         for (std::size_t k = 0; k < n; ++k) starts_[k + 1] += starts_[k];
         pairs_.resize(unsorted_.size());
         cursor_.assign(starts_.begin(), starts_.end() - 1);
@@ -203,8 +280,9 @@ private:
     std::vector<std::pair<std::uint32_t, std::uint32_t>> pairs_;  // sorted, i < j
     std::vector<std::pair<std::uint32_t, std::uint32_t>> unsorted_;  // a build's full query
     std::vector<std::uint32_t> starts_, cursor_;                     // its counting sort
-    bool live_ = false;
+    bool live_ = false, list_own_ = false;  // a list is live; it has own margins
     std::size_t served_ = 0, backoff_ = 0;
+    std::size_t global_lists_ = 0;  // lists still to build with a single margin
     statistics stats_;
 };
 
