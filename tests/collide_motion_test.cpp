@@ -540,6 +540,57 @@ TEST(collide_collision_grid_motion, moving_objects_answered_from_a_candidate_lis
     check_candidate_list<objects::sphere<double, 3>>(214);
 }
 
+// Boxes mirrored back from a wall (as the scene runner bounces them: moved in by twice the
+// overshoot, the velocity flipped) have barely moved over the query where they bounced. Their
+// margins come from the larger of their last two changes, so the lists keep own margins and
+// serve several queries each; measured over the last query alone, a bounce at a list's build
+// ended it at once and single margins followed. Every step against brute force.
+bool closed_overlap(const B3& a, const B3& b) {
+    for (std::size_t d = 0; d < 3; ++d)
+        if (a.hi[d] < b.lo[d] || b.hi[d] < a.lo[d]) return false;
+    return true;
+}
+
+TEST(collide_collision_grid_motion, boxes_mirrored_off_a_wall_keep_lists_with_own_margins) {
+    constexpr double wall = 1.2, edge = 0.2;  // walls at x = 0 and x = wall
+    std::vector<B3> boxes;
+    std::vector<double> velocity;
+    for (int k = 0; k < 64; ++k) {  // an 8 x 8 layer in y and z (neighbours overlap), spread in x
+        const double x = 0.9 * ((k * 37) % 64) / 64.0, y = 0.15 * (k % 8), z = 0.15 * (k / 8);
+        boxes.push_back(B3(P3{{x, y, z}}, P3{{x + edge, y + edge, z + edge}}));
+        velocity.push_back((k % 2 ? 1 : -1) * (0.008 + 0.0005 * (k % 7)));
+    }
+    collision_grid<B3> grid(boxes.begin(), boxes.end());
+    std::vector<collision_grid<B3>::iterator> handle;
+    for (auto it = grid.begin(); it != grid.end(); ++it) handle.push_back(it);
+    std::size_t bounces = 0;
+    bool single_margin = false;
+    for (int s = 0; s < 80; ++s) {
+        for (std::size_t k = 0; k < boxes.size(); ++k) {
+            B3& b = boxes[k];
+            b.lo[0] += velocity[k], b.hi[0] += velocity[k];
+            if (b.lo[0] < 0 || b.hi[0] > wall) {
+                const double shift = b.lo[0] < 0 ? -2 * b.lo[0] : -2 * (b.hi[0] - wall);
+                b.lo[0] += shift, b.hi[0] += shift;
+                velocity[k] = -velocity[k];
+                ++bounces;
+            }
+            handle[k] = grid.update(handle[k], b);
+        }
+        std::vector<pair32> want;
+        for (std::uint32_t i = 0; i < boxes.size(); ++i)
+            for (std::uint32_t j = i + 1; j < boxes.size(); ++j)
+                if (closed_overlap(boxes[i], boxes[j])) want.emplace_back(i, j);
+        std::vector<pair32> got;
+        for (const auto& [a, b] : grid.self_pairs()) got.emplace_back(static_cast<std::uint32_t>(a.slot()), static_cast<std::uint32_t>(b.slot()));
+        ASSERT_EQ(got, want) << "step " << s;
+        single_margin |= grid.candidate_list_stats().built > 1 && !grid.candidate_list_stats().own_margins;
+    }
+    EXPECT_GE(bounces, 40u);
+    EXPECT_FALSE(single_margin) << "a bounce at a list's build ended it early";
+    EXPECT_GE(grid.candidate_list_stats().reused, 3 * grid.candidate_list_stats().built);
+}
+
 // Near the top of double's range a fat box would overflow: the query takes the boxes as they
 // are (no list), and the answer is still exact.
 TEST(collide_collision_grid_motion, boxes_near_the_largest_double_take_no_candidate_list) {

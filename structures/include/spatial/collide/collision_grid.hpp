@@ -118,7 +118,7 @@ public:
     iterator end() const { return make(static_cast<slot_index>(slots_.capacity())); }
     std::size_t memory_bytes() const {
         return sizeof(*this) + slots_.memory_bytes() + grid_.memory_bytes() + moving_.memory_bytes() +
-               (boxes_.capacity() + previous_boxes_.capacity()) * sizeof(bounds) +
+               (boxes_.capacity() + previous_boxes_.capacity() + before_boxes_.capacity()) * sizeof(bounds) +
                (slot_of_.capacity() + other_slot_of_.capacity()) * sizeof(slot_index) +
                other_boxes_.capacity() * sizeof(bounds);
     }
@@ -155,7 +155,9 @@ public:
             f(make(std::min(s, t)), make(std::max(s, t)));
         };
         auto full_query = [&](const std::vector<bounds>& fat, auto&& collect) { grid_.self_pairs(fat, collect); };
-        if (moving_.answer(boxes_, moved_since_, kept_previous_ ? &previous_boxes_ : nullptr, covered, full_query, deliver)) return;
+        if (moving_.answer(boxes_, moved_since_, kept_previous_ ? &previous_boxes_ : nullptr, kept_before_ ? &before_boxes_ : nullptr,
+                           covered, full_query, deliver))
+            return;
         grid_.self_pairs(boxes_, deliver);
     }
     // The same pairs as for_each_self_pair(filter, f), found on the threads of the parallel
@@ -273,17 +275,24 @@ private:
     }
     // gather() for a sequential self-pair query, and whether every box lies inside its fat
     // box of the moving set's live list (checked in the same pass). When objects moved since
-    // the previous query and none was inserted or erased, the previous query's boxes are kept
-    // in previous_boxes_ (a swap, no copy) and moved_since_ is set: what a new list measures
-    // the motion from. A query with no update() since reuses the gathered boxes as they are.
+    // the previous query and none was inserted or erased, moved_since_ is set and, while the
+    // list may be rebuilt soon (fat_box_pairs::wants_previous), the boxes of the previous two
+    // queries are kept in previous_boxes_ and before_boxes_ (swaps, no copy): what a new list
+    // measures each box's motion from. A query with no update() since reuses the gathered
+    // boxes as they are.
     bool gather_for_moving_set() const {
         const bool updated = std::exchange(moved_, false);
         const bool comparable = boxes_current_ && boxes_.size() == slots_.size();
         moved_since_ = updated && comparable;
-        kept_previous_ = moved_since_ && moving_.wants_previous();
+        const bool keep = moved_since_ && moving_.wants_previous();
+        kept_before_ = keep && kept_previous_;  // the previous query kept its previous boxes too
+        kept_previous_ = keep;
         boxes_current_ = true;
         if (comparable && !updated) return moving_.live();  // unchanged since the last query
-        if (kept_previous_) previous_boxes_.swap(boxes_);
+        if (keep) {
+            before_boxes_.swap(previous_boxes_);
+            previous_boxes_.swap(boxes_);
+        }
         if (!(moving_.live() && comparable)) {
             gather(*this, boxes_, slot_of_);
             return false;
@@ -333,13 +342,13 @@ private:
 
     slot_storage<O> slots_;
     mutable collide::cell_sort_grid<scalar_type, dimension> grid_;
-    mutable std::vector<bounds> boxes_, previous_boxes_, other_boxes_;
+    mutable std::vector<bounds> boxes_, previous_boxes_, before_boxes_, other_boxes_;
     mutable std::vector<slot_index> slot_of_, other_slot_of_;
     // The moving set's candidate list, and what it needs to know: whether update() ran since
     // the last self-pair query, and whether boxes_ holds the last query's boxes in the
     // current numbering (no insert or erase since).
     mutable collide::fat_box_pairs<scalar_type, dimension> moving_;
-    mutable bool moved_ = false, boxes_current_ = false, moved_since_ = false, kept_previous_ = false;
+    mutable bool moved_ = false, boxes_current_ = false, moved_since_ = false, kept_previous_ = false, kept_before_ = false;
 };
 
 }  // namespace spatial

@@ -16,18 +16,20 @@
 // full query runs only when some box has left its fat box.
 //
 // The margins are measured, not configured. Each box's margin on an axis is q times the
-// change of its own bounds on that axis since the previous query, at least a floor (a
-// fraction of the largest change's margin) and at most a cap (half the boxes' mean edge): a
-// slow box gets a thin skin and a fast one a thick one, so the candidates follow the motion
+// change of its own bounds on that axis, the larger of the last two queries' changes (a box
+// mirrored back from a wall at the last query has barely moved over it, but moves as fast as
+// before; without the query before, the list has a single margin, below), at least a floor
+// (a fraction of the largest change's margin) and at most a cap (half the boxes' mean edge):
+// a slow box gets a thin skin and a fast one a thick one, so the candidates follow the motion
 // each box has (Box2D likewise sizes each proxy's fat box from its own displacement). q is
 // up to max_queries_per_list, less where the typical margin would exceed a quarter of the
 // mean edge (up to 3 with a single margin), and no list is built below min_queries_per_list:
-// the boxes move too far for their size (a list's candidates grow as the cube of the fat boxes' width). When some box
-// outruns its own margin within a few queries (motion that turns: a random walk), the next
-// global_lists lists give every box the largest change's margin instead (a single margin
-// for all boxes, as in the first version); then own margins are tried again. A list that
-// served only the query that built it, or a refused one, makes the next backoff_queries
-// moving queries full queries.
+// the boxes move too far for their size (a list's candidates grow as the cube of the fat
+// boxes' width). When some box outruns its own margin within a few queries (motion that
+// turns: a random walk), the next global_lists lists give every box the largest change's
+// margin instead (a single margin for all boxes, as in the first version); then own margins
+// are tried again. A list that served only the query that built it, or a refused one, makes
+// the next backoff_queries moving queries full queries.
 //
 // Exactness does not depend on the margin's rounding: containment is checked with
 // comparisons, and the candidates are the exact closed overlaps of the fat boxes.
@@ -115,23 +117,25 @@ public:
         return inside;
     }
 
-    // Whether the next moving query may build a list, so that the caller keeps the previous
-    // query's boxes for it (answer's `previous`); otherwise it need not (no list is live and
-    // the backoff runs: keeping a second set of boxes alive costs a few percent there).
-    bool wants_previous() const { return live_ || backoff_ == 0; }
+    // Whether the coming moving queries may build a list, so that the caller keeps the
+    // previous two queries' boxes for it (answer's `previous` and `before`); otherwise it
+    // need not (no list is live and the backoff runs: keeping more boxes alive costs a few
+    // percent there).
+    bool wants_previous() const { return live_ || backoff_ <= 1; }
 
     // Answers a self-pair query over `boxes` from the candidate list, emit(i, j) with i < j
     // for every overlapping pair, in increasing (i, j): from the current list if `covered`
     // (every box is inside its fat box: contains() over the gather; meaningful for a live
     // list of as many boxes); otherwise, when the boxes `moved` since the previous query and
-    // `previous` holds that query's boxes in the same numbering (as wants_previous() asked),
-    // from a new list that `full_query(fat_boxes, collect)` builds. Returns false, having
-    // emitted nothing, when neither applies (the caller then runs its full query on `boxes`).
+    // `previous` holds that query's boxes in the same numbering (as wants_previous() asked;
+    // `before`, if not null, the boxes of the query before it), from a new list that
+    // `full_query(fat_boxes, collect)` builds. Returns false, having emitted nothing, when
+    // neither applies (the caller then runs its full query on `boxes`).
     // Out of line: inlined, it made the caller's full query a few percent slower even when
     // no list was live.
     template <class FullQuery, class Emit>
     [[gnu::noinline]] bool answer(const std::vector<bounds>& boxes, bool moved, const std::vector<bounds>* previous,
-                                  bool covered, FullQuery&& full_query, Emit&& emit) {
+                                  const std::vector<bounds>* before, bool covered, FullQuery&& full_query, Emit&& emit) {
         if (live_) {
             if (covered && boxes.size() == fat_.size()) {
                 ++served_;
@@ -151,11 +155,12 @@ public:
             return false;
         }
         if (!previous || previous->size() != boxes.size()) return false;
-        if (!build(boxes, *previous, full_query)) {
+        if (before && before->size() != boxes.size()) before = nullptr;
+        if (!build(boxes, *previous, before, full_query)) {
             backoff_ = backoff_queries;
             return false;
         }
-        if (!list_own_) --global_lists_;
+        if (!list_own_ && global_lists_ > 0) --global_lists_;
         scan(boxes, emit);
         return true;
     }
@@ -171,20 +176,30 @@ private:
     // A new list from the boxes' change since the previous query; false (no list) when the
     // boxes move too far for their size, did not move, or the fat boxes would overflow.
     template <class FullQuery>
-    bool build(const std::vector<bounds>& boxes, const std::vector<bounds>& previous, FullQuery& full_query) {
+    bool build(const std::vector<bounds>& boxes, const std::vector<bounds>& previous, const std::vector<bounds>* before,
+               FullQuery& full_query) {
         const std::size_t n = boxes.size();
         if (n < 2) return false;
+        // A box's change on an axis: the largest change of its bounds over the last query, or
+        // the last two when `before` is known (a box that bounced off a wall at the last query
+        // has barely moved over it, but still moves as fast).
+        auto change = [&](std::size_t k, std::size_t a) {
+            const T last = std::max(std::abs(boxes[k].lo[a] - previous[k].lo[a]), std::abs(boxes[k].hi[a] - previous[k].hi[a]));
+            if (!before) return last;
+            return std::max({last, std::abs(previous[k].lo[a] - (*before)[k].lo[a]), std::abs(previous[k].hi[a] - (*before)[k].hi[a])});
+        };
         // Per axis: the boxes' mean edge, and the largest and the mean change of a box.
         std::array<double, D> edge{}, largest{}, mean{};
         for (std::size_t k = 0; k < n; ++k)
             for (std::size_t a = 0; a < D; ++a) {
                 edge[a] += static_cast<double>(boxes[k].hi[a]) - static_cast<double>(boxes[k].lo[a]);
-                const double change = std::max(std::abs(static_cast<double>(boxes[k].lo[a]) - static_cast<double>(previous[k].lo[a])),
-                                               std::abs(static_cast<double>(boxes[k].hi[a]) - static_cast<double>(previous[k].hi[a])));
-                largest[a] = std::max(largest[a], change);
-                mean[a] += change;
+                const double c = static_cast<double>(change(k, a));
+                largest[a] = std::max(largest[a], c);
+                mean[a] += c;
             }
-        const bool own = global_lists_ == 0;
+        // Own margins need the last two queries' changes: from one, a box that bounced in it
+        // would look slow (the first list of a run, or after a backoff, has a single margin).
+        const bool own = global_lists_ == 0 && before;
         // q: the most queries a list can serve with typical margins within their limit.
         double q = own ? max_queries_per_list : max_queries_per_single_margin_list;
         bool any = false;
@@ -210,8 +225,7 @@ private:
         bool finite = true;
         for (std::size_t k = 0; k < n; ++k)
             for (std::size_t a = 0; a < D; ++a) {
-                const T change = std::max(std::abs(boxes[k].lo[a] - previous[k].lo[a]), std::abs(boxes[k].hi[a] - previous[k].hi[a]));
-                const T m = std::max(std::min(factor * change, cap[a]), floor[a]);
+                const T m = std::max(std::min(factor * change(k, a), cap[a]), floor[a]);
                 fat_[k].lo[a] = boxes[k].lo[a] - m;
                 fat_[k].hi[a] = boxes[k].hi[a] + m;
                 finite &= (-top <= fat_[k].lo[a]) & (fat_[k].hi[a] <= top);
