@@ -92,9 +92,10 @@ public:
     // 0.25 against 0.5 and 1 (a single margin) in results/checks/fat_box_pairs.
     static constexpr double own_margin_floor = 0.25;
     // A list of own margins that served fewer queries than this (some box outran its margin)
-    // makes the next global_lists lists use the largest change's margin for every box.
+    // makes the next global_lists lists use the largest change's margin for every box. 32
+    // rather than 8: each retry of own margins under motion that keeps turning costs a build.
     static constexpr std::size_t own_margins_serve_at_least = 3;
-    static constexpr std::size_t global_lists = 8;
+    static constexpr std::size_t global_lists = 32;
     // After a list that served a single query, or a refused one, this many moving queries go
     // without one.
     static constexpr std::size_t backoff_queries = 16;
@@ -180,12 +181,16 @@ private:
                FullQuery& full_query) {
         const std::size_t n = boxes.size();
         if (n < 2) return false;
-        // A box's change on an axis: the largest change of its bounds over the last query, or
-        // the last two when `before` is known (a box that bounced off a wall at the last query
-        // has barely moved over it, but still moves as fast).
+        // Own margins need the last two queries' changes: from one, a box that bounced in it
+        // would look slow (the first list of a run, or after a backoff, has a single margin).
+        const bool own = global_lists_ == 0 && before;
+        // A box's change on an axis: the largest change of its bounds over the last query, and
+        // for own margins over the one before too (a box that bounced off a wall at the last
+        // query has barely moved over it, but still moves as fast). A single margin takes the
+        // largest over all boxes, which one query gives.
         auto change = [&](std::size_t k, std::size_t a) {
             const T last = std::max(std::abs(boxes[k].lo[a] - previous[k].lo[a]), std::abs(boxes[k].hi[a] - previous[k].hi[a]));
-            if (!before) return last;
+            if (!own) return last;
             return std::max({last, std::abs(previous[k].lo[a] - (*before)[k].lo[a]), std::abs(previous[k].hi[a] - (*before)[k].hi[a])});
         };
         // Per axis: the boxes' mean edge, and the largest and the mean change of a box.
@@ -197,9 +202,6 @@ private:
                 largest[a] = std::max(largest[a], c);
                 mean[a] += c;
             }
-        // Own margins need the last two queries' changes: from one, a box that bounced in it
-        // would look slow (the first list of a run, or after a backoff, has a single margin).
-        const bool own = global_lists_ == 0 && before;
         // q: the most queries a list can serve with typical margins within their limit.
         double q = own ? max_queries_per_list : max_queries_per_single_margin_list;
         bool any = false;
@@ -221,11 +223,12 @@ private:
         // Boxes are finite (checked when stored), so a fat bound can only overflow to an
         // infinity, never become a NaN: a comparison with the largest finite value sees it.
         constexpr T top = std::numeric_limits<T>::max();
-        const T factor = own ? static_cast<T>(q) : T(0);  // a single margin: the floor for all
+        const T factor = static_cast<T>(q);
         bool finite = true;
         for (std::size_t k = 0; k < n; ++k)
             for (std::size_t a = 0; a < D; ++a) {
-                const T m = std::max(std::min(factor * change(k, a), cap[a]), floor[a]);
+                // A single margin: the floor for all (no second look at the changes).
+                const T m = own ? std::max(std::min(factor * change(k, a), cap[a]), floor[a]) : floor[a];
                 fat_[k].lo[a] = boxes[k].lo[a] - m;
                 fat_[k].hi[a] = boxes[k].hi[a] + m;
                 finite &= (-top <= fat_[k].lo[a]) & (fat_[k].hi[a] <= top);
