@@ -545,12 +545,6 @@ TEST(collide_collision_grid_motion, moving_objects_answered_from_a_candidate_lis
 // margins come from the larger of their last two changes, so the lists keep own margins and
 // serve several queries each; measured over the last query alone, a bounce at a list's build
 // ended it at once and single margins followed. Every step against brute force.
-bool closed_overlap(const B3& a, const B3& b) {
-    for (std::size_t d = 0; d < 3; ++d)
-        if (a.hi[d] < b.lo[d] || b.hi[d] < a.lo[d]) return false;
-    return true;
-}
-
 TEST(collide_collision_grid_motion, boxes_mirrored_off_a_wall_keep_lists_with_own_margins) {
     constexpr double wall = 1.2, edge = 0.2;  // walls at x = 0 and x = wall
     std::vector<B3> boxes;
@@ -577,10 +571,11 @@ TEST(collide_collision_grid_motion, boxes_mirrored_off_a_wall_keep_lists_with_ow
             }
             handle[k] = grid.update(handle[k], b);
         }
+        brute_force<B3> oracle(boxes.begin(), boxes.end());  // box k in slot k, as in the grid
         std::vector<pair32> want;
-        for (std::uint32_t i = 0; i < boxes.size(); ++i)
-            for (std::uint32_t j = i + 1; j < boxes.size(); ++j)
-                if (closed_overlap(boxes[i], boxes[j])) want.emplace_back(i, j);
+        for (const auto& [a, b] : oracle.self_pairs())
+            want.emplace_back(static_cast<std::uint32_t>(std::min(a.slot(), b.slot())), static_cast<std::uint32_t>(std::max(a.slot(), b.slot())));
+        std::sort(want.begin(), want.end());
         std::vector<pair32> got;
         for (const auto& [a, b] : grid.self_pairs()) got.emplace_back(static_cast<std::uint32_t>(a.slot()), static_cast<std::uint32_t>(b.slot()));
         ASSERT_EQ(got, want) << "step " << s;

@@ -23,7 +23,6 @@
 #include <algorithm>
 #include <cstddef>
 #include <iterator>
-#include <optional>
 #include <stdexcept>
 #include <string>
 #include <type_traits>
@@ -143,7 +142,7 @@ public:
     // list (fat_box_pairs.hpp; then O(n + c) for c candidates).
     template <class F>
     void for_each_self_pair(pair_filter filter, F&& f) const {
-        const bool covered = gather_for_moving_set();
+        const moving_gather gathered = gather_for_moving_set();
         const bool narrow = filter == pair_filter::exact && !box_test_is_exact;
         // With no free slot (nothing erased), box i is slot i: no lookup per pair.
         const bool dense = slots_.size() == slots_.capacity();
@@ -155,9 +154,7 @@ public:
             f(make(std::min(s, t)), make(std::max(s, t)));
         };
         auto full_query = [&](const std::vector<bounds>& fat, auto&& collect) { grid_.self_pairs(fat, collect); };
-        if (moving_.answer(boxes_, moved_since_, kept_previous_ ? &previous_boxes_ : nullptr, kept_before_ ? &before_boxes_ : nullptr,
-                           covered, full_query, deliver))
-            return;
+        if (moving_.answer(boxes_, gathered.moved, gathered.previous, gathered.before, gathered.covered, full_query, deliver)) return;
         grid_.self_pairs(boxes_, deliver);
     }
     // The same pairs as for_each_self_pair(filter, f), found on the threads of the parallel
@@ -273,29 +270,42 @@ private:
         boxes_current_ = false;
         moving_.forget();
     }
-    // gather() for a sequential self-pair query, and whether every box lies inside its fat
-    // box of the moving set's live list (checked in the same pass). When objects moved since
-    // the previous query and none was inserted or erased, moved_since_ is set and, while the
-    // list may be rebuilt soon (fat_box_pairs::wants_previous), the boxes of the previous two
-    // queries are kept in previous_boxes_ and before_boxes_ (swaps, no copy): what a new list
-    // measures each box's motion from. A query with no update() since reuses the gathered
-    // boxes as they are.
-    bool gather_for_moving_set() const {
+    // What a sequential self-pair query hands the moving set's list (fat_box_pairs::answer):
+    // whether the objects moved since the previous query (none inserted or erased), the
+    // previous two queries' boxes where they were kept (else null), and whether every box lies
+    // inside its fat box of the live list.
+    struct moving_gather {
+        bool moved = false;
+        const std::vector<bounds>* previous = nullptr;
+        const std::vector<bounds>* before = nullptr;
+        bool covered = false;
+    };
+    // gather() for a sequential self-pair query, with the containment check in the same pass.
+    // While the list may be rebuilt soon (fat_box_pairs::wants_previous), the boxes of the
+    // previous two queries are kept in previous_boxes_ and before_boxes_ (swaps, no copy): what
+    // a new list measures each box's motion from. A query with no update() since reuses the
+    // gathered boxes as they are.
+    moving_gather gather_for_moving_set() const {
         const bool updated = std::exchange(moved_, false);
         const bool comparable = boxes_current_ && boxes_.size() == slots_.size();
-        moved_since_ = updated && comparable;
-        const bool keep = moved_since_ && moving_.wants_previous();
-        kept_before_ = keep && kept_previous_;  // the previous query kept its previous boxes too
+        moving_gather out;
+        out.moved = updated && comparable;
+        const bool keep = out.moved && moving_.wants_previous();
+        if (keep) out.previous = &previous_boxes_;
+        if (keep && kept_previous_) out.before = &before_boxes_;  // the previous query kept its previous boxes too
         kept_previous_ = keep;
         boxes_current_ = true;
-        if (comparable && !updated) return moving_.live();  // unchanged since the last query
+        if (comparable && !updated) {  // unchanged since the last query
+            out.covered = moving_.live();
+            return out;
+        }
         if (keep) {
             before_boxes_.swap(previous_boxes_);
             previous_boxes_.swap(boxes_);
         }
         if (!(moving_.live() && comparable)) {
             gather(*this, boxes_, slot_of_);
-            return false;
+            return out;
         }
         boxes_.resize(slots_.size());
         slot_of_.clear();
@@ -307,7 +317,8 @@ private:
             boxes_[k] = b;
             slot_of_.push_back(s);
         }
-        return covered;
+        out.covered = covered;
+        return out;
     }
     template <class Bounds = bounds>
     static Bounds bounds_of(const O& x) {
@@ -348,7 +359,7 @@ private:
     // the last self-pair query, and whether boxes_ holds the last query's boxes in the
     // current numbering (no insert or erase since).
     mutable collide::fat_box_pairs<scalar_type, dimension> moving_;
-    mutable bool moved_ = false, boxes_current_ = false, moved_since_ = false, kept_previous_ = false, kept_before_ = false;
+    mutable bool moved_ = false, boxes_current_ = false, kept_previous_ = false;
 };
 
 }  // namespace spatial
