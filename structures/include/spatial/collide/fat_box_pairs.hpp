@@ -114,7 +114,10 @@ public:
     // the caller gathers the boxes (one pass instead of a gather and a check). Branchless.
     bool contains(std::size_t k, const bounds& b) const {
         bool inside = true;
-        for (std::size_t a = 0; a < D; ++a) inside &= (fat_[k].lo[a] <= b.lo[a]) & (b.hi[a] <= fat_[k].hi[a]);
+        for (std::size_t a = 0; a < D; ++a) {
+            inside &= fat_[k].lo[a] <= b.lo[a];
+            inside &= b.hi[a] <= fat_[k].hi[a];
+        }
         return inside;
     }
 
@@ -231,7 +234,8 @@ private:
                 const T m = own ? std::max(std::min(factor * change(k, a), cap[a]), floor[a]) : floor[a];
                 fat_[k].lo[a] = boxes[k].lo[a] - m;
                 fat_[k].hi[a] = boxes[k].hi[a] + m;
-                finite &= (-top <= fat_[k].lo[a]) & (fat_[k].hi[a] <= top);
+                finite &= -top <= fat_[k].lo[a];
+                finite &= fat_[k].hi[a] <= top;
             }
         if (!finite) {  // near the top of T's range: the full query takes the boxes as they are
             fat_.clear();
@@ -285,7 +289,10 @@ private:
                 }
                 const bounds &x = boxes[pairs_[k].first], &y = boxes[pairs_[k].second];
                 bool overlap = true;
-                for (std::size_t a = 0; a < D; ++a) overlap &= !(x.hi[a] < y.lo[a]) & !(y.hi[a] < x.lo[a]);
+                for (std::size_t a = 0; a < D; ++a) {
+                    overlap &= !(x.hi[a] < y.lo[a]);
+                    overlap &= !(y.hi[a] < x.lo[a]);
+                }
                 hit[found] = static_cast<std::uint32_t>(k);
                 found += overlap;
             }
