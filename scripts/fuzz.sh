@@ -6,7 +6,7 @@
 # a timeout, an out-of-memory or a wrong answer (its input is kept in the scratch directory).
 #
 #   scripts/fuzz.sh [SECONDS]
-#   FUZZ_BUILD_JOBS=1            build jobs (default: all cores)
+#   FUZZ_BUILD_JOBS=1            build jobs, and targets fuzzed at once (default: all cores)
 #   SPATIAL_FUZZ_FULL_MATRIX=ON  the operations target over every structure and object type
 #                                (about 5 more minutes of build; fuzz/operations/structure_table.hpp)
 #   FUZZ_WORK_DIR=DIR            the scratch directory (default: a new one under /tmp)
@@ -44,23 +44,25 @@ targets=(
 # Sanitizer reports with their stacks (the preset aborts on the first UBSan report).
 export UBSAN_OPTIONS="${UBSAN_OPTIONS:-print_stacktrace=1}"
 
-failed=0
-summary=()
-for entry in "${targets[@]}"; do
-  read -r name max_len len_control extra <<< "$entry"
-  binary="$build/fuzz_$name"
+# One target's run: its report (the findings' first lines, stack and bytes) goes to
+# $work/<target>.report and its summary line to $work/<target>.summary; it returns non-zero
+# when something was found.
+run_target() {
+  local name="$1" max_len="$2" len_control="$3" extra="${4:-}"
+  local binary="$build/fuzz_$name" report="$work/$name.report"
+  : > "$report"
   if [[ ! -x "$binary" ]]; then
-    summary+=("$(printf '%-12s not built (see fuzz/CMakeLists.txt)' "$name")")
-    continue
+    printf '%-12s not built (see fuzz/CMakeLists.txt)\n' "$name" > "$work/$name.summary"
+    return 0
   fi
-  corpus="$work/corpus/$name" artifacts="$work/artifacts/$name/"
+  local corpus="$work/corpus/$name" artifacts="$work/artifacts/$name/"
   mkdir -p "$corpus" "$artifacts"
   cp fuzz/corpus/"$name"/* "$corpus"/ 2>/dev/null || true
-  [[ -n "${extra:-}" ]] && cp "$extra"/* "$corpus"/
-  dict=()
+  [[ -n "$extra" ]] && cp "$extra"/* "$corpus"/
+  local dict=()
   [[ -f "fuzz/dict/$name.dict" ]] && dict=(-dict="fuzz/dict/$name.dict")
   phase "fuzz $name for $seconds s"
-  status=0
+  local status=0
   # -timeout: seconds per input before it counts as a hang: 120, because a legitimate input can
   # take half a minute under the sanitizers on a loaded machine (a hashed_grid object spanning
   # millions of cells, up to its documented 2^24, is listed in, and checked in, every one of
@@ -68,14 +70,19 @@ for entry in "${targets[@]}"; do
   # stated. UBSan reports abort (the preset's -fno-sanitize-recover); leaks are checked (ASan).
   "$binary" -max_total_time="$seconds" -max_len="$max_len" -len_control="$len_control" -timeout=120 -rss_limit_mb=2048 \
     -print_final_stats=1 -artifact_prefix="$artifacts" "${dict[@]}" "$corpus" > "$work/$name.log" 2>&1 || status=$?
+  local runs found slow
   runs="$(sed -n 's/^stat::number_of_executed_units: *//p' "$work/$name.log" | tail -n 1)"
   # Findings are crash-, leak-, timeout- and oom- files. A slow-unit- file (an input that ran
   # past libFuzzer's -report_slow_units, 10 s: hashed_grid boxes spanning millions of cells do
   # under the sanitizers on a loaded machine) is reported, not failed: -timeout judges hangs.
   found="$(ls "$artifacts" 2>/dev/null | grep -v '^slow-unit-' || true)"
   slow="$(ls "$artifacts" 2>/dev/null | grep -c '^slow-unit-' || true)"
-  if [[ $status -ne 0 || -n "$found" ]]; then
-    failed=1
+  if [[ $status -eq 0 && -z "$found" ]]; then
+    printf '%-12s %10s executions  nothing found (%s slow units)\n' "$name" "${runs:-?}" "${slow:-0}" > "$work/$name.summary"
+    return 0
+  fi
+  {
+    echo "$name:"
     grep -a -m 3 -E 'FINDING|ERROR:|SUMMARY:|runtime error' "$work/$name.log" | sed 's/^/    /' || true
     # The first report's stack, and each finding's bytes: CI keeps only this log, not the
     # scratch directory, so a finding made there must be reproducible from what is printed
@@ -87,11 +94,38 @@ for entry in "${targets[@]}"; do
       head -c 8192 "$artifacts/$input" | base64 -w 0 | sed 's/^/    /'
       echo
     done
-    summary+=("$(printf '%-12s %10s executions  FOUND: %s (exit %d; log %s)' "$name" "${runs:-?}" \
-      "${found:-no input saved}" "$status" "$work/$name.log")")
-  else
-    summary+=("$(printf '%-12s %10s executions  nothing found (%s slow units)' "$name" "${runs:-?}" "${slow:-0}")")
+  } > "$report"
+  printf '%-12s %10s executions  FOUND: %s (exit %d; log %s)\n' "$name" "${runs:-?}" \
+    "${found:-no input saved}" "$status" "$work/$name.log" > "$work/$name.summary"
+  return 1
+}
+
+# The targets run side by side, as many at a time as there are build jobs (each is one
+# process on one core): in CI's 2 cores the five short runs take three budgets, not five.
+running=0
+for entry in "${targets[@]}"; do
+  read -r name max_len len_control extra <<< "$entry"
+  run_target "$name" "$max_len" "$len_control" "${extra:-}" &
+  running=$((running + 1))
+  if ((running >= jobs)); then
+    wait -n || true
+    running=$((running - 1))
   fi
+done
+wait || true
+
+failed=0
+summary=()
+for entry in "${targets[@]}"; do
+  read -r name _ <<< "$entry"
+  if [[ ! -f "$work/$name.summary" ]]; then
+    summary+=("$(printf '%-12s stopped before its summary (log %s)' "$name" "$work/$name.log")")
+    failed=1
+    continue
+  fi
+  cat "$work/$name.report"
+  summary+=("$(cat "$work/$name.summary")")
+  if grep -q '  FOUND: ' "$work/$name.summary"; then failed=1; fi
 done
 
 phase "done"

@@ -41,7 +41,7 @@ protected:
     using Scalar = typename C::scalar_type;
     static constexpr std::size_t D = C::dimension;
     // Half-size of the objects standing in for points (0 for points).
-    static constexpr double h = point_object<Value> ? 0.0 : 1e-3;
+    static constexpr double half_size = point_object<Value> ? 0.0 : 1e-3;
 
     static Query q(double x, double y, double z = 0) {
         Query p{};
@@ -49,7 +49,7 @@ protected:
         for (std::size_t i = 0; i < D; ++i) spatial_test::set_coord(p, i, c[i]);
         return p;
     }
-    static Value at(const Query& p, int tag = 0) { return spatial_test::object_factory<Value>::at(p, h, tag); }
+    static Value at(const Query& p, int tag = 0) { return spatial_test::object_factory<Value>::at(p, half_size, tag); }
     static Value pt(double x, double y, double z = 0, int tag = 0) { return at(q(x, y, z), tag); }
     static Value nan_point() {
         return spatial_test::object_factory<Value>::with_coord(pt(0, 0, 0), 1, std::numeric_limits<double>::quiet_NaN());
@@ -433,10 +433,10 @@ TYPED_TEST_P(container_contract, ball_and_box_ranges_are_closed) {
     const auto box = c.find_in_box(this->q(2, 2, 0), this->q(4, 3, 0));
     EXPECT_EQ(box.size(), 6u);  // x in {2,3,4}, y in {2,3}, z = 0
     for (const auto& it : box)
-        EXPECT_TRUE(std::abs(static_cast<double>(object_center(*it, this->D - 1))) <= this->h || this->D == 2);
+        EXPECT_TRUE(std::abs(static_cast<double>(object_center(*it, this->D - 1))) <= this->half_size || this->D == 2);
     EXPECT_TRUE(c.find_in_box(this->q(4, 4, 0), this->q(2, 2, 0)).empty());  // inverted box
     // Radius 0 finds the object at the centre (for a tilted triangle, "on" it only up to rounding).
-    EXPECT_EQ(c.find_in_ball(center, static_cast<typename TypeParam::scalar_type>(this->h > 0 ? 1e-6 : 0)).size(), 1u);
+    EXPECT_EQ(c.find_in_ball(center, static_cast<typename TypeParam::scalar_type>(this->half_size > 0 ? 1e-6 : 0)).size(), 1u);
     EXPECT_THROW(c.find_in_ball(center, -1), std::invalid_argument);
 }
 

@@ -324,7 +324,8 @@ TEST(uniform_grid, objects_much_larger_than_the_cells_are_large_objects_and_a_re
 TEST(hashed_grid, rejects_bad_cell_sizes) {
     EXPECT_THROW(hashed_grid<P3>(0.0), std::invalid_argument);
     EXPECT_THROW(hashed_grid<P3>(-1.0), std::invalid_argument);
-    EXPECT_THROW(hashed_grid<P3>(std::numeric_limits<double>::quiet_NaN()), std::invalid_argument);
+    // Braces: with parentheses, clang reads the statement as a declaration of quiet_NaN.
+    EXPECT_THROW(hashed_grid<P3>{std::numeric_limits<double>::quiet_NaN()}, std::invalid_argument);
 }
 
 }  // namespace

@@ -236,7 +236,9 @@ TYPED_TEST(kd_tree_objects_scale, huge_and_tiny_coordinates) {
     using V = point<T, 3>;
     const spatial_test::logged_seed seed(2026);
     const double huge = std::is_same_v<T, float> ? 1e7 : 1e15;
-    for (const auto& [offset, scale] : {std::pair{huge, huge * 1e-3}, std::pair{0.0, 1e-15}, std::pair{1e8, 1.0}}) {
+    for (const auto& placement : {std::pair{huge, huge * 1e-3}, std::pair{0.0, 1e-15}, std::pair{1e8, 1.0}}) {
+        // Plain variables, not a structured binding: clang before 16 cannot capture one.
+        const double offset = placement.first, scale = placement.second;
         SCOPED_TRACE("offset " + std::to_string(offset) + " scale " + std::to_string(scale));
         std::mt19937_64 rng(seed);
         std::uniform_real_distribution<double> u(0, 1);
