@@ -3,7 +3,7 @@
 // and 3D double boxes (the object types of the benchmarks' main cases; a point and an object
 // with extent take different paths in every structure). The first input byte picks one.
 // Compile time decides the default set: one instantiation costs about 12 s under the fuzz
-// preset's -O1 -g and sanitizers, so the default (the core matrix, 9 structures) has each
+// preset's -O1 (line tables) and sanitizers, so the default (the core matrix, 9 structures) has each
 // structure once, the kd-tree, and the bvh with aabb (its wide ray layout), over both object
 // types; SPATIAL_FUZZ_FULL_MATRIX=ON adds the other 15 (each structure over both types, every
 // bvh volume type) for long runs. Each family is instantiated in its own translation unit
