@@ -260,8 +260,9 @@ private:
     }
     // unsorted_ (each pair once, as the full query reports it; starts_[i + 1] counts the
     // pairs of lower index i) into pairs_ in increasing (i, j): a counting sort by i, then
-    // each i's few partners by insertion sort (about 1.5^D times the overlaps per box). Two passes over the candidates where the
-    // radix sort of 64-bit keys (pair_sort.hpp) made six, plus its key building and unpacking.
+    // each i's few partners by insertion sort (about 1.5^D times the overlaps per box). Two
+    // passes over the candidates where the radix sort of 64-bit keys (pair_sort.hpp) made six,
+    // plus its key building and unpacking.
     void sort_by_lower_index(std::size_t n) {
         for (std::size_t k = 0; k < n; ++k) starts_[k + 1] += starts_[k];
         pairs_.resize(unsorted_.size());
