@@ -51,25 +51,10 @@ namespace fa = spatial_test::failing_allocation;
 enum class guarantee { strong, basic };
 
 // ---- names, for failure messages and the printed figures -------------------------------------
-template <class BV>
-constexpr const char* volume_name = "?";
-template <>
-constexpr const char* volume_name<aabb<double, 3>> = "aabb";
-template <>
-constexpr const char* volume_name<sphere<double, 3>> = "sphere";
-template <>
-constexpr const char* volume_name<obb<double, 3>> = "obb";
-template <>
-constexpr const char* volume_name<kdop<double, 3, 26>> = "kdop26";
-template <>
-constexpr const char* volume_name<ellipsoid<double, 3>> = "ellipsoid";
-template <>
-constexpr const char* volume_name<convex_hull<double, 3>> = "convex_hull";
-
 template <class C>
 std::string structure_label() {
     std::string name;
-    if constexpr (requires { typename C::volume_type; }) name = std::string("bvh<") + volume_name<typename C::volume_type> + ">";
+    if constexpr (requires { typename C::volume_type; }) name = "bvh<" + C::volume_name() + ">";
     else if constexpr (requires { C::structure_name; }) name = C::structure_name;
     else if constexpr (std::is_same_v<C, collision_grid<typename C::value_type>>) name = "collision_grid";
     else name = "sweep_and_prune";
