@@ -41,7 +41,9 @@ targets=(
   "operations 4096 0"
 )
 
-# Sanitizer reports with their stacks (the preset aborts on the first UBSan report).
+# Sanitizer reports with their stacks, by file and line (the preset aborts on the first UBSan
+# report).
+source scripts/sanitizer_env.sh
 export UBSAN_OPTIONS="${UBSAN_OPTIONS:-print_stacktrace=1}"
 
 # One target's run: its summary line goes to $work/<target>.summary, and its report (the

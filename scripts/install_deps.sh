@@ -5,7 +5,7 @@ set -euo pipefail
 
 packages=(
   build-essential cmake ninja-build git
-  clang-14 libclang-rt-14-dev
+  clang-15 llvm-15
   libeigen3-dev libboost-dev libcgal-dev libnanoflann-dev libembree-dev libfcl-dev
   libgtest-dev libbenchmark-dev libtbb-dev
   libcli11-dev nlohmann-json3-dev libtomlplusplus-dev librapidcheck-dev

@@ -3,8 +3,9 @@
 # (the release configuration at -O1) of the harness and the peers' adapters with the tests
 # that need them (smoke runs of every suite, the real data, sharded runs on a single-node
 # Slurm, interrupted runs, the paper on smoke tables), and a Debug build of the library's own
-# tests with -fsanitize=address,undefined — plus the plotting script's and the paper's tests, and a short
-# run of every fuzz target (a third build: clang, libFuzzer, the same sanitizers).
+# tests with -fsanitize=address,undefined (clang 15) — plus the plotting script's and the
+# paper's tests, and a short run of every fuzz target (a third build: clang 15 again,
+# libFuzzer, the same sanitizers).
 set -euo pipefail
 cd "$(dirname "$0")/.."
 
@@ -45,6 +46,7 @@ rm -f "$paper_log"
 (( paper_status == 0 )) || { echo "test: the paper on smoke tables failed (exit $paper_status)" >&2; exit 1; }
 
 phase "address+undefined sanitizer build"
+source scripts/sanitizer_env.sh
 cmake --preset asan -G Ninja
 cmake --build --preset asan -j"$jobs"
 phase "sanitizer tests"
