@@ -283,10 +283,8 @@ inline auto bvh<O, BV, Config>::intersect_wide(const wide_layout& w, const typen
     std::size_t visited = 0, tested = 0;
     typename wide_layout::object_index hit;
     using object_index = typename wide_layout::object_index;
-    // Leaves tested object by object, in order: test(i) is the exact test of object i;
-    // in_place_objects: the container's objects, which leaves in place refer to (nullptr for
-    // leaves of the layout).
-    auto one_by_one = [&](auto&& test, auto in_place_objects) {
+    // Leaves tested object by object, in order: test(i) is the exact test of object i.
+    auto one_by_one = [&](auto&& test) {
         return w.intersect(
             r, info,
             [&](object_index first, std::size_t count) {
@@ -295,31 +293,18 @@ inline auto bvh<O, BV, Config>::intersect_wide(const wide_layout& w, const typen
                     if (test(i)) h = i;
                 return h;
             },
-            visited, tested, in_place_objects);
+            slots_.data(), visited, tested);
     };
-    // Leaves in place refer to consecutive slots (object index = slot): the stored objects
-    // tested where they are, one by one (gathering triangles into SIMD blocks on the stack
-    // took longer than testing them one at a time: docs/structures/bvh.md). Compiled only
-    // for configurations that ask for it, so the default's traversal is not made larger.
-    const auto in_place = [&] {
-        if constexpr (ray_leaves == bvh_ray_leaves::in_place) {
-            if (!w.leaves_in_place()) return false;
-            if constexpr (requires { typename O::prepared_ray; }) {
-                const typename O::prepared_ray ray(origin, direction);
-                hit = one_by_one([&](object_index i) { return slots_.value(i).intersect(ray, thickness, info); },
-                                 slots_.data());
-            } else {
-                hit = one_by_one(
-                    [&](object_index i) { return slots_.value(i).intersect(origin, direction, thickness, info); },
-                    slots_.data());
-            }
-            return true;
+    if (w.leaves_in_place()) {
+        // Leaves refer to consecutive slots (object index = slot): the stored objects tested
+        // where they are, one by one (gathering triangles into SIMD blocks on the stack took
+        // longer than testing them one at a time: docs/structures/bvh.md).
+        if constexpr (requires { typename O::prepared_ray; }) {
+            const typename O::prepared_ray ray(origin, direction);
+            hit = one_by_one([&](object_index i) { return slots_.value(i).intersect(ray, thickness, info); });
         } else {
-            return false;
+            hit = one_by_one([&](object_index i) { return slots_.value(i).intersect(origin, direction, thickness, info); });
         }
-    };
-    if (in_place()) {
-        // answered on the container's objects
     } else if constexpr (wide_layout::has_ray_forms) {
         // Thin rays on the compact blocks alone; thick rays on the stored objects.
         const typename O::prepared_ray ray(origin, direction);
@@ -327,16 +312,15 @@ inline auto bvh<O, BV, Config>::intersect_wide(const wide_layout& w, const typen
             hit = w.intersect(
                 r, info,
                 [&](object_index first, std::size_t count) { return w.intersect_forms(first, count, ray, info); },
-                visited, tested);
+                slots_.data(), visited, tested);
         else
             hit = one_by_one(
-                [&](object_index i) { return slots_.value(w.slot_of(i)).intersect(ray, thickness, info); }, nullptr);
+                [&](object_index i) { return slots_.value(w.slot_of(i)).intersect(ray, thickness, info); });
     } else if constexpr (requires { typename O::prepared_ray; }) {
         const typename O::prepared_ray ray(origin, direction);
-        hit = one_by_one([&](object_index i) { return w.object(i).intersect(ray, thickness, info); }, nullptr);
+        hit = one_by_one([&](object_index i) { return w.object(i).intersect(ray, thickness, info); });
     } else {
-        hit = one_by_one([&](object_index i) { return w.object(i).intersect(origin, direction, thickness, info); },
-                         nullptr);
+        hit = one_by_one([&](object_index i) { return w.object(i).intersect(origin, direction, thickness, info); });
     }
     st.nodes_visited = visited;
     st.objects_tested = tested;

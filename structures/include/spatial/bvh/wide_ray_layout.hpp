@@ -309,12 +309,10 @@ public:
     // no_object: on object(i), or on the blocks with intersect_forms, or with leaves in place
     // on the container's objects by slot, `objects` (what the leaves then prefetch). visited
     // counts the child boxes the ray entered (as the binary tree counts its nodes), tested
-    // the objects tested. Objects is std::nullptr_t for leaves of this layout and const O*
-    // for leaves in place, so that each traversal is compiled for one kind of leaf: a
-    // run-time branch between them in the prefetch made the default's rays slower.
-    template <class Info, class TestLeaf, class Objects = std::nullptr_t>
-    object_index intersect(const float_ray& r, Info& info, TestLeaf&& leaf_test, std::size_t& visited,
-                           std::size_t& tested, Objects objects = nullptr) const {
+    // the objects tested.
+    template <class Info, class TestLeaf>
+    object_index intersect(const float_ray& r, Info& info, TestLeaf&& leaf_test, const O* objects, std::size_t& visited,
+                           std::size_t& tested) const {
         using lanes = std::conditional_t<width == 8, float_lanes8, float_lanes4>;
         struct entry {
             std::uint32_t ref;
@@ -416,20 +414,17 @@ private:
     }
     // Incoherent rays are bound by cache misses: start loading every child that will be
     // visited (its node, or its leaf's objects) while the nearest one is processed.
-    template <class Entry, class Objects>
-    void prefetch(const Entry& e, Objects objects) const {
+    template <class Entry>
+    void prefetch(const Entry& e, const O* objects) const {
         const std::uint32_t ref = e.ref, count = e.count;
         const char* p;
         std::size_t bytes;
         if (count == 0) {
             p = reinterpret_cast<const char*>(&nodes_[ref]);
             bytes = sizeof(wide_node);
-        } else if constexpr (!std::is_same_v<Objects, std::nullptr_t>) {
-            // Leaves in place: the objects need not start on a cache line.
+        } else if (in_place_) {
             p = reinterpret_cast<const char*>(objects + ref);
-            const std::size_t misalignment = reinterpret_cast<std::uintptr_t>(p) & 63;
-            p -= misalignment;
-            bytes = count * sizeof(O) + misalignment;
+            bytes = count * sizeof(O);
         } else if constexpr (has_ray_forms) {
             p = reinterpret_cast<const char*>(&forms_[ref / form_lanes]);
             bytes = (count + form_lanes - 1) / form_lanes * sizeof(typename ray_form::block);
@@ -437,7 +432,9 @@ private:
             p = reinterpret_cast<const char*>(&objects_[ref]);
             bytes = count * sizeof(O);
         }
-        for (std::size_t off = 0; off < bytes; off += 64) __builtin_prefetch(p + off);
+        // Every cache line the range touches (copies and objects in place need not start on one).
+        const char* line = p - (reinterpret_cast<std::uintptr_t>(p) & 63);
+        for (; line < p + bytes; line += 64) __builtin_prefetch(line);
     }
     // q * scale + offset with one rounding, q * scale being exact (8-bit integers times a power
     // of two): a fused multiply-add where the target has one (the same value either way).
