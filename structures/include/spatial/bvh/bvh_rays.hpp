@@ -273,7 +273,7 @@ struct bvh<O, BV, Config>::binary_view {
 template <stored_object O, class BV, class Config>
 inline auto bvh<O, BV, Config>::make_wide_layout(bool parallel) const -> wide_layout {
     wide_layout w;
-    w.build(binary_view{*this}, parallel, ray_leaves);
+    w.build(binary_view{*this}, parallel);
     return w;
 }
 template <stored_object O, class BV, class Config>
@@ -293,26 +293,16 @@ inline auto bvh<O, BV, Config>::intersect_wide(const wide_layout& w, const typen
                     if (test(i)) h = i;
                 return h;
             },
-            slots_.data(), visited, tested);
+            visited, tested);
     };
-    if (w.leaves_in_place()) {
-        // Leaves refer to consecutive slots (object index = slot): the stored objects tested
-        // where they are, one by one (gathering triangles into SIMD blocks on the stack took
-        // longer than testing them one at a time: docs/structures/bvh.md).
-        if constexpr (requires { typename O::prepared_ray; }) {
-            const typename O::prepared_ray ray(origin, direction);
-            hit = one_by_one([&](object_index i) { return slots_.value(i).intersect(ray, thickness, info); });
-        } else {
-            hit = one_by_one([&](object_index i) { return slots_.value(i).intersect(origin, direction, thickness, info); });
-        }
-    } else if constexpr (wide_layout::has_ray_forms) {
+    if constexpr (wide_layout::has_ray_forms) {
         // Thin rays on the compact blocks alone; thick rays on the stored objects.
         const typename O::prepared_ray ray(origin, direction);
         if (thickness == T(0))
             hit = w.intersect(
                 r, info,
                 [&](object_index first, std::size_t count) { return w.intersect_forms(first, count, ray, info); },
-                slots_.data(), visited, tested);
+                visited, tested);
         else
             hit = one_by_one(
                 [&](object_index i) { return slots_.value(w.slot_of(i)).intersect(ray, thickness, info); });
@@ -325,7 +315,6 @@ inline auto bvh<O, BV, Config>::intersect_wide(const wide_layout& w, const typen
     st.nodes_visited = visited;
     st.objects_tested = tested;
     st.wide_ray_layout = true;
-    st.wide_leaves_in_place = w.leaves_in_place();
     return hit == wide_layout::no_object ? static_cast<slot_index>(slots_.capacity()) : w.slot_of(hit);
 }
 
