@@ -6,8 +6,10 @@
 // Hit times must be bit-identical, for triangles in 3D (double and float) and 2D, thin and
 // thick rays (with and without a finite hit_time limit), directions with +0 / -0
 // components, origins on node boundaries and inside the scene, and after dynamic inserts,
-// erases and updates. Plus: the layout's life cycle (built lazily, dropped on change,
-// shared by copies), concurrent first queries, and scenes beyond float's range.
+// erases and updates, with the layout's leaves as copies (the default) and in place (after
+// a bulk build, bvh_ray_leaves::in_place). Plus: the layout's life cycle (built lazily,
+// dropped on change, shared by copies), concurrent first queries, and scenes beyond float's
+// range.
 
 #include <gtest/gtest.h>
 
@@ -93,9 +95,37 @@ struct binary_rays : bvh_config<> {
 struct four_wide_rays : bvh_config<> {
     static constexpr std::size_t wide_ray_width = 4;
 };
+struct leaves_in_place : bvh_config<> {
+    static constexpr bvh_ray_leaves ray_leaves = bvh_ray_leaves::in_place;
+};
+struct four_wide_leaves_in_place : leaves_in_place {
+    static constexpr std::size_t wide_ray_width = 4;
+};
 struct eight_wide_rays : bvh_config<> {
     static constexpr std::size_t wide_ray_width = 8;
 };
+
+// Whether a thin ray across the unit box was answered on the wide layout with its leaves in
+// place (the container's objects tested where they are stored).
+template <class Tree>
+bool ray_leaves_in_place(const Tree& tree) {
+    using P = typename Tree::point_type;
+    using T = typename Tree::scalar_type;
+    P o, d;
+    for (std::size_t i = 0; i < Tree::dimension; ++i) o[i] = T(0.5), d[i] = T(0.125) * T(i);
+    o[0] = T(-1);
+    d[0] = T(1);
+    intersect_info<P> info;
+    (void)tree.intersect(o, d, T(0), info);
+    EXPECT_EQ(tree.last_query_stats().wide_ray_layout, bool(Tree::config::wide_ray_layout));
+    return tree.last_query_stats().wide_leaves_in_place;
+}
+
+template <class Config>
+constexpr bool wants_leaves_in_place() {
+    if constexpr (requires { Config::ray_leaves; }) return Config::wide_ray_layout && Config::ray_leaves == bvh_ray_leaves::in_place;
+    else return false;
+}
 
 template <class T, std::size_t D, class Config = bvh_config<>>
 void run_fast_path_case(std::uint64_t seed) {
@@ -108,8 +138,12 @@ void run_fast_path_case(std::uint64_t seed) {
     oracle.insert(tris.begin(), tris.end());
     ASSERT_EQ(tree.check_invariants(), "");
     EXPECT_GT(compare_rays(tree, oracle, rng, 3000), 300u);
+    // A bulk build into an empty tree stores the objects in leaf order, so leaves in place
+    // are possible (and taken when the configuration asks for them).
+    EXPECT_EQ(ray_leaves_in_place(tree), wants_leaves_in_place<Config>());
 
-    // Dynamic updates: inserts, erases, moves; the ray path must follow.
+    // Dynamic updates: inserts, erases, moves; the ray path must follow (a layout rebuilt
+    // after them holds copies: the new objects' slots are not in leaf order).
     std::vector<typename bvh<tri, aabb<T, D>, Config>::iterator> handles;
     for (int k = 0; k < 300; ++k) {
         const tri t = random_triangle<T, D>(rng, k % 2 == 0);
@@ -130,6 +164,7 @@ void run_fast_path_case(std::uint64_t seed) {
     ASSERT_EQ(tree.check_invariants(), "");
     ASSERT_EQ(tree.size(), oracle.size());
     EXPECT_GT(compare_rays(tree, oracle, rng, 3000), 300u);
+    EXPECT_FALSE(ray_leaves_in_place(tree));
 }
 
 }  // namespace
@@ -159,6 +194,34 @@ TEST(bvh_ray_fast_path, four_and_eight_wide_layouts_match_brute_force_bit_for_bi
     run_fast_path_case<double, 3, four_wide_rays>(seed);
     run_fast_path_case<float, 3, eight_wide_rays>(seed);
     run_fast_path_case<float, 2, four_wide_rays>(seed);
+}
+
+TEST(bvh_ray_fast_path, leaves_in_place_match_brute_force_bit_for_bit) {
+    const spatial_test::logged_seed seed(36);
+    run_fast_path_case<double, 3, leaves_in_place>(seed);
+    run_fast_path_case<float, 3, leaves_in_place>(seed);
+    run_fast_path_case<double, 2, four_wide_leaves_in_place>(seed);
+}
+
+// With leaves in place a bulk-built tree's layout is its wide nodes alone (128 bytes each,
+// fewer than one per 4 triangles): no copies. After insertions, whose slots are out of leaf
+// order, the rebuilt layout holds copies again, at least the vertices and id per triangle.
+TEST(bvh_ray_fast_path, leaves_in_place_keep_no_copies_until_a_change) {
+    using tri = objects::triangle<double, 3>;
+    std::mt19937_64 rng(12);
+    std::vector<tri> tris;
+    for (int k = 0; k < 400; ++k) tris.push_back(random_triangle<double, 3>(rng, false));
+    bvh<tri, aabb<double, 3>, leaves_in_place> tree(tris.begin(), tris.end());
+    const std::size_t bare = tree.memory_bytes();
+    tree.prepare_rays();
+    EXPECT_GT(tree.memory_bytes(), bare) << "the layout has nodes";
+    EXPECT_LT(tree.memory_bytes(), bare + 400 * 32) << "the layout copied triangles it could test in place";
+    EXPECT_TRUE(ray_leaves_in_place(tree));
+    for (int k = 0; k < 20; ++k) tree.insert(random_triangle<double, 3>(rng, false));
+    const std::size_t changed = tree.memory_bytes();
+    tree.prepare_rays();
+    EXPECT_GT(tree.memory_bytes(), changed + 420 * (3 * sizeof(point<double, 3>) + 4));
+    EXPECT_FALSE(ray_leaves_in_place(tree));
 }
 
 // The layout is built by the first ray cast (or prepare_rays), used by the casts that

@@ -1,15 +1,19 @@
 // spatial::slot_storage (core/slot_storage.hpp), the element store behind every container:
 // append, the bulk path of a build into new slots, stores a batch in order with its meta word,
 // on one core or on every core alike, and a batch with a rejected value stores nothing and
-// names the first rejected value; truncate undoes an append; free slots are left alone.
+// names the first rejected value; truncate undoes an append; free slots are left alone;
+// permute renumbers the slots, each value keeping its meta word.
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cstdint>
+#include <random>
 #include <string>
 #include <vector>
 
 #include "spatial/core/slot_storage.hpp"
+#include "test_support.hpp"
 
 using namespace spatial;
 
@@ -109,4 +113,38 @@ TEST(slot_storage, append_of_values_without_a_default_constructor) {
     EXPECT_EQ(s.size(), 1001u);
     EXPECT_EQ(s.value(1000).v, 999);
     EXPECT_EQ(s.meta(1000), 2u);
+}
+
+// permute renumbers every slot (new slot i holds old slot order[i], with its meta word), on
+// one core or on every core alike, for values with and without a default constructor.
+TEST(slot_storage, permute_moves_each_value_with_its_meta_word) {
+    const spatial_test::logged_seed seed(91);
+    std::mt19937_64 rng(seed);
+    const std::vector<int> batch = counting(50000);
+    std::vector<slot_index> order(batch.size());
+    for (std::size_t i = 0; i < order.size(); ++i) order[i] = static_cast<slot_index>(i);
+    std::shuffle(order.begin(), order.end(), rng);
+    for (const bool parallel : {false, true}) {
+        slot_storage<int> s;
+        ASSERT_EQ(s.append(batch.begin(), batch.size(), 0, false, [](int) { return true; }), batch.size());
+        for (slot_index i = 0; i < s.capacity(); ++i) s.set_meta(i, 3 * i + 1);
+        s.permute(order, parallel);
+        ASSERT_EQ(s.size(), batch.size());
+        ASSERT_EQ(s.capacity(), batch.size());
+        for (slot_index i = 0; i < s.capacity(); ++i) {
+            ASSERT_EQ(s.value(i), batch[order[i]]) << "slot " << i << ", parallel " << parallel;
+            ASSERT_EQ(s.meta(i), 3 * order[i] + 1) << "slot " << i << ", parallel " << parallel;
+        }
+    }
+    std::vector<boxed> boxes;
+    for (int i = 0; i < 1000; ++i) boxes.emplace_back(i);
+    slot_storage<boxed> b;
+    ASSERT_EQ(b.append(boxes.begin(), boxes.size(), 5, true, [](const boxed&) { return true; }), boxes.size());
+    std::vector<slot_index> reversed(boxes.size());
+    for (std::size_t i = 0; i < reversed.size(); ++i) reversed[i] = static_cast<slot_index>(boxes.size() - 1 - i);
+    b.permute(reversed, true);
+    for (slot_index i = 0; i < b.capacity(); ++i) {
+        ASSERT_EQ(b.value(i).v, static_cast<int>(boxes.size() - 1 - i));
+        ASSERT_EQ(b.meta(i), 5u);
+    }
 }

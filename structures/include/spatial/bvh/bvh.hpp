@@ -109,6 +109,10 @@ private:
         if constexpr (requires { Config::wide_ray_width; }) return std::size_t{Config::wide_ray_width};
         else return bvh_detail::default_wide_ray_width;
     }()>;
+    static constexpr bvh_ray_leaves ray_leaves = [] {
+        if constexpr (requires { Config::ray_leaves; }) return bvh_ray_leaves{Config::ray_leaves};
+        else return bvh_ray_leaves::copies;
+    }();
     // The SAH counts a leaf's cost in blocks of objects tested as one (bvh_detail::sah_costs):
     // the blocks the ray layout tests together (triangles: 4 per SIMD step); for points, half
     // a leaf; else one object. A point's box has no area, so with a cost per point every split
@@ -431,6 +435,7 @@ private:
     void write_inner_over(node_index at, node_index pair);
     void make_leaf(node_index at, const item* first, std::size_t m);
     void build_subtree(node_index at, item* first, std::size_t m);
+    void store_in_leaf_order(bool parallel) noexcept;
     using item_bounds = bvh_detail::range_bounds<T, D>;
     static box_type box_from(const item_bounds& b);
     // on_every_core: a large node's passes may run on every core (the top of rebuild(par)).

@@ -356,6 +356,36 @@ inline void bvh<O, BV, Config>::finish_build(std::optional<double> quality_now) 
     quality_at_build_ = quality_now ? *quality_now : quality();
 }
 
+// After a bulk insert into an empty tree (bulk_insert): the slots renumbered in leaf order,
+// the depth-first, left-before-right walk of the leaves, as kd_tree's bulk build stores its
+// points (docs/contract.md, iteration order). The objects of any subtree are then
+// consecutive slots: a leaf's objects are read sequentially, and the wide ray layout tests
+// them where they are instead of copying them (wide_ray_layout.hpp, leaves in place). No
+// iterator into the new objects exists yet, so none is invalidated; each slot keeps its leaf
+// (the meta word moves with it) and the leaf blocks are renumbered. O(n). Without memory for
+// the new arrays (or if an object's copy throws) the slots keep their insertion order:
+// nothing else depends on the order.
+template <stored_object O, class BV, class Config>
+inline void bvh<O, BV, Config>::store_in_leaf_order(bool parallel) noexcept {
+    std::vector<node_index> order;
+    try {
+        preorder(order);
+        std::vector<slot_index> old_of_new;
+        old_of_new.reserve(slots_.capacity());
+        for (const node_index n : order)
+            if (nodes_[n].leaf) old_of_new.insert(old_of_new.end(), block(nodes_[n].first), block(nodes_[n].first) + nodes_[n].count);
+        if (old_of_new.size() != slots_.capacity()) return;  // a free slot: not a build into an empty tree
+        slots_.permute(old_of_new, parallel);
+    } catch (...) {  // std::bad_alloc, or an object's copy: nothing was changed
+        return;
+    }
+    slot_index next = 0;
+    for (const node_index n : order)
+        if (nodes_[n].leaf)
+            for (slot_index* b = block(nodes_[n].first), *e = b + nodes_[n].count; b != e; ++b) *b = next++;
+    if constexpr (wide_rays) wide_.reset();
+}
+
 // ---- the parallel builder's plan (see rebuild(parallel_policy)) -----------------------
 // A node of the plan: its items, its split, and its box and volume fitted when the
 // sequential builder fits them (right after the node's own split: order-dependent fits

@@ -64,6 +64,7 @@ inline void bvh<O, BV, Config>::bulk_insert(InputIt first, InputIt last, bool pa
                 slots_.truncate(before);
                 throw;
             }
+            if (before == 0) store_in_leaf_order(parallel);
             return;
         }
         for (auto it = first; it != last; ++it) detail::require_finite_object(*it, site("insert(first, last)"));

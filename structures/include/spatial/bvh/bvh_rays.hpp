@@ -273,7 +273,7 @@ struct bvh<O, BV, Config>::binary_view {
 template <stored_object O, class BV, class Config>
 inline auto bvh<O, BV, Config>::make_wide_layout(bool parallel) const -> wide_layout {
     wide_layout w;
-    w.build(binary_view{*this}, parallel);
+    w.build(binary_view{*this}, parallel, ray_leaves);
     return w;
 }
 template <stored_object O, class BV, class Config>
@@ -283,8 +283,10 @@ inline auto bvh<O, BV, Config>::intersect_wide(const wide_layout& w, const typen
     std::size_t visited = 0, tested = 0;
     typename wide_layout::object_index hit;
     using object_index = typename wide_layout::object_index;
-    // Leaves tested object by object, in order: test(i) is the exact test of object i.
-    auto one_by_one = [&](auto&& test) {
+    // Leaves tested object by object, in order: test(i) is the exact test of object i;
+    // in_place_objects: the container's objects, which leaves in place refer to (nullptr for
+    // leaves of the layout).
+    auto one_by_one = [&](auto&& test, auto in_place_objects) {
         return w.intersect(
             r, info,
             [&](object_index first, std::size_t count) {
@@ -293,9 +295,32 @@ inline auto bvh<O, BV, Config>::intersect_wide(const wide_layout& w, const typen
                     if (test(i)) h = i;
                 return h;
             },
-            visited, tested);
+            visited, tested, in_place_objects);
     };
-    if constexpr (wide_layout::has_ray_forms) {
+    // Leaves in place refer to consecutive slots (object index = slot): the stored objects
+    // tested where they are, one by one (gathering triangles into SIMD blocks on the stack
+    // took longer than testing them one at a time: docs/structures/bvh.md). Compiled only
+    // for configurations that ask for it, so the default's traversal is not made larger.
+    const auto in_place = [&] {
+        if constexpr (ray_leaves == bvh_ray_leaves::in_place) {
+            if (!w.leaves_in_place()) return false;
+            if constexpr (requires { typename O::prepared_ray; }) {
+                const typename O::prepared_ray ray(origin, direction);
+                hit = one_by_one([&](object_index i) { return slots_.value(i).intersect(ray, thickness, info); },
+                                 slots_.data());
+            } else {
+                hit = one_by_one(
+                    [&](object_index i) { return slots_.value(i).intersect(origin, direction, thickness, info); },
+                    slots_.data());
+            }
+            return true;
+        } else {
+            return false;
+        }
+    };
+    if (in_place()) {
+        // answered on the container's objects
+    } else if constexpr (wide_layout::has_ray_forms) {
         // Thin rays on the compact blocks alone; thick rays on the stored objects.
         const typename O::prepared_ray ray(origin, direction);
         if (thickness == T(0))
@@ -305,16 +330,18 @@ inline auto bvh<O, BV, Config>::intersect_wide(const wide_layout& w, const typen
                 visited, tested);
         else
             hit = one_by_one(
-                [&](object_index i) { return slots_.value(w.slot_of(i)).intersect(ray, thickness, info); });
+                [&](object_index i) { return slots_.value(w.slot_of(i)).intersect(ray, thickness, info); }, nullptr);
     } else if constexpr (requires { typename O::prepared_ray; }) {
         const typename O::prepared_ray ray(origin, direction);
-        hit = one_by_one([&](object_index i) { return w.object(i).intersect(ray, thickness, info); });
+        hit = one_by_one([&](object_index i) { return w.object(i).intersect(ray, thickness, info); }, nullptr);
     } else {
-        hit = one_by_one([&](object_index i) { return w.object(i).intersect(origin, direction, thickness, info); });
+        hit = one_by_one([&](object_index i) { return w.object(i).intersect(origin, direction, thickness, info); },
+                         nullptr);
     }
     st.nodes_visited = visited;
     st.objects_tested = tested;
     st.wide_ray_layout = true;
+    st.wide_leaves_in_place = w.leaves_in_place();
     return hit == wide_layout::no_object ? static_cast<slot_index>(slots_.capacity()) : w.slot_of(hit);
 }
 

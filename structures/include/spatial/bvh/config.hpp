@@ -44,6 +44,10 @@ struct bvh_config {
     static constexpr bool wide_ray_layout = true;
     // Lanes of a wide node: 8 with AVX (one 256-bit slab test per axis), else 4.
     static constexpr std::size_t wide_ray_width = bvh_detail::default_wide_ray_width;
+    // Where the wide layout's leaves find their objects (wide_ray_layout.hpp): copies in the
+    // layout (fastest), or the container's objects in place after a bulk build (the layout is
+    // then only its nodes: memory against time in docs/structures/bvh.md).
+    static constexpr bvh_ray_leaves ray_leaves = bvh_ray_leaves::copies;
 };
 
 template <std::size_t LeafSize = 4>
@@ -63,6 +67,8 @@ using bvh_default_config = bvh_config<point_object<O> ? 8 : 4>;
 struct bvh_stats : query_stats {
     bool wide_ray_layout = false;    // last query was a ray cast on the wide layout (nodes
                                      // visited then counts wide nodes)
+    bool wide_leaves_in_place = false;  // ... whose leaves tested the stored objects where the
+                                        // container keeps them (wide_ray_layout.hpp)
 };
 
 }  // namespace spatial

@@ -35,6 +35,7 @@
 
 #include <algorithm>
 #include <array>
+#include <atomic>
 #include <cmath>
 #include <cstddef>
 #include <cstdint>
@@ -71,6 +72,23 @@ inline constexpr std::size_t default_wide_ray_width = 8;
 #else
 inline constexpr std::size_t default_wide_ray_width = 4;
 #endif
+
+}  // namespace spatial::bvh_detail
+
+namespace spatial {
+// Where the wide layout's leaves find their objects (bvh_config::ray_leaves).
+enum class bvh_ray_leaves {
+    // Copies in the layout, in leaf order (triangles: SIMD blocks of their vertices, 80
+    // bytes a double triangle with its id). The fastest.
+    copies,
+    // The container's own objects where it stores them, tested one by one, when every leaf's
+    // objects are consecutive slots (after a bulk build into an empty bvh, which stores its
+    // objects in leaf order); copies otherwise. The layout is then its wide nodes alone.
+    in_place,
+};
+}  // namespace spatial
+
+namespace spatial::bvh_detail {
 
 template <class O, class T, std::size_t D, std::size_t Width = default_wide_ray_width>
 class wide_ray_layout {
@@ -110,7 +128,7 @@ public:
     // parallel: gather the leaves' objects on every core of the parallel back end
     // (core/parallel.hpp; bvh::prepare_rays(par)).
     template <class Tree>
-    void build(const Tree& tree, bool parallel = false) {
+    void build(const Tree& tree, bool parallel = false, bvh_ray_leaves leaves_wanted = bvh_ray_leaves::copies) {
         using node_index = typename Tree::node_index;
         nodes_.clear();
         objects_.clear();
@@ -118,6 +136,7 @@ public:
         forms_.clear();
         magnitude_ = 0;
         usable_ = false;
+        in_place_ = false;
         if (tree.is_leaf(tree.root()) && tree.leaf_size(tree.root()) == 0) return;  // empty: never queried
         for (std::size_t a = 0; a < D; ++a)
             magnitude_ = std::max({magnitude_, std::abs(static_cast<double>(tree.lower(tree.root(), a))),
@@ -165,6 +184,32 @@ public:
                     stored += (nd.count[i] + form_lanes - 1) / form_lanes * form_lanes;
                 }
         }
+        // Leaves in place (bvh_ray_leaves::in_place): when every leaf lane's objects are
+        // consecutive slots of the container (after a bulk build into an empty bvh, which
+        // stores its objects in leaf order: bvh::store_in_leaf_order), each lane refers to its
+        // first slot and the objects are tested where the container keeps them; nothing is
+        // copied.
+        std::vector<std::uint32_t> first_slots(leaves.size());
+        std::atomic<bool> consecutive{leaves_wanted == bvh_ray_leaves::in_place};
+        auto check_range = [&](std::size_t b, std::size_t e) {
+            gather_scratch<node_index> scratch;
+            for (std::size_t l = b; l < e && consecutive.load(std::memory_order_relaxed); ++l) {
+                subtree_slots(tree, leaves[l].binary, scratch);
+                const auto& slots = scratch.leaf_slots;
+                first_slots[l] = slots.front();
+                for (std::size_t j = 1; j < slots.size(); ++j)
+                    if (slots[j] != slots.front() + j) consecutive.store(false, std::memory_order_relaxed);
+            }
+        };
+        if (consecutive.load()) {
+            if (parallel) detail::parallel_chunks(leaves.size(), leaf_grain, check_range);
+            else check_range(0, leaves.size());
+        }
+        in_place_ = consecutive.load();
+        if (in_place_) {
+            for (std::size_t l = 0; l < leaves.size(); ++l) nodes_[leaves[l].node].child[leaves[l].lane] = first_slots[l];
+            return;
+        }
         for (const leaf_lane& l : leaves) nodes_[l.node].child[l.lane] = static_cast<std::uint32_t>(l.first);
         if constexpr (has_ray_forms) {
             forms_.resize(stored / form_lanes);
@@ -172,7 +217,7 @@ public:
                 gather_scratch<node_index> scratch;
                 for (std::size_t l = b; l < e; ++l) gather_forms(tree, leaves[l].binary, leaves[l].first, scratch);
             };
-            if (parallel) detail::parallel_chunks(leaves.size(), 1024, gather_range);
+            if (parallel) detail::parallel_chunks(leaves.size(), leaf_grain, gather_range);
             else gather_range(0, leaves.size());
         } else {
             objects_.reserve(stored);
@@ -182,6 +227,9 @@ public:
         }
     }
 
+    // Whether the leaves refer to the container's objects where they are (consecutive slots
+    // per leaf lane; object index = slot) rather than to copies or blocks in this layout.
+    bool leaves_in_place() const { return in_place_; }
     bool empty() const { return nodes_.empty(); }
     std::size_t node_count() const { return nodes_.size(); }
     // The wide nodes, root first, in the order build() lays them out (tests compare layouts).
@@ -200,6 +248,7 @@ public:
     // The slot id (container handle) of object i (in leaf order), and its copy (objects
     // without a compact ray form only).
     std::uint32_t slot_of(object_index i) const {
+        if (in_place_) return i;
         if constexpr (has_ray_forms) return forms_[i / form_lanes].id[i % form_lanes];
         else return slots_[i];
     }
@@ -257,12 +306,15 @@ public:
     // The nearest hit before info.hit_time: index of the object hit or no_object.
     // test_leaf(first, count) runs the exact test of the leaf's objects [first, first +
     // count) in order (lowering info.hit_time on a hit) and returns the object hit or
-    // no_object: on object(i), or on the blocks with intersect_forms (what the leaves then
-    // prefetch). visited counts the child boxes the ray entered (as the binary tree counts
-    // its nodes), tested the objects tested.
-    template <class Info, class TestLeaf>
+    // no_object: on object(i), or on the blocks with intersect_forms, or with leaves in place
+    // on the container's objects by slot, `objects` (what the leaves then prefetch). visited
+    // counts the child boxes the ray entered (as the binary tree counts its nodes), tested
+    // the objects tested. Objects is std::nullptr_t for leaves of this layout and const O*
+    // for leaves in place, so that each traversal is compiled for one kind of leaf: a
+    // run-time branch between them in the prefetch made the default's rays slower.
+    template <class Info, class TestLeaf, class Objects = std::nullptr_t>
     object_index intersect(const float_ray& r, Info& info, TestLeaf&& leaf_test, std::size_t& visited,
-                           std::size_t& tested) const {
+                           std::size_t& tested, Objects objects = nullptr) const {
         using lanes = std::conditional_t<width == 8, float_lanes8, float_lanes4>;
         struct entry {
             std::uint32_t ref;
@@ -324,11 +376,11 @@ public:
                     // the others farthest first.
                     entry near_hits[width];
                     near_hits[0] = lane_entry(first);
-                    prefetch(near_hits[0]);
+                    prefetch(near_hits[0], objects);
                     std::size_t h = 1;
                     for (; mask != 0; mask &= mask - 1) {
                         near_hits[h] = lane_entry(static_cast<unsigned>(__builtin_ctz(mask)));
-                        prefetch(near_hits[h++]);
+                        prefetch(near_hits[h++], objects);
                     }
                     visited += h;
                     for (std::size_t i = 1; i < h; ++i)
@@ -364,14 +416,20 @@ private:
     }
     // Incoherent rays are bound by cache misses: start loading every child that will be
     // visited (its node, or its leaf's objects) while the nearest one is processed.
-    template <class Entry>
-    void prefetch(const Entry& e) const {
+    template <class Entry, class Objects>
+    void prefetch(const Entry& e, Objects objects) const {
         const std::uint32_t ref = e.ref, count = e.count;
         const char* p;
         std::size_t bytes;
         if (count == 0) {
             p = reinterpret_cast<const char*>(&nodes_[ref]);
             bytes = sizeof(wide_node);
+        } else if constexpr (!std::is_same_v<Objects, std::nullptr_t>) {
+            // Leaves in place: the objects need not start on a cache line.
+            p = reinterpret_cast<const char*>(objects + ref);
+            const std::size_t misalignment = reinterpret_cast<std::uintptr_t>(p) & 63;
+            p -= misalignment;
+            bytes = count * sizeof(O) + misalignment;
         } else if constexpr (has_ray_forms) {
             p = reinterpret_cast<const char*>(&forms_[ref / form_lanes]);
             bytes = (count + form_lanes - 1) / form_lanes * sizeof(typename ray_form::block);
@@ -764,6 +822,9 @@ private:
     std::conditional_t<has_ray_forms, ray_vector<typename ray_form::block>, no_forms> forms_;
     double magnitude_ = 0;
     bool usable_ = false;
+    bool in_place_ = false;  // leaves_in_place()
+    // Leaf lanes checked or gathered per task on every core.
+    static constexpr std::size_t leaf_grain = 1024;
 };
 
 }  // namespace spatial::bvh_detail

@@ -182,6 +182,34 @@ public:
         live_ = values_.size();
     }
 
+    // Renumbers the slots: new slot i holds what slot old_of_new[i] held, with its meta word.
+    // Precondition: no free slot, and old_of_new a permutation of [0, capacity()). For a
+    // container that has just built itself from a batch and wants its objects in its own
+    // order (no iterator into them exists yet). Copies on every core when `parallel`. Strong
+    // guarantee: the new arrays are made in full before they replace the old. O(n).
+    void permute(const std::vector<slot_index>& old_of_new, bool parallel) {
+        assert(free_.empty() && old_of_new.size() == values_.size());
+        const std::size_t n = values_.size();
+        value_vector values;
+        meta_vector metas(n);
+        auto copy = [&](std::size_t b, std::size_t e) {
+            for (std::size_t i = b; i < e; ++i) {
+                if constexpr (std::is_default_constructible_v<Value>) values[i] = values_[old_of_new[i]];
+                metas[i] = meta_[old_of_new[i]];
+            }
+        };
+        if constexpr (std::is_default_constructible_v<Value>) {
+            values.resize(n);  // left unwritten (default_init_allocator) where Value allows
+        } else {
+            values.reserve(n);
+            for (std::size_t i = 0; i < n; ++i) values.push_back(values_[old_of_new[i]]);
+        }
+        if (parallel) detail::parallel_chunks(n, 16384, copy);
+        else copy(0, n);
+        values_ = std::move(values);
+        meta_ = std::move(metas);
+    }
+
     void clear() {
         values_.clear();
         meta_.clear();
