@@ -64,7 +64,10 @@ inline void bvh<O, BV, Config>::bulk_insert(InputIt first, InputIt last, bool pa
                 slots_.truncate(before);
                 throw;
             }
-            if (before == 0) store_in_leaf_order(parallel);
+            // Only a layout that tests leaves in place needs leaf order; every other bvh keeps
+            // insertion order, so slot i of a bulk-built tree is the i-th object of the batch.
+            if constexpr (ray_leaves == bvh_ray_leaves::in_place)
+                if (before == 0) store_in_leaf_order(parallel);
             return;
         }
         for (auto it = first; it != last; ++it) detail::require_finite_object(*it, site("insert(first, last)"));
