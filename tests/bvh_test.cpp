@@ -5,6 +5,7 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <limits>
 #include <span>
@@ -214,6 +215,43 @@ TEST(bvh_structure, rebuilds_happen_at_geometrically_growing_sizes) {
     EXPECT_GE(tree.full_rebuilds(), 5u);
     EXPECT_LE(tree.full_rebuilds(), 10u);
     EXPECT_EQ(tree.check_invariants(), "");
+}
+
+// Config::build_headroom = false (the registry's bvh_in_place): the same tree as the default,
+// node for node, with its node and leaf-block arrays fitted exactly instead of an eighth spare,
+// so it takes less memory by at least an eighth of its nodes' boxes; it still takes updates.
+struct exact_fit_config : bvh_config<> {
+    static constexpr bool build_headroom = false;
+};
+TEST(bvh_structure, a_build_without_headroom_fits_its_arrays_exactly_and_still_takes_updates) {
+    bvh_test::scene_source<B3> g(spatial_test::test_seed(8));
+    std::vector<B3> boxes;
+    for (int i = 0; i < 20000; ++i) boxes.push_back(g.object());
+    const bvh<B3> spare(boxes.begin(), boxes.end());
+    for (const bool parallel : {false, true}) {
+        bvh<B3, aabb<double, 3>, exact_fit_config> exact;
+        if (parallel) exact.insert(boxes.begin(), boxes.end(), par);
+        else exact.insert(boxes.begin(), boxes.end());
+        const char* how = parallel ? "parallel build" : "sequential build";
+        ASSERT_EQ(exact.check_invariants(), "") << how;
+        EXPECT_EQ(exact.node_count(), spare.node_count()) << how << ": the same build";
+        EXPECT_EQ(exact.height(), spare.height()) << how;
+        const std::size_t box_bytes = sizeof(aabb<double, 3>);
+        EXPECT_GE(spare.memory_bytes(), exact.memory_bytes() + spare.node_count() / 8 * box_bytes)
+            << how << ": the spare eighth of the node array is gone";
+        // Updates after the build grow the arrays as usual.
+        std::vector<B3> more;
+        for (int i = 0; i < 500; ++i) more.push_back(g.object());
+        for (const B3& b : more) exact.insert(b);
+        EXPECT_EQ(exact.check_invariants(), "") << how;
+        EXPECT_EQ(exact.size(), boxes.size() + more.size()) << how;
+        // The source repeats a few objects: each is counted as often as it was inserted.
+        auto inserted = [&](const B3& x) {
+            return static_cast<std::size_t>(std::count(boxes.begin(), boxes.end(), x) + std::count(more.begin(), more.end(), x));
+        };
+        for (std::size_t i = 0; i < boxes.size(); i += 97) EXPECT_EQ(exact.count(boxes[i]), inserted(boxes[i])) << how;
+        for (const B3& b : more) EXPECT_EQ(exact.count(b), inserted(b)) << how;
+    }
 }
 
 TEST(bvh_structure, sah_point_trees_fill_half_their_leaves_instead_of_splitting_to_single_points) {

@@ -113,6 +113,10 @@ private:
         if constexpr (requires { Config::ray_leaves; }) return bvh_ray_leaves{Config::ray_leaves};
         else return bvh_ray_leaves::copies;
     }();
+    static constexpr bool build_headroom = [] {
+        if constexpr (requires { Config::build_headroom; }) return bool(Config::build_headroom);
+        else return true;
+    }();
     // The SAH counts a leaf's cost in blocks of objects tested as one (bvh_detail::sah_costs):
     // the blocks the ray layout tests together (triangles: 4 per SIMD step); for points, half
     // a leaf; else one object. A point's box has no area, so with a cost per point every split

@@ -48,6 +48,11 @@ struct bvh_config {
     // layout (fastest), or the container's objects in place after a bulk build (the layout is
     // then only its nodes: memory against time in docs/structures/bvh.md).
     static constexpr bvh_ray_leaves ray_leaves = bvh_ray_leaves::copies;
+    // A full build leaves an eighth of its node and leaf-block arrays spare, so the updates
+    // that follow it do not copy them at once (core/capacity_headroom.hpp); false fits them
+    // exactly: less memory for a tree built to be read, and the first insertion after the
+    // build then copies both arrays.
+    static constexpr bool build_headroom = true;
 };
 
 template <std::size_t LeafSize = 4>

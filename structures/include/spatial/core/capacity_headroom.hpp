@@ -6,7 +6,8 @@
 // nodes: it made a batch of n/10 insertions after a build cost half again as much). With an
 // eighth spare, the tree takes updates in proportion to its size before it first grows, and
 // growth then doubles as usual (amortised O(1) per insertion). Best-effort: without memory for
-// the new array the old one, with its elements, is kept. O(size) element moves.
+// the new array the old one, with its elements, is kept. O(size) element moves. fit_exactly is
+// the exact fit, for a tree built to be read rather than updated (bvh_config::build_headroom).
 
 #include <cstddef>
 #include <iterator>
@@ -20,10 +21,11 @@ namespace spatial::detail {
 // reserves it at once, and keep_headroom then has nothing to move).
 constexpr std::size_t capacity_with_headroom(std::size_t n) { return n + n / 8; }
 
+// The array's capacity set to `want` (>= its size) by one allocation and a move of its
+// elements; without memory for it the array is left as it was.
 template <class T, class A>
-void keep_headroom(std::vector<T, A>& v) noexcept {
+void set_capacity(std::vector<T, A>& v, std::size_t want) noexcept {
     static_assert(std::is_nothrow_move_constructible_v<T>, "the elements are moved after the one allocation");
-    const std::size_t want = capacity_with_headroom(v.size());
     if (v.capacity() == want) return;
     try {
         std::vector<T, A> moved(v.get_allocator());
@@ -32,6 +34,17 @@ void keep_headroom(std::vector<T, A>& v) noexcept {
         v.swap(moved);
     } catch (const std::bad_alloc&) {
     }
+}
+
+template <class T, class A>
+void keep_headroom(std::vector<T, A>& v) noexcept {
+    set_capacity(v, capacity_with_headroom(v.size()));
+}
+
+// No spare capacity at all (bvh_config::build_headroom = false: a tree built to be read).
+template <class T, class A>
+void fit_exactly(std::vector<T, A>& v) noexcept {
+    set_capacity(v, v.size());
 }
 
 }  // namespace spatial::detail
