@@ -101,6 +101,11 @@ struct leaves_in_place : bvh_config<> {
 struct four_wide_leaves_in_place : leaves_in_place {
     static constexpr std::size_t wide_ray_width = 4;
 };
+// The registry's bvh_in_place: leaves of up to 8 in place, the build's arrays fitted exactly.
+struct eight_leaves_in_place_fitted : bvh_config<8> {
+    static constexpr bvh_ray_leaves ray_leaves = bvh_ray_leaves::in_place;
+    static constexpr bool build_headroom = false;
+};
 struct eight_wide_rays : bvh_config<> {
     static constexpr std::size_t wide_ray_width = 8;
 };
@@ -201,6 +206,7 @@ TEST(bvh_ray_fast_path, leaves_in_place_match_brute_force_bit_for_bit) {
     run_fast_path_case<double, 3, leaves_in_place>(seed);
     run_fast_path_case<float, 3, leaves_in_place>(seed);
     run_fast_path_case<double, 2, four_wide_leaves_in_place>(seed);
+    run_fast_path_case<double, 3, eight_leaves_in_place_fitted>(seed);
 }
 
 // With leaves in place a bulk-built tree's layout is its wide nodes alone (128 bytes each,
