@@ -13,6 +13,8 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
+
 #include <cstring>
 #include <limits>
 #include <random>
@@ -228,6 +230,32 @@ TEST(bvh_ray_fast_path, leaves_in_place_keep_no_copies_until_a_change) {
     tree.prepare_rays();
     EXPECT_GT(tree.memory_bytes(), changed + 420 * (3 * sizeof(point<double, 3>) + 4));
     EXPECT_FALSE(ray_leaves_in_place(tree));
+}
+
+// A parallel bulk build (insert(first, last, par)) is the sequential tree node for node, so
+// it stores the objects in the same leaf order, takes the same memory with its arrays fitted
+// exactly, and its layout tests them in place with the same answers.
+TEST(bvh_ray_fast_path, leaves_in_place_after_a_parallel_build_are_the_sequential_trees) {
+    const spatial_test::logged_seed seed(37);
+    using tri = objects::triangle<double, 3>;
+    std::mt19937_64 rng(seed);
+    std::vector<tri> tris;
+    for (int k = 0; k < 5000; ++k) tris.push_back(random_triangle<double, 3>(rng, k % 3 == 0));
+    using tree_type = bvh<tri, aabb<double, 3>, eight_leaves_in_place_fitted>;
+    tree_type sequential(tris.begin(), tris.end());
+    tree_type parallel;
+    parallel.insert(tris.begin(), tris.end(), par);
+    ASSERT_EQ(parallel.check_invariants(), "");
+    EXPECT_TRUE(std::equal(sequential.begin(), sequential.end(), parallel.begin(), parallel.end()))
+        << "the same objects in the same slot order";
+    sequential.prepare_rays();
+    parallel.prepare_rays(par);
+    EXPECT_EQ(parallel.memory_bytes(), sequential.memory_bytes());
+    EXPECT_TRUE(ray_leaves_in_place(sequential));
+    EXPECT_TRUE(ray_leaves_in_place(parallel));
+    brute_force<tri> oracle;
+    oracle.insert(tris.begin(), tris.end());
+    EXPECT_GT(compare_rays(parallel, oracle, rng, 3000), 300u);
 }
 
 // The layout is built by the first ray cast (or prepare_rays), used by the casts that
