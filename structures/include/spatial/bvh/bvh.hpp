@@ -58,6 +58,7 @@
 #include "spatial/bvh/traversal_stack.hpp"
 #include "spatial/bvh/wide_ray_layout.hpp"
 #include "spatial/collide/pairs.hpp"
+#include "spatial/core/capacity_headroom.hpp"
 #include "spatial/core/container_base.hpp"
 #include "spatial/core/container_concept.hpp"
 #include "spatial/core/free_list.hpp"
@@ -117,6 +118,11 @@ private:
         if constexpr (requires { Config::build_headroom; }) return bool(Config::build_headroom);
         else return true;
     }();
+    // The capacity a full build leaves its node and leaf-block arrays of n entries
+    // (core/capacity_headroom.hpp): an eighth spare, or none without Config::build_headroom.
+    static constexpr std::size_t capacity_after_build(std::size_t n) {
+        return build_headroom ? detail::capacity_with_headroom(n) : n;
+    }
     // The SAH counts a leaf's cost in blocks of objects tested as one (bvh_detail::sah_costs):
     // the blocks the ray layout tests together (triangles: 4 per SIMD step); for points, half
     // a leaf; else one object. A point's box has no area, so with a cost per point every split

@@ -306,8 +306,8 @@ inline double bvh<O, BV, Config>::replay(split_plan& plan, const item* its) {
     // Allocated as the sequential replay would grow them, with the build's headroom reserved
     // at once (finish_build would otherwise copy both arrays into it).
     const std::size_t nodes = 1 + 2 * inner;
-    nodes_.reserve(build_headroom ? detail::capacity_with_headroom(nodes) : nodes);
-    items_.reserve(build_headroom ? detail::capacity_with_headroom(leaves * leaf_size) : leaves * leaf_size);
+    nodes_.reserve(capacity_after_build(nodes));
+    items_.reserve(capacity_after_build(leaves * leaf_size));
     nodes_.resize(nodes);
     items_.resize(leaves * leaf_size, no_slot);
     const std::unique_ptr<double[]> areas(new double[records]);
@@ -348,13 +348,8 @@ inline void bvh<O, BV, Config>::finish_build(std::optional<double> quality_now) 
     // fit, as from 2026-11-27 to 11-28, made the first insertion after a build copy the whole
     // node array, a batch of n/10 insertions into 1e6 points half again as slow. Without
     // Config::build_headroom the arrays are fitted exactly (best-effort, as the headroom is).
-    if constexpr (build_headroom) {
-        detail::keep_headroom(nodes_);
-        detail::keep_headroom(items_);
-    } else {
-        detail::fit_exactly(nodes_);
-        detail::fit_exactly(items_);
-    }
+    detail::set_capacity(nodes_, capacity_after_build(nodes_.size()));
+    detail::set_capacity(items_, capacity_after_build(items_.size()));
     size_at_build_ = slots_.size();
     updates_since_build_ = 0;
     stale_ = false;

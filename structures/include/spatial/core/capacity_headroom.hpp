@@ -1,13 +1,13 @@
 #pragma once
-// spatial::detail::keep_headroom — after a full build, an array's capacity set to its size plus
-// one eighth: neither the doubling's spare half (up to 50 % more memory than the tree needs)
+// spatial::detail::capacity_with_headroom and set_capacity — after a full build, an array's
+// capacity set to its size plus one eighth: neither the doubling's spare half (up to 50 % more memory than the tree needs)
 // nor an exact fit, with which the first insertion that adds one node copies the whole array
 // (on a bvh of 1e6 points, about 130 MB copied and page-faulted for a split that adds two
 // nodes: it made a batch of n/10 insertions after a build cost half again as much). With an
 // eighth spare, the tree takes updates in proportion to its size before it first grows, and
 // growth then doubles as usual (amortised O(1) per insertion). Best-effort: without memory for
-// the new array the old one, with its elements, is kept. O(size) element moves. fit_exactly is
-// the exact fit, for a tree built to be read rather than updated (bvh_config::build_headroom).
+// the new array the old one, with its elements, is kept. O(size) element moves. A tree built
+// to be read rather than updated may ask for the exact fit instead (bvh_config::build_headroom).
 
 #include <cstddef>
 #include <iterator>
@@ -17,8 +17,8 @@
 
 namespace spatial::detail {
 
-// The capacity keep_headroom gives an array of n elements (a builder that knows n in advance
-// reserves it at once, and keep_headroom then has nothing to move).
+// The capacity a full build leaves an array of n elements (a builder that knows n in advance
+// reserves it at once, and set_capacity then has nothing to move).
 constexpr std::size_t capacity_with_headroom(std::size_t n) { return n + n / 8; }
 
 // The array's capacity set to `want` (>= its size) by one allocation and a move of its
@@ -34,17 +34,6 @@ void set_capacity(std::vector<T, A>& v, std::size_t want) noexcept {
         v.swap(moved);
     } catch (const std::bad_alloc&) {
     }
-}
-
-template <class T, class A>
-void keep_headroom(std::vector<T, A>& v) noexcept {
-    set_capacity(v, capacity_with_headroom(v.size()));
-}
-
-// No spare capacity at all (bvh_config::build_headroom = false: a tree built to be read).
-template <class T, class A>
-void fit_exactly(std::vector<T, A>& v) noexcept {
-    set_capacity(v, v.size());
 }
 
 }  // namespace spatial::detail
