@@ -641,8 +641,9 @@ TEST(collide_collision_grid_motion, a_bulk_insert_with_a_nan_stores_nothing_from
     EXPECT_EQ(grid.size(), boxes.size() + 2 * batch.size());
 }
 
-// 50 steps of `per_step` random pairs of ids in [low, high] (plus one duplicate each step)
-// against std::set differences.
+// 50 steps of `per_step` random pairs of ids in [low, high] (plus one duplicate each step;
+// every third step sorted, and every third in canonical form, strictly increasing) against
+// std::set differences.
 template <class Id>
 void check_tracker_against_sets(std::uint64_t seed, int per_step, Id low, Id high) {
     using pair_type = std::pair<Id, Id>;
@@ -656,6 +657,7 @@ void check_tracker_against_sets(std::uint64_t seed, int per_step, Id low, Id hig
         now.push_back(now.front());  // a duplicate is one pair
         if (step % 3 == 2) std::sort(now.begin(), now.end());  // sorted with its duplicate: the O(p) path
         const std::set<pair_type> cur(now.begin(), now.end());
+        if (step % 3 == 1) now.assign(cur.begin(), cur.end());  // canonical form: merged where it is
         std::vector<pair_type> added, removed;
         std::set_difference(cur.begin(), cur.end(), previous.begin(), previous.end(), std::back_inserter(added));
         std::set_difference(previous.begin(), previous.end(), cur.begin(), cur.end(), std::back_inserter(removed));

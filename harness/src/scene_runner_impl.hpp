@@ -7,6 +7,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <limits>
 #include <map>
 #include <memory>
 #include <optional>
@@ -354,14 +355,46 @@ template <class T, std::size_t D>
 class scene_run {
 public:
     using P = spatial::point<T, D>;
+    // `validated`: every step's answers are checked against brute force as they come (the
+    // validated pass); otherwise none is, and the answers are only logged (the timed pass,
+    // whose log must then equal the validated pass's: same_answers).
     scene_run(const datasets::scene_description& scene, std::string structure, std::size_t steps, scene_counters& k,
-              const progress& prog)
-        : scene_(scene), structure_(std::move(structure)), steps_(steps), k_(k), prog_(prog) {}
+              const progress& prog, bool validated = true)
+        : scene_(scene), structure_(std::move(structure)), steps_(steps), k_(k), prog_(prog), validated_(validated) {}
 
-    // Per-stage seconds of every step, and the pairs per step (for the validation across
-    // structures: pair sets of each step in order).
+    // Per-stage seconds of every step, and the answers of every step in order: the pair sets
+    // (sorted; also compared across structures), each ray's first hit, each nearest query's
+    // distances, each range query's objects.
     stage_times times;
     std::vector<std::vector<pair32>> pair_log;
+    std::vector<std::vector<std::optional<T>>> ray_log;
+    std::vector<std::vector<std::vector<T>>> nearest_log;
+    std::vector<std::vector<std::vector<std::uint32_t>>> range_log;
+
+    // The first step (from 1) whose answers differ from `other`'s, or 0 when every step's
+    // agree. Object sets are deterministic and a structure answers the same state the same
+    // way, so two passes of one structure over one scene log the same answers.
+    std::size_t first_different_step(const scene_run& other) const {
+        auto first = [](const auto& x, const auto& y, std::size_t per_step) -> std::size_t {
+            if (x == y) return 0;
+            const std::size_t n = std::min(x.size(), y.size());
+            for (std::size_t i = 0; i < n; ++i)
+                if (x[i] != y[i]) return i / per_step + 1;
+            return n / per_step + 1;
+        };
+        const std::size_t entries = scene_.collide ? std::max<std::size_t>(1, scene_.collide->between.size()) : 1;
+        std::size_t step = 0;
+        for (const std::size_t s : {first(pair_log, other.pair_log, entries), first(ray_log, other.ray_log, 1),
+                                    first(nearest_log, other.nearest_log, 1), first(range_log, other.range_log, 1)})
+            if (s != 0 && (step == 0 || s < step)) step = s;
+        return step;
+    }
+    // Frees the structures and objects once the pass has run (its times and answers stay).
+    void release_sets() {
+        objects_at_end_ = object_count();
+        sets_.clear();
+    }
+    std::size_t objects_at_end() const { return objects_at_end_; }
 
     // What checked the answers behind a stage's or a count's rows (check.hpp): the pair stages
     // by the pair check (plus `pairs_cross`, when they also equal another structure's), each
@@ -433,8 +466,8 @@ public:
             if (scene_.range) range_step(step);
             times.seconds["step"].push_back(step_seconds_);
             if ((step + 1) % std::max<std::size_t>(1, steps_ / 5) == 0 || step + 1 == steps_)
-                prog_.say("scene " + scene_.name + " [" + structure_ + "] step " + std::to_string(step + 1) + "/" +
-                          std::to_string(steps_));
+                prog_.say("scene " + scene_.name + " [" + structure_ + "] " + (validated_ ? "" : "timed ") + "step " +
+                          std::to_string(step + 1) + "/" + std::to_string(steps_));
         }
     }
     std::size_t object_count() const {
@@ -533,8 +566,10 @@ private:
                 narrow += seconds_since(t0);
                 narrow_ran = true;
             }
-            if (!pairs.empty() && injected_fault(structure_)) pairs.pop_back();
-            validate_pairs(a, b, pairs, step, exact);
+            // The timed pass's own fault (`<structure>@timed`) is caught by comparing its
+            // answers with the validated pass's, the only check it has.
+            if (!pairs.empty() && injected_fault(validated_ ? structure_ : structure_ + "@timed")) pairs.pop_back();
+            if (validated_) validate_pairs(a, b, pairs, step, exact);
             t0 = std::chrono::steady_clock::now();
             // Object indices are ids except across churn (swap-and-pop renames the last
             // object): the pairs changed figure then also counts the renamed ones.
@@ -557,17 +592,26 @@ private:
         const std::size_t na = sets_[a]->size(), nb = sets_[b]->size();
         const std::size_t sample = na * nb <= 4000000 ? na : 64;
         note_checked(exact ? "pairs" : "candidate_pairs", std::min(sample, na), na);
-        std::vector<std::vector<std::uint32_t>> got(na);
+        // The partners of the sampled objects only: one list per sample, not one per object
+        // (a hundred thousand small vectors allocated and freed at every step of a large scene
+        // made the validation slow and churned the heap between the timed stages).
+        std::vector<std::uint32_t> sampled(sample);
+        std::vector<std::uint32_t> sample_of(na, std::numeric_limits<std::uint32_t>::max());
+        for (std::size_t s = 0; s < sample; ++s) {
+            sampled[s] = static_cast<std::uint32_t>(sample == na ? s : (s * 2654435761u + step) % na);
+            sample_of[sampled[s]] = static_cast<std::uint32_t>(s);  // a repeated object keeps its last sample
+        }
+        std::vector<std::vector<std::uint32_t>> got(sample);
         for (const auto& [i, j] : pairs) {
-            got[i].push_back(j);
-            if (a == b) got[j].push_back(i);
+            if (sample_of[i] != std::numeric_limits<std::uint32_t>::max()) got[sample_of[i]].push_back(j);
+            if (a == b && sample_of[j] != std::numeric_limits<std::uint32_t>::max()) got[sample_of[j]].push_back(i);
         }
         for (std::size_t s = 0; s < sample; ++s) {
-            const auto i = static_cast<std::uint32_t>(sample == na ? s : (s * 2654435761u + step) % na);
+            const std::uint32_t i = sampled[s];
             std::vector<std::uint32_t> want;
             for (std::uint32_t j = 0; j < nb; ++j)
                 if ((a != b || j != i) && sets_[a]->narrow(i, *sets_[b], j)) want.push_back(j);
-            auto g = got[i];
+            auto g = got[sample_of[i]];
             std::sort(g.begin(), g.end());
             g.erase(std::unique(g.begin(), g.end()), g.end());
             if (exact ? g != want : !std::includes(g.begin(), g.end(), want.begin(), want.end()))
@@ -591,6 +635,8 @@ private:
         }
         record("raycast", seconds_since(t0));
         times.counts["ray_hits"].push_back(static_cast<double>(hits));
+        ray_log.push_back(first);
+        if (!validated_) return;
         note_checked("rays", 0, rays.size());
         for (std::size_t r = step % 7; r < rays.size(); r += std::max<std::size_t>(1, rays.size() / 16)) {  // sampled check
             note_checked("rays", 1, 0);
@@ -615,6 +661,8 @@ private:
             ++k_.nearest_queries;
         }
         record("nearest", seconds_since(t0));
+        nearest_log.push_back(got);
+        if (!validated_) return;
         note_checked("nearest", 0, queries.size());
         for (std::size_t q = step % 5; q < queries.size(); q += std::max<std::size_t>(1, queries.size() / 16)) {
             note_checked("nearest", 1, 0);
@@ -641,6 +689,8 @@ private:
         }
         record("range", seconds_since(t0));
         times.counts["range_results"].push_back(static_cast<double>(found));
+        range_log.push_back(got);
+        if (!validated_) return;
         note_checked("range", 0, boxes.size());
         for (std::size_t q = step % 5; q < boxes.size(); q += std::max<std::size_t>(1, boxes.size() / 16)) {
             note_checked("range", 1, 0);
@@ -672,6 +722,8 @@ private:
     const progress& prog_;
     std::vector<std::unique_ptr<set_base<T, D>>> sets_;
     double step_seconds_ = 0;
+    bool validated_;
+    std::size_t objects_at_end_ = 0;
 };
 
 }  // namespace
@@ -712,8 +764,23 @@ std::vector<result_row> run_typed(const datasets::scene_description& scene, cons
     std::vector<std::vector<pair32>> reference_pairs;
     std::string reference_name;
     for (const auto& name : structures) {
+        // Two passes (docs/collisions.md, "Scenes and the runner"): the validated
+        // pass checks every step's answers against brute force as they come; the timed pass
+        // replays the scene without the checks, and its answers must equal the validated
+        // pass's at every step. The rows carry the timed pass's times: checks between the
+        // stages had left the caches cold for the next stage (a 50 ms pause between steps
+        // made the next step of boxes_100k 1.3 to 1.4 times slower on this VM;
+        // results/checks/scene_step), so the times depended on how long the checks took.
         scene_run<T, D> run(scene, name, steps, k, prog);
         run.run();
+        run.release_sets();
+        scene_counters replay_counters;  // the counters say what the validated pass did
+        scene_run<T, D> timed(scene, name, steps, replay_counters, prog, false);
+        timed.run();
+        timed.release_sets();
+        if (const std::size_t s = timed.first_different_step(run))
+            throw validation_error("scene " + scene.name + " [" + name + "] step " + std::to_string(s) + ": the answers of the timed pass (" +
+                                   name + "@timed) differ from the validated pass's");
         const bool exact = scene.collide && scene.collide->filter == datasets::collide_filter::exact;
         if (reference_name.empty()) {
             reference_name = name;
@@ -728,16 +795,16 @@ std::vector<result_row> run_typed(const datasets::scene_description& scene, cons
                                    (scene.collide ? ";strategy=" + std::string(datasets::to_string(scene.collide->strategy)) +
                                                         ";filter=" + std::string(datasets::to_string(scene.collide->filter))
                                                   : "");
-        const row_scope scope{"scenes", opt.run_id, scene.name, run.object_count(), D,
+        const row_scope scope{"scenes", opt.run_id, scene.name, run.objects_at_end(), D,
                               std::is_same_v<T, float> ? "float" : "double"};
         // Exact pairs equal to the first structure's at every step: cross-checked as well.
         const std::string cross = exact && name != reference_name ? check::cross_all : check::none;
         auto checked = [&](const std::string& what) { return scope.with_check(run.check_of(what, cross)); };
-        for (const auto& [stage, secs] : run.times.seconds)
+        for (const auto& [stage, secs] : timed.times.seconds)
             rows.push_back(checked(stage).timed(name, bv, stage, params, "time", summarize(secs), "s"));
-        for (const auto& [what, counts] : run.times.counts)
+        for (const auto& [what, counts] : timed.times.counts)
             rows.push_back(checked(what).figure(name, bv, "step", params, what, summarize(counts).median_seconds, "count"));
-        const auto& step_s = run.times.seconds["step"];
+        const auto& step_s = timed.times.seconds["step"];
         double total = 0;
         for (double s : step_s) total += s;
         if (total > 0)

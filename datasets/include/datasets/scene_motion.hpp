@@ -178,6 +178,19 @@ dvec<D> bounce(const bounds<D>& b, const dvec<D>& moved, const scene_vector& lo,
     return shift;
 }
 
+// Whether a body with bounds `b` reaches past a wall on some axis: only then can bounce()
+// shift or flip anything. Without a branch per axis, so that the common case (every wall
+// far) costs a few comparisons.
+template <std::size_t D>
+bool past_a_wall(const bounds<D>& b, const scene_vector& lo, const scene_vector& hi) {
+    bool past = false;
+    for (std::size_t d = 0; d < D; ++d) {
+        past |= b.lo[d] < lo[d];
+        past |= b.hi[d] > hi[d];
+    }
+    return past;
+}
+
 template <std::size_t D>
 bool nonzero(const dvec<D>& v) {
     for (double x : v)
@@ -287,8 +300,10 @@ private:
     // Moves one object by delta and bounces it; flips `velocity` (if given) on bounced axes.
     void move_and_bounce(Object& o, const dvec& delta, dvec* velocity) {
         detail::translate(o, delta);
+        const auto b = detail::bounds_of_object(o);
+        if (!detail::past_a_wall(b, domain_lo_, domain_hi_)) return;  // no bounce: nearly every body, every step
         std::array<bool, dimension> flip{};
-        const dvec shift = detail::bounce(detail::bounds_of_object(o), delta, domain_lo_, domain_hi_, flip);
+        const dvec shift = detail::bounce(b, delta, domain_lo_, domain_hi_, flip);
         if (velocity)
             for (std::size_t d = 0; d < dimension; ++d)
                 if (flip[d]) (*velocity)[d] = -(*velocity)[d];

@@ -4,7 +4,9 @@
 // structure, a peer, or in the bv suite a volume type) gets one of its answers corrupted
 // after it answered and BEFORE validation, in the way each suite's answers can be wrong:
 // a kNN answer reports one point twice (a dynamic structure's contents lose a point), ray
-// hits move, a pair goes missing, an overlap test says "disjoint" where the volumes meet. The
+// hits move, a pair goes missing, an overlap test says "disjoint" where the volumes meet
+// (`<structure>@timed`: a pair goes missing in a scene's timed pass only, where the answers
+// are compared with the validated pass's instead of brute force). The
 // run must then stop with exit status 2 and leave every table it would have written as it
 // was. Unset, it costs one string compare per validated answer set, outside every timed region.
 

@@ -37,8 +37,8 @@
 // constant factor more than the pairs, for boxes of similar size); a rebuild costs one full
 // query on the fat boxes plus sorting its c pairs (O(n + c), a counting sort).
 // Memory: one fat box per box, two 32-bit indices per candidate, and the build's scratch
-// (as many again for the unsorted candidates, two 32-bit words per box for their sort), kept
-// for the next build as every buffer here is.
+// (as many again for the unsorted candidates, two 32-bit words per box for their sort, D
+// scalars per box for its changes), kept for the next build as every buffer here is.
 
 #include <algorithm>
 #include <array>
@@ -173,7 +173,7 @@ public:
     std::size_t memory_bytes() const {
         return fat_.capacity() * sizeof(bounds) +
                (pairs_.capacity() + unsorted_.capacity()) * sizeof(std::pair<std::uint32_t, std::uint32_t>) +
-               (starts_.capacity() + cursor_.capacity()) * sizeof(std::uint32_t);
+               (starts_.capacity() + cursor_.capacity()) * sizeof(std::uint32_t) + changes_.capacity() * sizeof(std::array<T, D>);
     }
 
 private:
@@ -196,12 +196,20 @@ private:
             if (!own) return last;
             return std::max({last, std::abs(previous[k].lo[a] - (*before)[k].lo[a]), std::abs(previous[k].hi[a] - (*before)[k].hi[a])});
         };
-        // Per axis: the boxes' mean edge, and the largest and the mean change of a box.
+        // Per axis: the boxes' mean edge, and the largest and the mean change of a box. Own
+        // margins keep each box's change for the fat boxes' pass, which then reads one array
+        // instead of the three sets of boxes again. (Fat boxes reaching ahead of each box's
+        // motion only, not behind it, as Box2D's dynamic tree predicts a proxy's displacement,
+        // ended nearly every list at once on boxes_100k: boxes turning back at a wall leave
+        // them; results/checks/scene_step.)
         std::array<double, D> edge{}, largest{}, mean{};
+        if (own) changes_.resize(n);
         for (std::size_t k = 0; k < n; ++k)
             for (std::size_t a = 0; a < D; ++a) {
                 edge[a] += static_cast<double>(boxes[k].hi[a]) - static_cast<double>(boxes[k].lo[a]);
-                const double c = static_cast<double>(change(k, a));
+                const T ck = change(k, a);
+                if (own) changes_[k][a] = ck;
+                const double c = static_cast<double>(ck);
                 largest[a] = std::max(largest[a], c);
                 mean[a] += c;
             }
@@ -231,7 +239,7 @@ private:
         for (std::size_t k = 0; k < n; ++k)
             for (std::size_t a = 0; a < D; ++a) {
                 // A single margin: the floor for all (no second look at the changes).
-                const T m = own ? std::max(std::min(factor * change(k, a), cap[a]), floor[a]) : floor[a];
+                const T m = own ? std::max(std::min(factor * changes_[k][a], cap[a]), floor[a]) : floor[a];
                 fat_[k].lo[a] = boxes[k].lo[a] - m;
                 fat_[k].hi[a] = boxes[k].hi[a] + m;
                 finite &= -top <= fat_[k].lo[a];
@@ -262,7 +270,9 @@ private:
     // pairs of lower index i) into pairs_ in increasing (i, j): a counting sort by i, then
     // each i's few partners by insertion sort (about 1.5^D times the overlaps per box). Two
     // passes over the candidates where the radix sort of 64-bit keys (pair_sort.hpp) made six,
-    // plus its key building and unpacking.
+    // plus its key building and unpacking. (Scattering in two steps, by blocks of 256 lower
+    // indices first, was 1.1-1.2 times slower on the candidates of boxes_100k: the list's
+    // 2 MB fit the L2 cache; results/checks/scene_step.)
     void sort_by_lower_index(std::size_t n) {
         for (std::size_t k = 0; k < n; ++k) starts_[k + 1] += starts_[k];
         pairs_.resize(unsorted_.size());
@@ -302,6 +312,7 @@ private:
     }
 
     std::vector<bounds> fat_;
+    std::vector<std::array<T, D>> changes_;  // a build's change of each box per axis (own margins)
     std::vector<std::pair<std::uint32_t, std::uint32_t>> pairs_;  // sorted, i < j
     std::vector<std::pair<std::uint32_t, std::uint32_t>> unsorted_;  // a build's full query
     std::vector<std::uint32_t> starts_, cursor_;                     // its counting sort

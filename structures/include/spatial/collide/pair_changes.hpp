@@ -33,29 +33,18 @@ public:
     // taking the set by value had cost a fresh allocation, and its first-touch page faults,
     // every step.
     std::size_t step(const std::vector<pair_type>& pairs) {
-        next_.assign(pairs.begin(), pairs.end());
-        sort_unique_pairs(next_, buffers_);
-        added_.clear();
-        removed_.clear();
-        // Both differences in one merge of the two sorted sets (two std::set_difference calls
-        // made the comparisons twice). Most pairs persist from step to step, so the equal case
-        // is the predictable branch.
-        auto n = next_.cbegin(), c = current_.cbegin();
-        const auto n_end = next_.cend(), c_end = current_.cend();
-        while (n != n_end && c != c_end) {
-            const auto x = key(*n), y = key(*c);
-            if (x < y) {
-                added_.push_back(*n++);
-            } else if (y < x) {
-                removed_.push_back(*c++);
-            } else {
-                ++n;
-                ++c;
-            }
+        // A set given in canonical form (strictly increasing: what collision_grid's candidate
+        // list reports) is merged where it is and copied once, after: the copy, the sort's
+        // look and the duplicates' pass of the general path were three more passes over it.
+        if (strictly_increasing(pairs)) {
+            merge(pairs);
+            current_.assign(pairs.begin(), pairs.end());
+        } else {
+            next_.assign(pairs.begin(), pairs.end());
+            sort_unique_pairs(next_, buffers_);
+            merge(next_);
+            current_.swap(next_);
         }
-        added_.insert(added_.end(), n, n_end);
-        removed_.insert(removed_.end(), c, c_end);
-        current_.swap(next_);
         return added_.size() + removed_.size();
     }
     void clear() {
@@ -70,6 +59,34 @@ public:
     const std::vector<pair_type>& removed() const { return removed_; }
 
 private:
+    static bool strictly_increasing(const std::vector<pair_type>& pairs) {
+        bool increasing = true;  // one pass without an early exit: the common answer is yes
+        for (std::size_t i = 1; i < pairs.size(); ++i) increasing &= key(pairs[i - 1]) < key(pairs[i]);
+        return increasing;
+    }
+    // added_ = next \ current_, removed_ = current_ \ next, for a strictly increasing next.
+    // Both differences in one merge of the two sorted sets (two std::set_difference calls
+    // made the comparisons twice). Most pairs persist from step to step, so the equal case is
+    // the predictable branch.
+    void merge(const std::vector<pair_type>& next) {
+        added_.clear();
+        removed_.clear();
+        auto n = next.cbegin(), c = current_.cbegin();
+        const auto n_end = next.cend(), c_end = current_.cend();
+        while (n != n_end && c != c_end) {
+            const auto x = key(*n), y = key(*c);
+            if (x < y) {
+                added_.push_back(*n++);
+            } else if (y < x) {
+                removed_.push_back(*c++);
+            } else {
+                ++n;
+                ++c;
+            }
+        }
+        added_.insert(added_.end(), n, n_end);
+        removed_.insert(removed_.end(), c, c_end);
+    }
     // The lexicographic order of pairs as one comparison: 32-bit unsigned ids packed into a
     // 64-bit word, other ids as the pair itself.
     static auto key(const pair_type& p) {
