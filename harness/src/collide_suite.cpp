@@ -292,16 +292,21 @@ void run_parallel_self_pairs(context& ctx, const std::vector<collide_box>& boxes
     const spatial::collision_grid<collide_box3> grid(objects.begin(), objects.end());
     enum class delivery { one_thread, calling_thread, concurrent };
     std::vector<index_pair> found;
-    std::vector<std::vector<index_pair>> parts(threads);
+    // One list per part, each on its own cache lines: adjacent vectors shared the line that
+    // holds their end pointers, which both threads wrote at every pair (false sharing).
+    struct alignas(64) part_list {
+        std::vector<index_pair> pairs;
+    };
+    std::vector<part_list> parts(threads);
     std::vector<std::uint64_t> part_sums(threads);
     auto query = [&](delivery how) {
         if (how == delivery::concurrent) {
-            for (auto& part : parts) part.clear();
+            for (auto& part : parts) part.pairs.clear();
             grid.for_each_self_pair_concurrently(spatial::par, spatial::pair_filter::exact, [&](std::size_t k, auto a, auto b) {
-                parts[k].emplace_back(a.slot(), b.slot());
+                parts[k].pairs.emplace_back(a.slot(), b.slot());
             });
             spatial::detail::parallel_chunks(threads, 1, [&](std::size_t first, std::size_t last) {
-                for (std::size_t k = first; k < last; ++k) part_sums[k] = unordered_pair_hash_sum(parts[k]);
+                for (std::size_t k = first; k < last; ++k) part_sums[k] = unordered_pair_hash_sum(parts[k].pairs);
             });
             std::uint64_t sum = 0;
             for (std::uint64_t x : part_sums) sum += x;
@@ -320,7 +325,7 @@ void run_parallel_self_pairs(context& ctx, const std::vector<collide_box>& boxes
         const double sum = query(how);
         if (how == delivery::concurrent) {
             found.clear();
-            for (const auto& part : parts) found.insert(found.end(), part.begin(), part.end());
+            for (const auto& part : parts) found.insert(found.end(), part.pairs.begin(), part.pairs.end());
             if (sum != unordered_pairs_checksum(found))
                 throw validation_error(where + told[2] + ": the checksum differs from the pairs' own");
         }
