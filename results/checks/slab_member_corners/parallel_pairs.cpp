@@ -17,7 +17,10 @@ int main(int argc, char** argv){
   const collision_grid<B> g(v.begin(), v.end());
   std::size_t threads = detail::parallel_threads();
   std::vector<std::pair<std::uint32_t,std::uint32_t>> found; found.reserve(3*n);
-  std::vector<std::vector<std::pair<std::uint32_t,std::uint32_t>>> parts(threads);
+  // One list per part on its own cache lines (session 51): adjacent vectors shared the line
+  // of their end pointers, which both threads wrote at every pair.
+  struct alignas(64) part { std::vector<std::pair<std::uint32_t,std::uint32_t>> v; void clear(){v.clear();} std::size_t size() const {return v.size();} void emplace_back(std::uint32_t a, std::uint32_t b){v.emplace_back(a,b);} };
+  std::vector<part> parts(threads);
   std::vector<double> t1, t2; std::uint64_t c1=0,c2=0;
   for(int rep=0; rep<reps; ++rep){
     double a=now(); found.clear(); g.for_each_self_pair(pair_filter::exact,[&](auto x, auto y){found.emplace_back(x.slot(),y.slot());}); c1=found.size(); t1.push_back(now()-a);
