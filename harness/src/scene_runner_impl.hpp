@@ -357,7 +357,7 @@ public:
     using P = spatial::point<T, D>;
     // `validated`: every step's answers are checked against brute force as they come (the
     // validated pass); otherwise none is, and the answers are only logged (the timed pass,
-    // whose log must then equal the validated pass's: same_answers).
+    // whose log must then equal the validated pass's: first_different_step).
     scene_run(const datasets::scene_description& scene, std::string structure, std::size_t steps, scene_counters& k,
               const progress& prog, bool validated = true)
         : scene_(scene), structure_(std::move(structure)), steps_(steps), k_(k), prog_(prog), validated_(validated) {}
