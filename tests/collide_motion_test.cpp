@@ -15,6 +15,8 @@
 #include <mutex>
 #include <random>
 #include <set>
+#include <stdexcept>
+#include <thread>
 #include <vector>
 
 #include "spatial/brute/brute_force.hpp"
@@ -216,6 +218,47 @@ TEST(collide_cell_sort_grid, slabs_of_a_parallel_query_give_the_sequential_answe
     check_slabs<float, 3>(seed);
     check_slabs<double, 2>(seed);
     check_slabs<double, 5>(seed);  // no small-span tables: every box on the general path
+}
+
+// The primitive behind the slabs' query (core/parallel.hpp): every part runs once, part 0
+// and then() on the calling thread, then() after part 0 and before the call returns; an
+// exception from any of them comes out of the call (the parts not yet started may be
+// cancelled: TBB cancels a task group on an exception).
+TEST(parallel_for_then, runs_every_part_and_then_follows_part_zero_on_the_calling_thread) {
+    const auto caller = std::this_thread::get_id();
+    for (const std::size_t n : {std::size_t{0}, std::size_t{1}, std::size_t{2}, std::size_t{7}}) {
+        SCOPED_TRACE(::testing::Message() << n << " parts");
+        std::vector<std::atomic<int>> ran(n);
+        bool zero_on_caller = false, then_on_caller = false, zero_before_then = n == 0;
+        int thens = 0;
+        spatial::detail::parallel_for_then(
+            n,
+            [&](std::size_t k) {
+                ran[k].fetch_add(1);
+                if (k == 0) zero_on_caller = std::this_thread::get_id() == caller;
+            },
+            [&] {
+                ++thens;
+                then_on_caller = std::this_thread::get_id() == caller;
+                if (n > 0) zero_before_then = ran[0].load() == 1;
+            });
+        for (std::size_t k = 0; k < n; ++k) EXPECT_EQ(ran[k].load(), 1) << "part " << k;
+        EXPECT_EQ(thens, 1);
+        EXPECT_TRUE(then_on_caller);
+        EXPECT_TRUE(zero_before_then);
+        if (n > 0) EXPECT_TRUE(zero_on_caller);
+    }
+    std::vector<std::atomic<int>> ran(6);
+    EXPECT_THROW(spatial::detail::parallel_for_then(
+                     6,
+                     [&](std::size_t k) {
+                         ran[k].fetch_add(1);
+                         if (k == 3) throw std::runtime_error("part 3");
+                     },
+                     [] { throw std::logic_error("then"); }),
+                 std::exception);
+    EXPECT_EQ(ran[0].load(), 1);
+    for (std::size_t k = 0; k < 6; ++k) EXPECT_LE(ran[k].load(), 1) << "part " << k << " ran at most once (a failure may cancel the rest)";
 }
 
 TEST(collide_cell_sort_grid, memory_stays_linear_when_boxes_are_spread_out) {

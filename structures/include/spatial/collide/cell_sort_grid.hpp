@@ -121,14 +121,21 @@ public:
     // threads (it must be safe to call so: a read-only narrow phase is); then, on the calling
     // thread, emit(i, j) for every pair kept, i != j, each once, slab by slab in an order
     // fixed by the slab count. The same set as self_pairs for any count.
+    // The first slab runs on the calling thread, which emits its pairs as soon as it is done,
+    // while the other slabs may still run (the slabs' work is never quite even).
     template <class Keep, class Emit>
     void self_pairs_in_slabs(const std::vector<bounds>& boxes, std::size_t slabs, Keep&& keep, Emit&& emit) {
         for (slab& sl : slabs_) sl.pairs.clear();
-        self_pairs_in_slabs_concurrently(boxes, slabs, [&](std::size_t k, std::uint32_t i, std::uint32_t j) {
-            if (keep(i, j)) slabs_[k].pairs.emplace_back(i, j);
-        });
-        for (const slab& sl : slabs_)
+        auto emit_slab = [&](const slab& sl) {
             for (const auto& [i, j] : sl.pairs) emit(i, j);
+        };
+        const std::size_t count = run_slabs(
+            boxes, slabs,
+            [&](std::size_t k, std::uint32_t i, std::uint32_t j) {
+                if (keep(i, j)) slabs_[k].pairs.emplace_back(i, j);
+            },
+            [&] { emit_slab(slabs_[0]); });
+        for (std::size_t k = 1; k < count; ++k) emit_slab(slabs_[k]);
     }
     // The same pairs, each given to emit(k, i, j) (i != j) in the thread of the slab k that
     // found it, k < max(slabs, 1): calls of different slabs run concurrently, calls of one
@@ -136,31 +143,7 @@ public:
     // rtcCollide calls its callback from its worker threads). No pair is buffered here.
     template <class Emit>
     void self_pairs_in_slabs_concurrently(const std::vector<bounds>& boxes, std::size_t slabs, Emit&& emit) {
-        stats_ = {};
-        const std::size_t n = boxes.size();
-        if (n < 2) return;
-        check_size(n);
-        layout(boxes, true);
-        const std::vector<std::uint32_t> bounds_at = slab_boundaries(boxes, std::max<std::size_t>(slabs, 1));
-        const std::size_t count = bounds_at.size() - 1;
-        if (slabs_.size() < count) slabs_.resize(count);
-        for (std::size_t k = 0; k < count; ++k) {
-            slabs_[k].layer_begin = bounds_at[k];
-            slabs_[k].layer_end = bounds_at[k + 1];
-        }
-        list_slab_members(boxes, bounds_at);
-        spatial::detail::parallel_chunks(count, 1, [&](std::size_t first, std::size_t last) {
-            for (std::size_t k = first; k < last; ++k) {
-                slab& sl = slabs_[k];
-                sort_by_corner_cell<true>(sl, boxes, k);
-                fill(sl);
-                join_cells<false>(sl, static_cast<std::uint32_t>(n), [&](std::uint32_t i, std::uint32_t j) { emit(k, i, j); });
-            }
-        });
-        for (std::size_t k = 0; k < count; ++k) {
-            stats_.entries += slabs_[k].entry_count;
-            stats_.candidate_tests += slabs_[k].candidates;
-        }
+        run_slabs(boxes, slabs, emit, [] {});
     }
 
     const query_stats& last_query_stats() const { return stats_; }
@@ -173,6 +156,40 @@ public:
     }
 
 private:
+    // The slabs of a parallel self-pair query: emit(k, i, j) from slab k's thread, the first
+    // slab on the calling thread, which then calls first_done() while the others may still
+    // run. Returns the number of slabs (0 for fewer than two boxes).
+    template <class Emit, class FirstDone>
+    std::size_t run_slabs(const std::vector<bounds>& boxes, std::size_t slabs, Emit&& emit, FirstDone&& first_done) {
+        stats_ = {};
+        const std::size_t n = boxes.size();
+        if (n < 2) return 0;
+        check_size(n);
+        layout(boxes, true);
+        const std::vector<std::uint32_t> bounds_at = slab_boundaries(boxes, std::max<std::size_t>(slabs, 1));
+        const std::size_t count = bounds_at.size() - 1;
+        if (slabs_.size() < count) slabs_.resize(count);
+        for (std::size_t k = 0; k < count; ++k) {
+            slabs_[k].layer_begin = bounds_at[k];
+            slabs_[k].layer_end = bounds_at[k + 1];
+        }
+        list_slab_members(boxes, bounds_at);
+        spatial::detail::parallel_for_then(
+            count,
+            [&](std::size_t k) {
+                slab& sl = slabs_[k];
+                sort_by_corner_cell<true>(sl, boxes, k);
+                fill(sl);
+                join_cells<false>(sl, static_cast<std::uint32_t>(n), [&](std::uint32_t i, std::uint32_t j) { emit(k, i, j); });
+            },
+            first_done);
+        for (std::size_t k = 0; k < count; ++k) {
+            stats_.entries += slabs_[k].entry_count;
+            stats_.candidate_tests += slabs_[k].candidates;
+        }
+        return count;
+    }
+
     // Entry = (sorted box index << D) | first-cell bits (step 3). 32 bits while that fits.
     using entry_type = std::conditional_t<(D <= 4), std::uint32_t, std::uint64_t>;
     static constexpr entry_type axis_bits = (entry_type(1) << D) - 1;

@@ -9,6 +9,7 @@
 // TBB's default (all cores) unless the caller limits it, e.g. with tbb::global_control.
 
 #include <cstddef>
+#include <exception>
 #include <utility>
 
 #if defined(SPATIAL_HAVE_TBB)
@@ -16,6 +17,7 @@
 #include <tbb/parallel_for.h>
 #include <tbb/parallel_invoke.h>
 #include <tbb/task_arena.h>
+#include <tbb/task_group.h>
 #endif
 
 namespace spatial {
@@ -56,6 +58,41 @@ void parallel_chunks(std::size_t n, std::size_t grain, Body&& body) {
     (void)grain;
     if (n > 0) body(std::size_t{0}, n);
 #endif
+}
+
+// Runs body(k) for every k in [0, n): body(0) on the calling thread, the others as tasks
+// that run concurrently when the back end allows; then(), on the calling thread, once body(0)
+// has returned (or at once for n = 0), while the others may still run. Returns once none is
+// running; the first exception of any of them is rethrown then (then() does not run when
+// body(0) threw, and parts not yet started may never start: TBB cancels a task group on an
+// exception). For a caller that must hand part 0's results on from its own thread: it does
+// so while the slower parts finish.
+template <class Body, class Then>
+void parallel_for_then(std::size_t n, Body&& body, Then&& then) {
+    std::exception_ptr failed;
+    auto attempt = [&](auto&& f) {
+        try {
+            f();
+        } catch (...) {
+            if (!failed) failed = std::current_exception();
+        }
+    };
+#if defined(SPATIAL_HAVE_TBB)
+    tbb::task_group group;  // waited for below whatever happens, so the tasks' references stay valid
+    attempt([&] {
+        for (std::size_t k = 1; k < n; ++k) group.run([&body, k] { body(k); });
+    });
+#endif
+    attempt([&] {
+        if (n > 0) body(std::size_t{0});
+        then();
+    });
+#if defined(SPATIAL_HAVE_TBB)
+    attempt([&] { group.wait(); });
+#else
+    for (std::size_t k = 1; k < n; ++k) attempt([&] { body(k); });
+#endif
+    if (failed) std::rethrow_exception(failed);
 }
 
 // Runs f() and g(), concurrently when the back end allows.
