@@ -1,6 +1,8 @@
 #pragma once
 // spatial::seq / spatial::par — execution policies of the structures' multi-threaded
-// members (bvh: parallel build, batched ray casts), and the two primitives they use.
+// members (bvh: parallel build, batched ray casts; kd_tree; collision_grid's slabs), and the
+// primitives they use: parallel_chunks, parallel_for_then (part 0 on the calling thread,
+// which goes on before the other parts end) and parallel_invoke.
 //
 // The back end is oneTBB (Debian's libtbb-dev) when the build defines SPATIAL_HAVE_TBB (the
 // CMake target spatial::structures does when TBB is found; option SPATIAL_WITH_TBB).
