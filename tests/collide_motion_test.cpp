@@ -246,7 +246,9 @@ TEST(parallel_for_then, runs_every_part_and_then_follows_part_zero_on_the_callin
         EXPECT_EQ(thens, 1);
         EXPECT_TRUE(then_on_caller);
         EXPECT_TRUE(zero_before_then);
-        if (n > 0) EXPECT_TRUE(zero_on_caller);
+        if (n > 0) {
+            EXPECT_TRUE(zero_on_caller);
+        }
     }
     std::vector<std::atomic<int>> ran(6);
     EXPECT_THROW(spatial::detail::parallel_for_then(
@@ -474,6 +476,73 @@ TEST(collide_collision_grid_motion, self_pairs_on_several_threads_equal_the_sequ
     const spatial_test::logged_seed seed(212);
     check_parallel_self_pairs<B3>(seed);
     check_parallel_self_pairs<objects::sphere<double, 3>>(seed);
+}
+
+// A parallel query reuses the boxes the last query gathered while nothing changed
+// (collision_grid::gather_on_every_core). Every change between queries must still reach it,
+// and a parallel query must not hide an update from the next sequential one (whose
+// candidate list measures motion since its own last query): updates, an insert and an erase,
+// with parallel and sequential queries interleaved, each answer against brute force.
+TEST(collide_collision_grid_motion, parallel_pairs_follow_every_change_between_queries) {
+    spatial_test::seeded_rng rng(213);
+    std::vector<B3> boxes = random_objects<B3>(rng, 2000);
+    collision_grid<B3> grid(boxes.begin(), boxes.end());
+    auto oracle_slots = [&] {
+        std::vector<std::uint32_t> slot_of;
+        std::vector<B3> live;
+        for (auto it = grid.begin(); it != grid.end(); ++it) live.push_back(*it), slot_of.push_back(static_cast<std::uint32_t>(it.slot()));
+        brute_force<B3> oracle(live.begin(), live.end());
+        std::vector<pair32> out;
+        for (const auto& [a, b] : oracle.self_pairs())
+            out.emplace_back(std::min(slot_of[a.slot()], slot_of[b.slot()]), std::max(slot_of[a.slot()], slot_of[b.slot()]));
+        std::sort(out.begin(), out.end());
+        return out;
+    };
+    auto slots = [](const auto& pairs) {
+        std::vector<pair32> out;
+        for (const auto& [a, b] : pairs) out.emplace_back(static_cast<std::uint32_t>(a.slot()), static_cast<std::uint32_t>(b.slot()));
+        return out;
+    };
+    auto move_some = [&] {  // a small step for every box (the candidate list's case), a jump for a few
+        std::vector<std::pair<collision_grid<B3>::iterator, B3>> moves;
+        std::uniform_real_distribution<double> u(-0.002, 0.002);
+        for (auto it = grid.begin(); it != grid.end(); ++it) {
+            B3 b = *it;
+            const P3 d{{u(rng), u(rng), u(rng)}};
+            for (std::size_t i = 0; i < 3; ++i) b.lo[i] += d[i], b.hi[i] += d[i];
+            moves.emplace_back(it, rng() % 50 == 0 ? random_object<B3>(rng) : b);
+        }
+        grid.update(moves.begin(), moves.end());
+    };
+    auto check = [&](const char* when) {
+        SCOPED_TRACE(when);
+        const auto want = oracle_slots();
+        ASSERT_FALSE(want.empty());
+        EXPECT_EQ(slots(grid.self_pairs(par)), want);
+        EXPECT_EQ(slots(grid.self_pairs(par)), want);  // nothing changed: the gathered boxes serve again
+        EXPECT_EQ(slots(concurrently_delivered_pairs(grid, pair_filter::exact)), want);
+        EXPECT_EQ(slots(grid.self_pairs()), want);
+        EXPECT_EQ(slots(grid.self_pairs(par)), want);  // after a sequential query
+    };
+    check("as built");
+    for (int step = 0; step < 4; ++step) {
+        move_some();
+        check("after an update");
+    }
+    // Updates seen by parallel queries only, then a sequential query: its list must see them.
+    for (int step = 0; step < 3; ++step) {
+        move_some();
+        const auto want = oracle_slots();
+        EXPECT_EQ(slots(grid.self_pairs(par)), want);
+        move_some();
+        EXPECT_EQ(slots(grid.self_pairs()), oracle_slots());
+    }
+    grid.insert(random_object<B3>(rng));
+    check("after an insert");
+    grid.erase(std::next(grid.begin(), 17));
+    check("after an erase (slots no longer dense)");
+    move_some();
+    check("after an update with a free slot");
 }
 
 // The moving set's candidate list (collide/fat_box_pairs.hpp): over steps of small motions

@@ -252,8 +252,14 @@ private:
     // The boxes for a parallel query. With no free slot (nothing erased) slot i is object i
     // and each chunk of boxes is written independently, on every core; otherwise they are
     // gathered with their slots on the calling thread. Returns whether the storage is dense.
+    // Boxes that still hold the last query's, with no update, insert or erase since, are used
+    // as they are, as a sequential query does (gather_for_moving_set): a repeated query on an
+    // unchanged set no longer copies every box first (1e6 boxes: 48 MB read and written). The
+    // flags are left alone: the next sequential query must still see an update() since its
+    // own last query.
     bool gather_on_every_core() const {
         const bool dense = slots_.size() == slots_.capacity();
+        if (boxes_current_ && !moved_ && boxes_.size() == slots_.size()) return dense;
         if (!dense) {
             gather(*this, boxes_, slot_of_);
             return false;
