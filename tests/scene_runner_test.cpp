@@ -6,10 +6,15 @@
 
 #include <gtest/gtest.h>
 
+#include <cmath>
 #include <filesystem>
+#include <optional>
 #include <string>
+#include <utility>
+#include <vector>
 
 #include "datasets/scene.hpp"
+#include "harness/answer_digest.hpp"
 #include "harness/scene_runner.hpp"
 #include "harness/validation.hpp"
 
@@ -178,3 +183,36 @@ TEST(scene_runner, every_shipped_scene_runs_and_validates) {
 }
 
 }  // namespace
+
+// The runner compares its two passes, and structures with each other, by digests of each
+// step's answers (answer_digest.hpp): every kind of difference those comparisons exist to
+// find must change the digest; equal answers must give equal digests.
+TEST(scene_runner, the_answer_digest_tells_every_kind_of_difference_apart) {
+    using pair32 = std::pair<std::uint32_t, std::uint32_t>;
+    const std::vector<pair32> pairs{{0, 1}, {0, 7}, {3, 4}, {5, 9}};
+    const std::uint64_t d = harness::digest_of(pairs);
+    EXPECT_EQ(harness::digest_of(std::vector<pair32>(pairs)), d);
+    auto dropped = pairs;
+    dropped.pop_back();
+    auto extra = pairs;
+    extra.push_back({6, 8});
+    auto swapped = pairs;
+    std::swap(swapped[1], swapped[2]);
+    auto changed = pairs;
+    changed[2].second = 5;
+    auto flipped = pairs;
+    flipped[0] = {1, 0};
+    for (const auto* other : {&dropped, &extra, &swapped, &changed, &flipped}) EXPECT_NE(harness::digest_of(*other), d);
+    EXPECT_NE(harness::digest_of(std::vector<pair32>{}), harness::digest_of(std::vector<pair32>{{0, 0}}));
+    // Rays: a miss is not a hit at distance 0; one ulp moves the digest.
+    const std::vector<std::optional<double>> hits{0.5, std::nullopt, 2.0};
+    EXPECT_NE(harness::digest_of(std::vector<std::optional<double>>{0.5, 0.0, 2.0}), harness::digest_of(hits));
+    EXPECT_NE(harness::digest_of(std::vector<std::optional<double>>{0.5, std::nullopt, std::nextafter(2.0, 3.0)}),
+              harness::digest_of(hits));
+    EXPECT_EQ(harness::digest_of(std::vector<std::optional<double>>{0.5, std::nullopt, 2.0}), harness::digest_of(hits));
+    // Nested answers (each query's list): where a boundary falls between lists matters.
+    const std::vector<std::vector<std::uint32_t>> ranges{{1, 2}, {3}};
+    EXPECT_NE(harness::digest_of(std::vector<std::vector<std::uint32_t>>{{1}, {2, 3}}), harness::digest_of(ranges));
+    EXPECT_NE(harness::digest_of(std::vector<std::vector<float>>{{1.0f, 2.0f}}),
+              harness::digest_of(std::vector<std::vector<float>>{{1.0f, -2.0f}}));
+}

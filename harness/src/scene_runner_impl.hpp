@@ -20,6 +20,7 @@
 #include "datasets/scene_motion.hpp"
 #include "datasets/scene_objects.hpp"
 #include "datasets/scene_queries.hpp"
+#include "harness/answer_digest.hpp"
 #include "harness/memory_budget.hpp"
 #include "harness/mesh_loading.hpp"
 #include "harness/progress.hpp"
@@ -362,14 +363,12 @@ public:
               const progress& prog, bool validated = true)
         : scene_(scene), structure_(std::move(structure)), steps_(steps), k_(k), prog_(prog), validated_(validated) {}
 
-    // Per-stage seconds of every step, and the answers of every step in order: the pair sets
-    // (sorted; also compared across structures), each ray's first hit, each nearest query's
-    // distances, each range query's objects.
+    // Per-stage seconds of every step, and a digest of the answers of every step in order
+    // (answer_digest.hpp: 8 bytes a step, not the answers): the pair sets (sorted; also
+    // compared across structures), each ray's first hit, each nearest query's distances,
+    // each range query's objects.
     stage_times times;
-    std::vector<std::vector<pair32>> pair_log;
-    std::vector<std::vector<std::optional<T>>> ray_log;
-    std::vector<std::vector<std::vector<T>>> nearest_log;
-    std::vector<std::vector<std::vector<std::uint32_t>>> range_log;
+    std::vector<std::uint64_t> pair_log, ray_log, nearest_log, range_log;
 
     // The first step (from 1) whose answers differ from `other`'s, or 0 when every step's
     // agree. Object sets are deterministic and a structure answers the same state the same
@@ -576,7 +575,7 @@ private:
             changed += trackers[e].step(pairs);
             changes += seconds_since(t0);
             total += trackers[e].pairs().size();
-            pair_log.push_back(trackers[e].pairs());  // sorted: compared across structures
+            pair_log.push_back(digest_of(trackers[e].pairs()));  // sorted: compared across structures
         }
         record("collide_pairs", query);
         if (narrow_ran) record("collide_narrow_phase", narrow);
@@ -635,7 +634,7 @@ private:
         }
         record("raycast", seconds_since(t0));
         times.counts["ray_hits"].push_back(static_cast<double>(hits));
-        ray_log.push_back(first);
+        ray_log.push_back(digest_of(first));
         if (!validated_) return;
         note_checked("rays", 0, rays.size());
         for (std::size_t r = step % 7; r < rays.size(); r += std::max<std::size_t>(1, rays.size() / 16)) {  // sampled check
@@ -661,7 +660,7 @@ private:
             ++k_.nearest_queries;
         }
         record("nearest", seconds_since(t0));
-        nearest_log.push_back(got);
+        nearest_log.push_back(digest_of(got));
         if (!validated_) return;
         note_checked("nearest", 0, queries.size());
         for (std::size_t q = step % 5; q < queries.size(); q += std::max<std::size_t>(1, queries.size() / 16)) {
@@ -689,7 +688,7 @@ private:
         }
         record("range", seconds_since(t0));
         times.counts["range_results"].push_back(static_cast<double>(found));
-        range_log.push_back(got);
+        range_log.push_back(digest_of(got));
         if (!validated_) return;
         note_checked("range", 0, boxes.size());
         for (std::size_t q = step % 5; q < boxes.size(); q += std::max<std::size_t>(1, boxes.size() / 16)) {
@@ -761,7 +760,7 @@ std::vector<result_row> run_typed(const datasets::scene_description& scene, cons
     }
     const std::size_t steps = opt.steps ? opt.steps : scene.steps;
     std::vector<result_row> rows;
-    std::vector<std::vector<pair32>> reference_pairs;
+    std::vector<std::uint64_t> reference_pairs;  // the first structure's pair digests
     std::string reference_name;
     for (const auto& name : structures) {
         // Two passes (docs/collisions.md, "Scenes and the runner"): the validated
@@ -786,8 +785,11 @@ std::vector<result_row> run_typed(const datasets::scene_description& scene, cons
             reference_name = name;
             reference_pairs = run.pair_log;
         } else if (exact && run.pair_log != reference_pairs) {
-            throw validation_error("scene " + scene.name + ": " + name + " and " + reference_name +
-                                   " report different pair sets");
+            const std::size_t entries = std::max<std::size_t>(1, scene.collide->between.size());
+            const auto at = std::mismatch(run.pair_log.begin(), run.pair_log.end(), reference_pairs.begin(), reference_pairs.end());
+            const std::size_t step = static_cast<std::size_t>(at.first - run.pair_log.begin()) / entries + 1;
+            throw validation_error("scene " + scene.name + " step " + std::to_string(step) + ": " + name + " and " +
+                                   reference_name + " report different pair sets");
         }
         const structure_info* info = find_structure(name);
         const std::string bv = info && !info->bv.empty() ? info->bv : "-";
