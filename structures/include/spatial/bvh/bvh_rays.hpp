@@ -66,13 +66,20 @@ inline auto bvh<O, BV, Config>::cast_ray(const point_type& origin, const point_t
                                           info_type& info, bvh_stats& st) const -> slot_index {
     const auto none = static_cast<slot_index>(slots_.capacity());
     if (slots_.size() == 0) return none;
-    const T grow = thickness * (1 + 16 * eps) + slack(origin);
     if constexpr (wide_rays) {
         typename wide_layout::float_ray r;
         const wide_layout& w = wide_.get([this] { return make_wide_layout(); });
+        // slack(origin) with the root box's magnitude that the layout measured once when it
+        // was built (the same value: a maximum of the same absolute values), not read from
+        // the root box at every ray: a fixed cost of every ray, which decides rays that miss
+        // the mesh (results/checks/ray_hits_and_misses).
+        T m = static_cast<T>(w.scene_magnitude());
+        for (std::size_t i = 0; i < D; ++i) m = std::max(m, std::abs(static_cast<T>(origin[i])));
+        const T grow = thickness * (1 + 16 * eps) + (16 * eps * (2 * m) + underflow_slack<T>);
         if (w.accepts(to_bv(origin).coords, to_bv(direction).coords, grow, r))
             return intersect_wide(w, r, origin, direction, thickness, info, st);
     }
+    const T grow = thickness * (1 + 16 * eps) + slack(origin);
     if constexpr (volume_is_box)
         if (reciprocals_finite(direction)) return intersect_boxes(origin, direction, thickness, grow, info, st);
     const bv_point o = to_bv(origin), d = to_bv(direction);

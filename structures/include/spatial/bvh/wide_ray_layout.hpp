@@ -274,6 +274,8 @@ public:
         // q_hi, swapped where the direction is negative (no branch on the sign per node).
         std::array<std::uint32_t, D> near_planes, far_planes;
     };
+    // max |bound| over the root box's bounds (0 for an empty tree).
+    double scene_magnitude() const { return magnitude_; }
     // Whether the float path is exact-safe for this ray (see the header comment), and if so
     // its float form. grow: the caller's growth of every box (thickness + rounding slack).
     bool accepts(const std::array<T, D>& origin, const std::array<T, D>& direction, T grow, float_ray& r) const {
