@@ -478,6 +478,28 @@ TEST(collide_collision_grid_motion, self_pairs_on_several_threads_equal_the_sequ
     check_parallel_self_pairs<objects::sphere<double, 3>>(seed);
 }
 
+// A pair list as (slot, slot) pairs.
+template <class Pairs>
+std::vector<pair32> slot_pairs(const Pairs& pairs) {
+    std::vector<pair32> out;
+    for (const auto& [a, b] : pairs) out.emplace_back(static_cast<std::uint32_t>(a.slot()), static_cast<std::uint32_t>(b.slot()));
+    return out;
+}
+// Brute force's self pairs of a container's live objects, as sorted (lower slot, higher slot).
+template <class Container>
+std::vector<pair32> brute_force_slot_pairs(const Container& c) {
+    using O = typename Container::value_type;
+    std::vector<std::uint32_t> slot_of;
+    std::vector<O> live;
+    for (auto it = c.begin(); it != c.end(); ++it) live.push_back(*it), slot_of.push_back(static_cast<std::uint32_t>(it.slot()));
+    brute_force<O> oracle(live.begin(), live.end());
+    std::vector<pair32> out;
+    for (const auto& [a, b] : oracle.self_pairs())
+        out.emplace_back(std::min(slot_of[a.slot()], slot_of[b.slot()]), std::max(slot_of[a.slot()], slot_of[b.slot()]));
+    std::sort(out.begin(), out.end());
+    return out;
+}
+
 // A parallel query reuses the boxes the last query gathered while nothing changed
 // (collision_grid::gather_on_every_core). Every change between queries must still reach it,
 // and a parallel query must not hide an update from the next sequential one (whose
@@ -487,22 +509,8 @@ TEST(collide_collision_grid_motion, parallel_pairs_follow_every_change_between_q
     spatial_test::seeded_rng rng(213);
     std::vector<B3> boxes = random_objects<B3>(rng, 2000);
     collision_grid<B3> grid(boxes.begin(), boxes.end());
-    auto oracle_slots = [&] {
-        std::vector<std::uint32_t> slot_of;
-        std::vector<B3> live;
-        for (auto it = grid.begin(); it != grid.end(); ++it) live.push_back(*it), slot_of.push_back(static_cast<std::uint32_t>(it.slot()));
-        brute_force<B3> oracle(live.begin(), live.end());
-        std::vector<pair32> out;
-        for (const auto& [a, b] : oracle.self_pairs())
-            out.emplace_back(std::min(slot_of[a.slot()], slot_of[b.slot()]), std::max(slot_of[a.slot()], slot_of[b.slot()]));
-        std::sort(out.begin(), out.end());
-        return out;
-    };
-    auto slots = [](const auto& pairs) {
-        std::vector<pair32> out;
-        for (const auto& [a, b] : pairs) out.emplace_back(static_cast<std::uint32_t>(a.slot()), static_cast<std::uint32_t>(b.slot()));
-        return out;
-    };
+    auto oracle_slots = [&] { return brute_force_slot_pairs(grid); };
+    auto slots = [](const auto& pairs) { return slot_pairs(pairs); };
     auto move_some = [&] {  // a small step for every box (the candidate list's case), a jump for a few
         std::vector<std::pair<collision_grid<B3>::iterator, B3>> moves;
         std::uniform_real_distribution<double> u(-0.002, 0.002);
@@ -563,23 +571,9 @@ void check_candidate_list(std::uint64_t seed) {
     collision_grid<O> grid(objects.begin(), objects.end());
     std::vector<typename collision_grid<O>::iterator> handle;
     for (auto it = grid.begin(); it != grid.end(); ++it) handle.push_back(it);
-    auto slots = [](const auto& pairs) {
-        std::vector<pair32> out;
-        for (const auto& [a, b] : pairs) out.emplace_back(static_cast<std::uint32_t>(a.slot()), static_cast<std::uint32_t>(b.slot()));
-        return out;
-    };
-    // The oracle: brute force over the live objects, in slot order (slot of handle k).
-    auto expected = [&]() {
-        std::vector<std::uint32_t> slot_of;
-        std::vector<O> live;
-        for (auto it = grid.begin(); it != grid.end(); ++it) live.push_back(*it), slot_of.push_back(static_cast<std::uint32_t>(it.slot()));
-        brute_force<O> oracle(live.begin(), live.end());
-        std::vector<pair32> out;
-        for (const auto& [a, b] : oracle.self_pairs())
-            out.emplace_back(std::min(slot_of[a.slot()], slot_of[b.slot()]), std::max(slot_of[a.slot()], slot_of[b.slot()]));
-        std::sort(out.begin(), out.end());
-        return out;
-    };
+    auto slots = [](const auto& pairs) { return slot_pairs(pairs); };
+    // The oracle: brute force over the live objects, in slot order.
+    auto expected = [&]() { return brute_force_slot_pairs(grid); };
     auto streamed = [&]() {
         std::vector<pair32> out;
         grid.for_each_self_pair(pair_filter::exact, [&](auto a, auto b) {
