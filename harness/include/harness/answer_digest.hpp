@@ -19,7 +19,6 @@
 #include <bit>
 #include <cstdint>
 #include <optional>
-#include <type_traits>
 #include <utility>
 #include <vector>
 
