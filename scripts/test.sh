@@ -15,6 +15,21 @@ phase() { echo "== $1 (at ${SECONDS} s)"; }
 scripts/install_deps.sh
 jobs="$(nproc)"
 
+# A build prints no warnings (the project's rule; warnings are on for our own code,
+# CMakeLists.txt): each build's output is kept, and a warning in it fails the job.
+build_without_warnings() {
+  local log
+  log="$(mktemp /tmp/spatial_build.XXXXXX)"
+  cmake --build --preset "$1" -j"$jobs" 2>&1 | tee "$log"
+  if grep -q "warning:" "$log"; then
+    echo "test: the $1 build printed warnings:" >&2
+    grep -A3 "warning:" "$log" >&2
+    rm -f "$log"
+    exit 1
+  fi
+  rm -f "$log"
+}
+
 # Real data from Debian's archive (a few seconds): the tests that read it run instead of
 # skipping. A machine that cannot download still tests everything else; the skip says so.
 phase "real data"
@@ -27,7 +42,7 @@ scripts/fetch_meshes.sh || echo "test: real meshes unavailable; their tests will
 # paper); the library's own tests run in the sanitizer build below.
 phase "ci build"
 cmake --preset ci -G Ninja
-cmake --build --preset ci -j"$jobs"
+build_without_warnings ci
 phase "ci tests"
 ctest --preset ci -j"$jobs"
 
@@ -48,7 +63,7 @@ rm -f "$paper_log"
 phase "address+undefined sanitizer build"
 source scripts/sanitizer_env.sh
 cmake --preset asan -G Ninja
-cmake --build --preset asan -j"$jobs"
+build_without_warnings asan
 phase "sanitizer tests"
 ASAN_OPTIONS=detect_leaks=1:abort_on_error=1 UBSAN_OPTIONS=print_stacktrace=1:halt_on_error=1 \
   ctest --preset asan -j"$jobs"
