@@ -374,19 +374,24 @@ public:
     // agree. Object sets are deterministic and a structure answers the same state the same
     // way, so two passes of one structure over one scene log the same answers.
     std::size_t first_different_step(const scene_run& other) const {
-        auto first = [](const auto& x, const auto& y, std::size_t per_step) -> std::size_t {
-            if (x == y) return 0;
-            const std::size_t n = std::min(x.size(), y.size());
-            for (std::size_t i = 0; i < n; ++i)
-                if (x[i] != y[i]) return i / per_step + 1;
-            return n / per_step + 1;
-        };
-        const std::size_t entries = scene_.collide ? std::max<std::size_t>(1, scene_.collide->between.size()) : 1;
         std::size_t step = 0;
-        for (const std::size_t s : {first(pair_log, other.pair_log, entries), first(ray_log, other.ray_log, 1),
-                                    first(nearest_log, other.nearest_log, 1), first(range_log, other.range_log, 1)})
+        for (const std::size_t s : {first_different_step(pair_log, other.pair_log, pair_entries_per_step(scene_)),
+                                    first_different_step(ray_log, other.ray_log, 1),
+                                    first_different_step(nearest_log, other.nearest_log, 1),
+                                    first_different_step(range_log, other.range_log, 1)})
             if (s != 0 && (step == 0 || s < step)) step = s;
         return step;
+    }
+    // The first step (from 1) at which two logs of `per_step` digests a step differ, or 0.
+    static std::size_t first_different_step(const std::vector<std::uint64_t>& x, const std::vector<std::uint64_t>& y,
+                                            std::size_t per_step) {
+        if (x == y) return 0;
+        const auto at = std::mismatch(x.begin(), x.end(), y.begin(), y.end());
+        return static_cast<std::size_t>(at.first - x.begin()) / per_step + 1;
+    }
+    // Pair sets logged per step: one per collide entry.
+    static std::size_t pair_entries_per_step(const datasets::scene_description& scene) {
+        return scene.collide ? std::max<std::size_t>(1, scene.collide->between.size()) : 1;
     }
     // Frees the structures and objects once the pass has run (its times and answers stay).
     void release_sets() {
@@ -785,9 +790,8 @@ std::vector<result_row> run_typed(const datasets::scene_description& scene, cons
             reference_name = name;
             reference_pairs = run.pair_log;
         } else if (exact && run.pair_log != reference_pairs) {
-            const std::size_t entries = std::max<std::size_t>(1, scene.collide->between.size());
-            const auto at = std::mismatch(run.pair_log.begin(), run.pair_log.end(), reference_pairs.begin(), reference_pairs.end());
-            const std::size_t step = static_cast<std::size_t>(at.first - run.pair_log.begin()) / entries + 1;
+            const std::size_t step = scene_run<T, D>::first_different_step(run.pair_log, reference_pairs,
+                                                                           scene_run<T, D>::pair_entries_per_step(scene));
             throw validation_error("scene " + scene.name + " step " + std::to_string(step) + ": " + name + " and " +
                                    reference_name + " report different pair sets");
         }

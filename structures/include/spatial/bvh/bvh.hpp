@@ -385,6 +385,8 @@ private:
     template <class P>
     T slack(const P& p) const;
     T slack_of(const bv_point& p) const;
+    // The slack for a largest absolute coordinate m (of the query and the scene together).
+    static T slack_for_magnitude(T m) { return 16 * eps * (2 * m) + underflow_slack<T>; }
     bool enter(node_index n, const bv_point& o, const bv_point& d, T grow, T tmax, T& t0, T& t1) const;
     struct box_ray;
     static bool reciprocals_finite(const point_type& d);

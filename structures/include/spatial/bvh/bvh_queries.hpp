@@ -77,7 +77,7 @@ inline auto bvh<O, BV, Config>::slack_of(const bv_point& p) const -> T {
         if (!b.is_empty())
             for (std::size_t i = 0; i < D; ++i) m = std::max({m, std::abs(b.lo[i]), std::abs(b.hi[i])});
     }
-    return 16 * eps * (2 * m) + underflow_slack<T>;
+    return slack_for_magnitude(m);
 }
 
 // ---- lookup ----------------------------------------------------------------------

@@ -75,7 +75,7 @@ inline auto bvh<O, BV, Config>::cast_ray(const point_type& origin, const point_t
         // the mesh (results/checks/ray_hits_and_misses).
         T m = static_cast<T>(w.scene_magnitude());
         for (std::size_t i = 0; i < D; ++i) m = std::max(m, std::abs(static_cast<T>(origin[i])));
-        const T grow = thickness * (1 + 16 * eps) + (16 * eps * (2 * m) + underflow_slack<T>);
+        const T grow = thickness * (1 + 16 * eps) + slack_for_magnitude(m);
         if (w.accepts(to_bv(origin).coords, to_bv(direction).coords, grow, r))
             return intersect_wide(w, r, origin, direction, thickness, info, st);
     }
